@@ -1,0 +1,95 @@
+"""`robot-lab` and the venv's `ros2`: one dispatcher, one module per verb.
+
+A verb module defines `HELP`, `add_arguments(parser)` and `main(args) -> int`; it prints
+only, its data comes from the library (robot_lab.graph, robot_lab.launch, ...). Verb
+modules import rclpy lazily, so `--help` and errors stay fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+from types import ModuleType
+
+from robot_lab import __version__
+from robot_lab.errors import RobotLabError
+
+__all__ = ['main', 'ros2_main']
+
+# verb -> module under robot_lab.cli (the order is the order of `--help`)
+VERBS: dict[str, str] = {
+    'run': 'run',
+    'launch': 'launch',
+    'node': 'node',
+    'topic': 'topic',
+    'param': 'param',
+    'service': 'service',
+    'interface': 'interface',
+    'graph': 'graph',
+    'pkg': 'pkg',
+    'build': 'build',
+    'doctor': 'doctor',
+    'bag': 'bag',
+    'demo': 'demo',
+}
+
+
+def _verb_module(verb: str) -> ModuleType | None:
+    try:
+        return importlib.import_module(f'robot_lab.cli.{VERBS[verb]}')
+    except ModuleNotFoundError as exc:
+        if exc.name == f'robot_lab.cli.{VERBS[verb]}':
+            return None  # verb not built yet
+        raise
+
+
+def _parser(prog: str) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog=prog,
+        description='robot_lab: ROS 2 Jazzy tools for the course kit (no ROS install needed).',
+    )
+    parser.add_argument(
+        '--version', action='version',
+        version=f'{prog} (robot_lab {__version__}: ROS 2 Jazzy from PyPI wheels; '
+        'launch and ros2cli verbs provided by robot_lab, not a full ROS 2 install)',
+    )
+    sub = parser.add_subparsers(dest='verb', metavar='VERB')
+    for verb in VERBS:
+        module = _verb_module(verb)
+        if module is None:
+            continue
+        verb_parser = sub.add_parser(verb, help=module.HELP, description=module.HELP)
+        module.add_arguments(verb_parser)
+        verb_parser.set_defaults(_main=module.main)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
+    parser = _parser(prog)
+    args = parser.parse_args(argv)
+    if args.verb is None:
+        parser.print_help()
+        return 0
+    try:
+        code: int = args._main(args)
+    except RobotLabError as err:
+        print(str(err), file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+    return code
+
+
+def ros2_main(argv: Sequence[str] | None = None) -> int:
+    """`ros2 …` inside the kit's venv: the same verbs, so the labs' commands work as written."""
+    return main(argv, prog='ros2')
+
+
+def entry() -> None:
+    sys.exit(main())
+
+
+def ros2_entry() -> None:
+    sys.exit(ros2_main())

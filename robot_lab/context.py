@@ -1,0 +1,184 @@
+"""The ROS session of a process (one per Jupyter kernel): context, hidden node, executor.
+
+Why not `rclpy.init()` in a notebook: it installs signal handlers, so a kernel interrupt
+shuts ROS down, and a second run of the cell raises. `session()` is idempotent, installs
+no signal handlers, and spins a background executor so callbacks run between cells.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import threading
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+from robot_lab.env import apply_ros_defaults
+from robot_lab.errors import GraphError
+
+__all__ = ['Session', 'session', 'shutdown_sessions']
+
+T = TypeVar('T')
+
+_LOCK = threading.Lock()
+_SESSIONS: dict[int, Session] = {}
+
+
+def _domain_from_env() -> int:
+    raw = os.environ.get('ROS_DOMAIN_ID', '').strip()
+    if not raw:
+        return 0
+    try:
+        return int(raw)
+    except ValueError:
+        raise GraphError(
+            f'ROS_DOMAIN_ID={raw!r} is not a number', fix='set it to an integer 0..101'
+        ) from None
+
+
+class Session:
+    """A live connection to the ROS graph of one domain.
+
+    `node` is a hidden node (its name starts with `_`, so `node list` never shows it);
+    use it for subscriptions, clients and graph queries. `executor` spins it in a daemon
+    thread; add your own nodes with `add_node`.
+    """
+
+    def __init__(self, domain_id: int) -> None:
+        import rclpy
+        from rclpy.executors import MultiThreadedExecutor
+
+        apply_ros_defaults()
+        self.domain_id = domain_id
+        self.context, self._owns_context = self._context_for(domain_id)
+        self.node = rclpy.create_node(
+            f'_robot_lab_{os.getpid()}_{domain_id}',
+            context=self.context,
+            start_parameter_services=False,
+            enable_rosout=False,
+        )
+        self.executor = MultiThreadedExecutor(num_threads=4, context=self.context)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(
+            target=self._spin, name=f'robot_lab-executor-{domain_id}', daemon=True
+        )
+        self._thread.start()
+
+    @staticmethod
+    def _context_for(domain_id: int) -> tuple[Any, bool]:
+        """Reuse the default context when it is ours to use; else make a private one."""
+        import rclpy
+        from rclpy.context import Context
+        from rclpy.signals import SignalHandlerOptions
+
+        default = rclpy.utilities.get_default_context()
+        if default.ok():
+            if default.get_domain_id() == domain_id:
+                return default, False  # the user (or an earlier session) initialised it
+        elif not _SESSIONS:
+            # First session: the default context, so students' rclpy.create_node() joins it.
+            try:
+                rclpy.init(domain_id=domain_id, signal_handler_options=SignalHandlerOptions.NO)
+                return default, True
+            except RuntimeError:
+                pass  # a default context that was shut down cannot be initialised again
+        context = Context()
+        context.init(domain_id=domain_id)
+        return context, True
+
+    def _spin(self) -> None:
+        from rclpy.executors import ExternalShutdownException
+
+        try:
+            self.executor.spin()
+        except ExternalShutdownException:
+            pass
+        except Exception:  # noqa: BLE001 - a dying executor must not kill the kernel
+            if self.context.ok():
+                raise
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.context.ok()) and self._thread.is_alive()
+
+    def add_node(self, node: Any) -> Any:
+        """Spin `node` (created with this session's context) in the background too."""
+        self.executor.add_node(node)
+        return node
+
+    def remove_node(self, node: Any) -> None:
+        self.executor.remove_node(node)
+
+    def wait_future(self, future: Any, timeout: float, what: str) -> Any:
+        """Wait for an rclpy future spun by the background executor; never hangs."""
+        done = threading.Event()
+        future.add_done_callback(lambda _f: done.set())
+        if not done.wait(timeout):
+            future.cancel()
+            raise GraphError(f'{what}: no answer within {timeout:g} s')
+        exc = future.exception()
+        if exc is not None:
+            raise GraphError(f'{what}: {exc}')
+        return future.result()
+
+    def run_in_executor(self, fn: Callable[[], T], timeout: float = 5.0) -> T:
+        """Run `fn` once on the executor thread (for rclpy calls that must not race)."""
+        from rclpy.task import Future
+
+        future: Future = Future()
+
+        def _call() -> None:
+            try:
+                future.set_result(fn())
+            except Exception as exc:  # noqa: BLE001 - handed to the caller
+                future.set_exception(exc)
+
+        guard = self.node.create_guard_condition(_call)
+        try:
+            guard.trigger()
+            result: T = self.wait_future(future, timeout, 'executor call')
+            return result
+        finally:
+            self.node.destroy_guard_condition(guard)
+
+    def close(self) -> None:
+        """Stop the executor and, if this session created it, the context."""
+        try:
+            self.executor.shutdown(timeout_sec=2.0)
+        except Exception:  # noqa: BLE001, S110 - best effort at exit
+            pass
+        try:
+            self.node.destroy_node()
+        except Exception:  # noqa: BLE001, S110
+            pass
+        if self._owns_context:
+            self.context.try_shutdown()
+        self._thread.join(timeout=2.0)
+
+
+def session(domain_id: int | None = None) -> Session:
+    """The process's session for `domain_id` (default: ROS_DOMAIN_ID), created once.
+
+    Safe to call from every notebook cell; a session whose context died (someone called
+    rclpy.shutdown()) is replaced.
+    """
+    domain = _domain_from_env() if domain_id is None else domain_id
+    with _LOCK:
+        existing = _SESSIONS.get(domain)
+        if existing is not None and existing.ok:
+            return existing
+        if existing is not None:
+            existing.close()
+            del _SESSIONS[domain]
+        created = Session(domain)
+        _SESSIONS[domain] = created
+        return created
+
+
+@atexit.register
+def shutdown_sessions() -> None:
+    """Close every session (registered at exit: the kernel leaves no DDS participant)."""
+    with _LOCK:
+        for sess in list(_SESSIONS.values()):
+            sess.close()
+        _SESSIONS.clear()

@@ -1,0 +1,78 @@
+"""Child processes that cannot outlive their parent, even after `kill -9` of the parent.
+
+Every node robot_lab starts (launch, kernel, tests) goes through `spawn`: the child asks
+the kernel (prctl PR_SET_PDEATHSIG) to be killed when its parent dies, and gets default
+SIGINT/SIGTERM dispositions back (a parent started with `&` passes SIGINT on ignored).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+import signal
+import subprocess
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import IO, Any
+
+__all__ = ['spawn', 'stop']
+
+_PR_SET_PDEATHSIG = 1
+_LIBC: Any = None
+if os.name == 'posix':
+    try:
+        _LIBC = ctypes.CDLL(ctypes.util.find_library('c') or 'libc.so.6', use_errno=True)
+    except OSError:  # not Linux: no parent-death signal, stop() still cleans up
+        _LIBC = None
+
+
+def _child_setup() -> None:
+    # Runs in the child between fork and exec: only async-signal-safe work here.
+    if _LIBC is not None:
+        _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if _LIBC is not None and os.getppid() == 1:
+        os._exit(1)  # the parent died before prctl took effect
+
+
+def spawn(
+    cmd: Sequence[str],
+    *,
+    env: Mapping[str, str] | None = None,
+    cwd: str | Path | None = None,
+    stdout: int | IO[Any] | None = subprocess.PIPE,
+    stderr: int | IO[Any] | None = subprocess.STDOUT,
+    shell: bool = False,
+) -> subprocess.Popen[bytes]:
+    """Start `cmd`; it dies with this process (SIGKILL) if this process dies first.
+
+    The parent-death signal fires when the *thread* that forked exits, so call this from
+    the main thread or a thread that lives as long as the child should.
+    """
+    return subprocess.Popen(
+        list(cmd) if not shell else ' '.join(cmd),
+        env=dict(env) if env is not None else None,
+        cwd=cwd,
+        stdin=subprocess.DEVNULL,
+        stdout=stdout,
+        stderr=stderr,
+        shell=shell,
+        preexec_fn=_child_setup,  # noqa: PLW1509 - prctl must run in the child
+    )
+
+
+def stop(proc: subprocess.Popen[Any], sigint_timeout: float = 5.0, sigterm_timeout: float = 5.0) -> int:
+    """SIGINT, then SIGTERM, then SIGKILL, waiting between steps; returns the exit code."""
+    for sig, timeout in ((signal.SIGINT, sigint_timeout), (signal.SIGTERM, sigterm_timeout)):
+        if proc.poll() is not None:
+            break
+        proc.send_signal(sig)
+        try:
+            proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            continue
+    if proc.poll() is None:
+        proc.kill()
+    return proc.wait()

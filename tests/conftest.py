@@ -1,0 +1,139 @@
+"""Shared test set-up: loopback-only DDS, a distinct ROS_DOMAIN_ID per test module,
+and real node processes that are always stopped (and die with pytest if it is killed)."""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import pytest
+
+from robot_lab.env import apply_ros_defaults
+from robot_lab.process import spawn, stop
+
+REPO = Path(__file__).resolve().parents[1]
+BIN = Path(sys.executable).parent
+SHARED = REPO.parent / 'shared'
+
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+apply_ros_defaults()
+
+# Domain IDs: a base per pytest run (ROBOT_LAB_TEST_DOMAIN_BASE), one per module after it.
+_BASE = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
+_modules: dict[str, int] = {}
+
+
+@pytest.fixture(autouse=True, scope='module')
+def ros_domain(request: pytest.FixtureRequest) -> Iterator[int]:
+    """A ROS_DOMAIN_ID of this module's own, so modules never hear each other."""
+    name = request.module.__name__
+    domain = _modules.setdefault(name, (_BASE + len(_modules)) % 100 + 1)
+    old = os.environ.get('ROS_DOMAIN_ID')
+    os.environ['ROS_DOMAIN_ID'] = str(domain)
+    yield domain
+    if old is None:
+        os.environ.pop('ROS_DOMAIN_ID', None)
+    else:
+        os.environ['ROS_DOMAIN_ID'] = old
+
+
+class Proc:
+    """A running child with its merged output collected line by line in a thread."""
+
+    def __init__(self, cmd: Sequence[str], env: dict[str, str] | None = None,
+                 cwd: str | Path | None = None) -> None:
+        self.cmd = list(cmd)
+        self.popen = spawn(self.cmd, env=env, cwd=cwd)
+        self.lines: list[str] = []
+        self._queue: queue.Queue[str | None] = queue.Queue()
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.popen.stdout is not None
+        for raw in iter(self.popen.stdout.readline, b''):
+            line = raw.decode(errors='replace').rstrip('\n')
+            self.lines.append(line)
+            self._queue.put(line)
+        self._queue.put(None)
+
+    def wait_for(self, pattern: str, timeout: float = 15.0) -> re.Match[str]:
+        """Block until a line matches `pattern` (regex); fail with the output so far."""
+        rx = re.compile(pattern)
+        for line in list(self.lines):
+            m = rx.search(line)
+            if m:
+                return m
+        deadline = time.monotonic() + timeout
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            try:
+                line = self._queue.get(timeout=remaining)
+            except queue.Empty:
+                break
+            if line is None:
+                break
+            m = rx.search(line)
+            if m:
+                return m
+        raise AssertionError(
+            f'no line matching {pattern!r} within {timeout}s from {self.cmd}:\n'
+            + '\n'.join(self.lines[-40:])
+        )
+
+    @property
+    def output(self) -> str:
+        return '\n'.join(self.lines)
+
+    def stop(self) -> int:
+        code = stop(self.popen)
+        self._reader.join(timeout=5)
+        return code
+
+
+@pytest.fixture
+def procs() -> Iterator[list[Proc]]:
+    """Collects started processes and stops every one at teardown."""
+    started: list[Proc] = []
+    yield started
+    for proc in started:
+        proc.stop()
+
+
+@pytest.fixture
+def start(procs: list[Proc]):  # type: ignore[no-untyped-def]
+    """start(cmd...) -> Proc; `robot-lab` and `ros2` resolve to the venv's scripts."""
+
+    def _start(*cmd: str, env: dict[str, str] | None = None, cwd: str | Path | None = None) -> Proc:
+        argv = list(cmd)
+        if argv and (BIN / argv[0]).exists():
+            argv[0] = str(BIN / argv[0])
+        full_env = dict(os.environ)
+        if env:
+            full_env.update(env)
+        proc = Proc(argv, env=full_env, cwd=cwd)
+        procs.append(proc)
+        return proc
+
+    return _start
+
+
+def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,
+            env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    """Run `robot-lab ARGS` to completion and return its output (text)."""
+    full_env = dict(os.environ)
+    if env:
+        full_env.update(env)
+    return subprocess.run(
+        [str(BIN / 'robot-lab'), *args], capture_output=True, text=True,
+        timeout=timeout, cwd=cwd, env=full_env, check=False,
+    )
