@@ -1,0 +1,173 @@
+"""ROS messages as data: type names ↔ classes, message ↔ dict/YAML, field paths.
+
+rosidl_runtime_py (what ros2cli uses for this) is not among the PyPI wheels, so this is
+robot_lab's small equivalent, built on the generated classes' own introspection
+(`get_fields_and_field_types()`). One home for it: `topic echo/pub`, plots and bags use it.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import yaml
+
+from robot_lab.errors import GraphError
+
+__all__ = [
+    'field_value',
+    'message_class',
+    'message_from_yaml',
+    'message_to_dict',
+    'message_to_yaml',
+    'type_name',
+]
+
+
+def message_class(type_name: str) -> Any:
+    """`std_msgs/msg/Float32` (or `std_msgs/Float32`) -> the generated class."""
+    parts = type_name.strip().split('/')
+    if len(parts) == 2:
+        parts = [parts[0], 'msg', parts[1]]
+    if len(parts) != 3 or not all(parts):
+        raise GraphError(
+            f"The passed message type '{type_name}' is invalid",
+            fix='use the form package/msg/Type, e.g. std_msgs/msg/String',
+        )
+    package, kind, name = parts
+    try:
+        module = importlib.import_module(f'{package}.{kind}')
+        return getattr(module, name)
+    except (ImportError, AttributeError):
+        raise GraphError(
+            f"The message type '{type_name}' is invalid",
+            fix=f"no interface '{name}' in package '{package}' "
+            '(see `robot-lab interface show` for the types this kit has)',
+        ) from None
+
+
+def type_name(msg_or_class: Any) -> str:
+    """The ROS name of a message instance or class: `geometry_msgs/msg/Twist`."""
+    cls = msg_or_class if isinstance(msg_or_class, type) else type(msg_or_class)
+    package = cls.__module__.split('.')[0]
+    kind = cls.__module__.split('.')[1] if '.' in cls.__module__ else 'msg'
+    return f'{package}/{kind}/{cls.__name__}'
+
+
+def _is_message(value: Any) -> bool:
+    return hasattr(value, 'get_fields_and_field_types')
+
+
+def _plain(value: Any) -> Any:
+    if _is_message(value):
+        return message_to_dict(value)
+    if isinstance(value, bytes):
+        return list(value)
+    if isinstance(value, list | tuple) or type(value).__name__ in ('array', 'ndarray'):
+        return [_plain(v) for v in value]
+    if isinstance(value, float) and math.isfinite(value):
+        return value
+    return value
+
+
+def message_to_dict(msg: Any) -> dict[str, Any]:
+    """Field name -> plain Python value, nested messages as dicts (ordered as declared)."""
+    return {name: _plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
+
+
+class _EchoDumper(yaml.SafeDumper):
+    """Dumps floats the way ros2 topic echo does (22.5, not 22.500000001 from float32)."""
+
+
+def _float_repr(dumper: yaml.SafeDumper, value: float) -> yaml.Node:
+    if math.isnan(value):
+        text = '.nan'
+    elif math.isinf(value):
+        text = '.inf' if value > 0 else '-.inf'
+    else:
+        text = repr(value)
+    return dumper.represent_scalar('tag:yaml.org,2002:float', text)
+
+
+_EchoDumper.add_representer(float, _float_repr)
+
+
+def message_to_yaml(msg: Any) -> str:
+    """The YAML `ros2 topic echo` prints for one message (without the `---`)."""
+    data = message_to_dict(msg)
+    return yaml.dump(data, Dumper=_EchoDumper, default_flow_style=False, sort_keys=False,
+                     allow_unicode=True)
+
+
+def _fill(msg: Any, values: Mapping[str, Any], path: str) -> None:
+    fields = msg.get_fields_and_field_types()
+    for key, value in values.items():
+        if key not in fields:
+            raise GraphError(
+                f"Failed to populate field: '{path}{key}' is not a field of {type_name(msg)}",
+                fix=f'fields are: {", ".join(fields)}',
+            )
+        current = getattr(msg, key)
+        if _is_message(current) and isinstance(value, Mapping):
+            _fill(current, value, f'{path}{key}.')
+            continue
+        try:
+            if isinstance(current, float) and isinstance(value, int) and not isinstance(value, bool):
+                value = float(value)
+            setattr(msg, key, value)
+        except (AssertionError, TypeError, ValueError) as exc:
+            raise GraphError(
+                f"Failed to populate field '{path}{key}' ({fields[key]}): {exc}"
+            ) from None
+
+
+def message_from_yaml(type_or_class: str | Any, text: str | Mapping[str, Any] | None) -> Any:
+    """Build a message from YAML text (`topic pub`'s argument) or a mapping."""
+    cls = message_class(type_or_class) if isinstance(type_or_class, str) else type_or_class
+    if isinstance(text, str):
+        try:
+            values = yaml.safe_load(text) if text.strip() else {}
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, 'problem_mark', None)
+            where = f' at column {mark.column + 1}' if mark is not None else ''
+            raise GraphError(
+                f'the passed value needs to be a dictionary in YAML format{where}: {text!r}',
+                fix="quote it and use YAML, e.g. '{data: 22.5}' or \"{linear: {x: 0.5}}\"",
+            ) from None
+    else:
+        values = text or {}
+    if values is None:
+        values = {}
+    if not isinstance(values, Mapping):
+        raise GraphError(
+            f'the passed value needs to be a dictionary in YAML format: {text!r}',
+            fix="e.g. '{data: 22.5}'",
+        )
+    msg = cls()
+    _fill(msg, values, '')
+    return msg
+
+
+def field_value(msg: Any, path: str) -> Any:
+    """Follow a field path like `linear.x`, `linear/x` or `data` into a message."""
+    value = msg
+    for part in path.replace('/', '.').split('.'):
+        if not part:
+            continue
+        if isinstance(value, list | tuple) or type(value).__name__ == 'array':
+            try:
+                value = value[int(part)]
+                continue
+            except (ValueError, IndexError):
+                raise GraphError(f"invalid index '{part}' in field path '{path}'") from None
+        if not hasattr(value, part) or not _is_message(value):
+            have = ', '.join(value.get_fields_and_field_types()) if _is_message(value) else 'none'
+            raise GraphError(
+                f"'{part}' in field path '{path}' is not a field of "
+                f'{type_name(value) if _is_message(value) else type(value).__name__}',
+                fix=f'fields are: {have}',
+            )
+        value = getattr(value, part)
+    return value
