@@ -1,0 +1,107 @@
+"""The one static launch description every frontend (XML, YAML, Python) produces.
+
+A `LaunchPlan` is fully resolved: substitutions evaluated, conditions applied, includes
+inlined, namespaces pushed, parameter files written. The supervisor only runs it, so a
+launch file is checked completely before any process starts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TypeAlias
+
+__all__ = [
+    'Action',
+    'LaunchArgument',
+    'LaunchPlan',
+    'LogAction',
+    'ProcessSpec',
+    'ShutdownAction',
+    'TimerAction',
+]
+
+
+@dataclass
+class ProcessSpec:
+    """One process to start: a node (`node_name` set) or a plain executable."""
+
+    cmd: list[str]
+    label: str
+    env: dict[str, str]
+    cwd: str | None = None
+    output: str = 'log'
+    respawn: bool = False
+    respawn_delay: float = 0.0
+    respawn_max_retries: int = -1
+    on_exit: str | None = None
+    sigterm_timeout: float = 5.0
+    sigkill_timeout: float = 5.0
+    shell: bool = False
+    node_name: str | None = None
+    package: str | None = None
+    executable: str = ''
+    param_files: list[str] = field(default_factory=list)
+    source: str | None = None
+
+
+@dataclass
+class LogAction:
+    """`<log message=...>` / LogInfo: a line the launcher itself logs."""
+
+    message: str
+    level: str = 'INFO'
+    source: str | None = None
+
+
+@dataclass
+class TimerAction:
+    """`<timer period=...>`: actions started `period` seconds after launch."""
+
+    period: float
+    actions: list[Action]
+    source: str | None = None
+
+
+@dataclass
+class ShutdownAction:
+    """`<shutdown>` / Shutdown(): ends the whole launch."""
+
+    reason: str = ''
+    source: str | None = None
+
+
+Action: TypeAlias = ProcessSpec | LogAction | TimerAction | ShutdownAction
+
+
+@dataclass
+class LaunchArgument:
+    """A declared launch argument (`<arg>` / DeclareLaunchArgument), for `--show-args`."""
+
+    name: str
+    default: str | None
+    description: str = ''
+    choices: list[str] | None = None
+
+
+@dataclass
+class LaunchPlan:
+    """Everything one launch file asks for, in order."""
+
+    source: Path
+    actions: list[Action]
+    arguments: list[LaunchArgument]
+
+    def processes(self) -> list[ProcessSpec]:
+        """Every process, including those inside timers, in start order."""
+        found: list[ProcessSpec] = []
+
+        def walk(actions: list[Action]) -> None:
+            for action in actions:
+                if isinstance(action, ProcessSpec):
+                    found.append(action)
+                elif isinstance(action, TimerAction):
+                    walk(action.actions)
+
+        walk(self.actions)
+        return found
