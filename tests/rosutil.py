@@ -1,0 +1,102 @@
+"""Test-side ROS helpers over the kit's in-process session: listen to topics, set params.
+
+Waiting is always on a real condition (a message arrived, a service answered), bounded by
+a deadline; nothing sleeps for a fixed time.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+from robot_lab.context import session
+from robot_lab.messages import message_class
+
+
+class Listener:
+    """Subscribes to one topic on the session node and keeps (receive time, msg) pairs."""
+
+    def __init__(self, topic: str, type_name: str, depth: int = 100) -> None:
+        self.topic = topic
+        self.messages: list[tuple[float, Any]] = []
+        self._cond = threading.Condition()
+        self._session = session()
+        self._sub = self._session.node.create_subscription(
+            message_class(type_name), topic, self._on_msg, depth
+        )
+
+    def _on_msg(self, msg: Any) -> None:
+        with self._cond:
+            self.messages.append((time.monotonic(), msg))
+            self._cond.notify_all()
+
+    def wait_until(self, predicate: Callable[[list[tuple[float, Any]]], bool],
+                   timeout: float = 10.0, what: str = 'condition') -> list[tuple[float, Any]]:
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while not predicate(self.messages):
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    tail = [m for _, m in self.messages[-5:]]
+                    raise AssertionError(f'{self.topic}: {what} not met within {timeout}s; '
+                                         f'{len(self.messages)} messages, last: {tail}')
+                self._cond.wait(remaining)
+            return list(self.messages)
+
+    def wait_count(self, n: int, timeout: float = 10.0) -> list[tuple[float, Any]]:
+        return self.wait_until(lambda ms: len(ms) >= n, timeout, f'{n} messages')
+
+    def clear(self) -> None:
+        with self._cond:
+            self.messages.clear()
+
+    def close(self) -> None:
+        self._session.node.destroy_subscription(self._sub)
+
+
+def rate_of(messages: list[tuple[float, Any]]) -> float:
+    """Messages per second between the first and last receive times."""
+    if len(messages) < 2:
+        return 0.0
+    return (len(messages) - 1) / (messages[-1][0] - messages[0][0])
+
+
+def _client(srv_type: Any, name: str) -> Any:
+    node = session().node
+    client = node.create_client(srv_type, name)
+    if not client.wait_for_service(timeout_sec=10.0):
+        node.destroy_client(client)
+        raise AssertionError(f'service {name} not available')
+    return client
+
+
+def set_param(node_name: str, name: str, value: Any) -> tuple[bool, str]:
+    """SetParameters on `node_name`; returns (successful, reason)."""
+    from rcl_interfaces.srv import SetParameters
+    from rclpy.parameter import Parameter
+
+    client = _client(SetParameters, f'{node_name}/set_parameters')
+    try:
+        req = SetParameters.Request()
+        req.parameters = [Parameter(name, value=value).to_parameter_msg()]
+        res = session().wait_future(client.call_async(req), 10.0, 'set_parameters')
+        result = res.results[0]
+        return bool(result.successful), str(result.reason)
+    finally:
+        session().node.destroy_client(client)
+
+
+def get_param(node_name: str, name: str) -> Any:
+    from rcl_interfaces.srv import GetParameters
+    from rclpy.parameter import parameter_value_to_python
+
+    client = _client(GetParameters, f'{node_name}/get_parameters')
+    try:
+        req = GetParameters.Request()
+        req.names = [name]
+        res = session().wait_future(client.call_async(req), 10.0, 'get_parameters')
+        return parameter_value_to_python(res.values[0])
+    finally:
+        session().node.destroy_client(client)
