@@ -10,6 +10,7 @@ from __future__ import annotations
 import atexit
 import os
 import threading
+import time
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -57,6 +58,8 @@ class Session:
             start_parameter_services=False,
             enable_rosout=False,
         )
+        # When discovery began: graph queries wait out the first announcements after it.
+        self.created = time.monotonic()
         self.executor = MultiThreadedExecutor(num_threads=4, context=self.context)
         self.executor.add_node(self.node)
         self._thread = threading.Thread(
