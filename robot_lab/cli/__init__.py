@@ -33,6 +33,8 @@ VERBS: dict[str, str] = {
     'doctor': 'doctor',
     'bag': 'bag',
     'demo': 'demo',
+    'exercises': 'exercises',
+    'grade': 'grade',
 }
 
 
