@@ -1,0 +1,161 @@
+"""`robot-lab launch <pkg> <file> [name:=value …]`: the `ros2 launch` equivalent.
+
+Also `robot-lab launch <path> [name:=value …]`, `--show-args` and `--print`. The whole
+launch file is resolved and its parameter files checked before anything starts, so an
+error is one line and exit code 1 with no process left behind.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import signal
+import sys
+from types import FrameType
+
+from robot_lab.launch.description import (
+    Action,
+    LaunchArgument,
+    LaunchPlan,
+    LogAction,
+    ProcessSpec,
+    ShutdownAction,
+    TimerAction,
+)
+
+HELP = 'Run a launch file'
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        '-n', '--noninteractive', default=not sys.stdin.isatty(), action='store_true',
+        help='Run the launch system non-interactively, with no terminal associated')
+    parser.add_argument(
+        '-d', '--debug', default=False, action='store_true',
+        help='Put the launch system in debug mode, provides more verbose output.')
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
+        '-p', '--print', '--print-description', dest='print', default=False,
+        action='store_true',
+        help='Print the launch description to the console without launching it.')
+    group.add_argument(
+        '-s', '--show-args', '--show-arguments', dest='show_args', default=False,
+        action='store_true', help='Show arguments that may be given to the launch file.')
+    parser.add_argument(
+        'package_name', help='Name of the ROS package which contains the launch file')
+    parser.add_argument('launch_file_name', nargs='?', help='Name of the launch file')
+    parser.add_argument(
+        'launch_arguments', nargs='*',
+        help="Arguments to the launch file; '<name>:=<value>' (for duplicates, last one wins)")
+
+
+def _source(args: argparse.Namespace) -> tuple[str, str | None, list[str]]:
+    """(package or path, file or None, launch arguments), decided as ros2 launch does."""
+    argv = list(args.launch_arguments)
+    if os.path.isfile(args.package_name):
+        # Single-file mode: the second positional is already a launch argument.
+        if args.launch_file_name is not None:
+            argv.insert(0, args.launch_file_name)
+        return args.package_name, None, argv
+    return args.package_name, args.launch_file_name, argv
+
+
+def format_arguments(arguments: list[LaunchArgument]) -> str:
+    """`ros2 launch --show-args` output."""
+    lines = ["Arguments (pass arguments as '<name>:=<value>'):"]
+    for arg in arguments:
+        lines.append('')
+        lines.append(f"    '{arg.name}':")
+        lines.append(f'        {arg.description or "no description given"}')
+        if arg.choices:
+            lines.append(f'        Valid choices are: {arg.choices}')
+        if arg.default is not None:
+            lines.append(f"        (default: '{arg.default}')")
+    if not arguments:
+        lines.append('')
+        lines.append('  No arguments.')
+    return '\n'.join(lines)
+
+
+def format_plan(plan: LaunchPlan) -> str:
+    """Every action of the plan, each process with the full command line it would run."""
+    lines = [f'# {plan.source}']
+
+    def walk(actions: list[Action], indent: str) -> None:
+        for action in actions:
+            if isinstance(action, ProcessSpec):
+                lines.append(f'{indent}{action.label}: {shlex.join(action.cmd)}')
+                details = [f'output={action.output}']
+                if action.cwd:
+                    details.append(f'cwd={action.cwd}')
+                if action.respawn:
+                    details.append(f'respawn (delay {action.respawn_delay:g} s)')
+                if action.on_exit:
+                    details.append(f'on_exit={action.on_exit}')
+                if action.env:
+                    details.append('env: ' + ' '.join(f'{k}={v}' for k, v in action.env.items()))
+                lines.append(f'{indent}    ' + ', '.join(details))
+            elif isinstance(action, LogAction):
+                lines.append(f'{indent}log [{action.level}]: {action.message}')
+            elif isinstance(action, TimerAction):
+                lines.append(f'{indent}timer after {action.period:g} s:')
+                walk(action.actions, indent + '    ')
+            elif isinstance(action, ShutdownAction):
+                lines.append(f'{indent}shutdown' + (f': {action.reason}' if action.reason else ''))
+
+    walk(plan.actions, '')
+    return '\n'.join(lines)
+
+
+def main(args: argparse.Namespace) -> int:
+    from robot_lab.launch import describe
+
+    source, file, argv = _source(args)
+    if args.show_args:
+        print(format_arguments(describe.launch_arguments(source, file)))
+        return 0
+    launch_args = describe.parse_launch_arguments(argv)
+    plan = describe.describe_launch(source, file, launch_args)
+    if args.print:
+        print(format_plan(plan))
+        return 0
+    return run(plan, noninteractive=args.noninteractive, debug=args.debug)
+
+
+def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
+        duration: float | None = None) -> int:
+    """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order."""
+    from robot_lab.launch.output import LaunchOutput
+    from robot_lab.launch.supervisor import Supervisor, check_param_files
+
+    check_param_files(plan)
+    output = LaunchOutput(sys.stdout, debug=debug)
+    supervisor = Supervisor(plan, output, noninteractive=noninteractive)
+
+    def on_sigint(signum: int, frame: FrameType | None) -> None:
+        supervisor.interrupt()
+
+    def on_sigterm(signum: int, frame: FrameType | None) -> None:
+        supervisor.terminate()
+
+    previous = {
+        signal.SIGINT: signal.signal(signal.SIGINT, on_sigint),
+        signal.SIGTERM: signal.signal(signal.SIGTERM, on_sigterm),
+    }
+    timer = None
+    if duration is not None:
+        import threading
+
+        timer = threading.Timer(duration, supervisor.shutdown, kwargs={'reason': 'demo ended'})
+        timer.daemon = True
+        timer.start()
+    output.open()
+    try:
+        return supervisor.run()
+    finally:
+        if timer is not None:
+            timer.cancel()
+        output.close()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)

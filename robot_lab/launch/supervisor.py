@@ -1,0 +1,474 @@
+"""Runs a LaunchPlan: starts, watches, respawns and stops its processes like launch does.
+
+One thread does everything (spawn, timers, output, signals to children): the thread that
+calls `Supervisor.run()`. Children are started with `robot_lab.process.spawn`, whose
+parent-death signal is tied to that thread, so run() must be called from a thread that
+lives as long as the launch (the CLI's main thread, or the notebook's supervisor thread).
+The launcher has no DDS participant of its own: it never imports rclpy, so the nodes it
+starts find each other as fast as bare processes do.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import heapq
+import itertools
+import os
+import selectors
+import signal
+import subprocess
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from robot_lab.env import apply_ros_defaults
+from robot_lab.errors import ParamFileError
+from robot_lab.launch.description import (
+    Action,
+    LaunchPlan,
+    LogAction,
+    ProcessSpec,
+    ShutdownAction,
+    TimerAction,
+)
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.process import spawn
+
+__all__ = ['ProcessRecord', 'Supervisor', 'check_param_files', 'run_plan']
+
+_LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
+
+
+def check_param_files(plan: LaunchPlan) -> None:
+    """Refuse the plan if any process would get a parameter file rcl cannot parse.
+
+    rcl only finds out in the child, after the launch has started its siblings; checking
+    first means a bad file stops everything with one clear line and nothing running.
+    """
+    from robot_lab.params import load_param_file
+
+    seen: set[str] = set()
+    for spec in plan.processes():
+        for path in spec.param_files:
+            if path in seen:
+                continue
+            seen.add(path)
+            try:
+                load_param_file(path)
+            except ParamFileError:
+                raise
+            except OSError as exc:
+                raise ParamFileError(
+                    f'cannot read parameter file: {exc.strerror or exc}', file=path,
+                    fix=f'check the path given to {spec.label}',
+                ) from None
+
+
+def _seconds(value: float) -> str:
+    """A timeout as launch prints it: '5' for the default, '0.5' otherwise."""
+    return f'{value:g}'
+
+
+@dataclass
+class ProcessRecord:
+    """The live state of one ProcessSpec (a respawned process keeps its record)."""
+
+    spec: ProcessSpec
+    state: str = 'pending'  # pending | running | finished | died | respawning
+    pid: int | None = None
+    returncode: int | None = None
+    retries: int = 0
+    popen: subprocess.Popen[bytes] | None = field(default=None, repr=False)
+    generation: int = 0
+    stopping: bool = False
+    partial: dict[str, bytes] = field(default_factory=dict, repr=False)
+    open_streams: int = 0
+    pidfd: int | None = None
+
+    @property
+    def label(self) -> str:
+        return self.spec.label
+
+    @property
+    def name(self) -> str:
+        """The node name when it is a node (`sensor`), else the label."""
+        return self.spec.node_name or self.spec.label
+
+
+@dataclass(order=True)
+class _Scheduled:
+    due: float
+    seq: int
+    callback: Callable[[], None] = field(compare=False)
+    keeps_alive: bool = field(compare=False, default=True)
+    cancelled: bool = field(compare=False, default=False)
+
+
+class Supervisor:
+    """Executes one LaunchPlan; `run()` blocks until every process has ended."""
+
+    def __init__(self, plan: LaunchPlan, output: LaunchOutput, *,
+                 noninteractive: bool = True) -> None:
+        self.plan = plan
+        self.output = output
+        self.noninteractive = noninteractive
+        self.records: list[ProcessRecord] = [ProcessRecord(spec) for spec in plan.processes()]
+        self._by_spec = {id(r.spec): r for r in self.records}
+        self.started = threading.Event()  # the plan's first actions have been executed
+        self.finished = threading.Event()
+        self.is_shutdown = False
+        self.returncode = 0
+        self._schedule: list[_Scheduled] = []
+        self._seq = itertools.count()
+        self._selector = selectors.DefaultSelector()
+        self._requests: list[Callable[[], None]] = []
+        self._requests_lock = threading.Lock()
+        self._wake_r, self._wake_w = os.pipe()
+        os.set_blocking(self._wake_r, False)
+        os.set_blocking(self._wake_w, False)
+        self._sigint_seen = False
+        self._closed = False
+
+    # --- requests from other threads (Ctrl-C handler, notebook handle) -------------------
+
+    def _request(self, fn: Callable[[], None]) -> None:
+        with self._requests_lock:
+            if self._closed:
+                return  # the launch has ended; nothing left to stop
+            self._requests.append(fn)
+            # A full pipe means the loop is awake anyway.
+            with contextlib.suppress(OSError):
+                os.write(self._wake_w, b'x')
+
+    def interrupt(self) -> None:
+        """What Ctrl-C does: the first shuts down, later ones are noted and ignored."""
+
+        def handle() -> None:
+            message = 'user interrupted with ctrl-c (SIGINT)'
+            if self._sigint_seen:
+                self.output.launcher('WARNING', 'launch', f'{message} again, ignoring...')
+                return
+            self._sigint_seen = True
+            self.output.launcher('WARNING', 'launch', message)
+            self._shutdown(due_to_sigint=True)
+
+        self._request(handle)
+
+    def terminate(self) -> None:
+        """SIGTERM to the launcher: stop the children the same orderly way, then exit."""
+
+        def handle() -> None:
+            self.output.launcher('WARNING', 'launch', 'received SIGTERM: shutting down')
+            self._shutdown(due_to_sigint=False)
+
+        self._request(handle)
+
+    def shutdown(self, reason: str = '') -> None:
+        """Stop everything (SIGINT to each child, then SIGTERM, then SIGKILL)."""
+        self._request(lambda: self._shutdown(due_to_sigint=False, reason=reason))
+
+    # --- the loop -----------------------------------------------------------------------
+
+    def run(self) -> int:
+        """Execute the plan until all processes are gone; returns the launch's exit code."""
+        self._selector.register(self._wake_r, selectors.EVENT_READ, ('wake', None, ''))
+        try:
+            self._execute(self.plan.actions)
+            self.started.set()
+            while True:
+                self._drain_requests()
+                self._run_due()
+                if self._idle():
+                    break
+                self._wait(self._next_timeout())
+        finally:
+            self.started.set()
+            self._kill_leftovers()
+            self._selector.close()
+            with self._requests_lock:
+                self._closed = True
+                for fd in (self._wake_r, self._wake_w):
+                    os.close(fd)
+            self.finished.set()
+        return self.returncode
+
+    def _idle(self) -> bool:
+        if any(r.state == 'running' for r in self.records):
+            return False
+        return not any(not s.cancelled and s.keeps_alive for s in self._schedule)
+
+    def _next_timeout(self) -> float:
+        live = [s for s in self._schedule if not s.cancelled]
+        # Without pidfds, exits are noticed by polling; keep that latency short.
+        cap = 0.5 if all(r.pidfd is not None for r in self.records if r.state == 'running') else 0.1
+        if not live:
+            return cap
+        return max(0.0, min(cap, min(s.due for s in live) - time.monotonic()))
+
+    def _wait(self, timeout: float) -> None:
+        for key, _ in self._selector.select(timeout):
+            kind, record, stream = key.data
+            if kind == 'wake':
+                try:
+                    while os.read(self._wake_r, 4096):
+                        pass
+                except BlockingIOError:
+                    pass
+            elif kind == 'pipe':
+                self._read(record, stream, key.fd)
+            elif kind == 'exit':
+                self._reap(record)
+        for record in self.records:
+            if record.state == 'running' and record.popen is not None \
+                    and record.popen.poll() is not None:
+                self._reap(record)
+
+    def _drain_requests(self) -> None:
+        with self._requests_lock:
+            requests, self._requests = self._requests, []
+        for fn in requests:
+            fn()
+
+    def _at(self, delay: float, callback: Callable[[], None], *,
+            keeps_alive: bool = True) -> _Scheduled:
+        item = _Scheduled(time.monotonic() + delay, next(self._seq), callback, keeps_alive)
+        heapq.heappush(self._schedule, item)
+        return item
+
+    def _run_due(self) -> None:
+        while self._schedule and self._schedule[0].due <= time.monotonic():
+            item = heapq.heappop(self._schedule)
+            if not item.cancelled:
+                item.callback()
+        self._schedule = [s for s in self._schedule if not s.cancelled]
+        heapq.heapify(self._schedule)
+
+    # --- actions ------------------------------------------------------------------------
+
+    def _execute(self, actions: list[Action]) -> None:
+        for action in actions:
+            if self.is_shutdown:
+                return
+            if isinstance(action, ProcessSpec):
+                self._start(self._by_spec[id(action)])
+            elif isinstance(action, LogAction):
+                level = action.level.upper()
+                self.output.launcher(level if level in _LEVELS else 'INFO', 'launch.user',
+                                     action.message)
+            elif isinstance(action, TimerAction):
+                self._at(max(0.0, action.period), self._timer_callback(action.actions))
+            elif isinstance(action, ShutdownAction):
+                self._shutdown(due_to_sigint=False, reason=action.reason)
+
+    def _timer_callback(self, actions: list[Action]) -> Callable[[], None]:
+        return lambda: self._execute(actions)
+
+    def _environment(self, spec: ProcessSpec) -> dict[str, str]:
+        env = dict(os.environ)
+        env.update(spec.env)
+        apply_ros_defaults(env)
+        return env
+
+    def _start(self, record: ProcessRecord) -> None:
+        if self.is_shutdown:
+            return
+        spec = record.spec
+        try:
+            popen = spawn(spec.cmd, env=self._environment(spec), cwd=spec.cwd,
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
+        except OSError as exc:
+            record.state, record.returncode = 'died', None
+            self.output.launcher('ERROR', record.label,
+                                 f'exception occurred while executing process: {exc}')
+            return
+        record.popen, record.pid = popen, popen.pid
+        record.state, record.returncode, record.stopping = 'running', None, False
+        record.generation += 1
+        record.partial = {'stdout': b'', 'stderr': b''}
+        record.open_streams = 0
+        for stream, pipe in (('stdout', popen.stdout), ('stderr', popen.stderr)):
+            if pipe is None:
+                continue
+            os.set_blocking(pipe.fileno(), False)
+            self._selector.register(pipe.fileno(), selectors.EVENT_READ, ('pipe', record, stream))
+            record.open_streams += 1
+        record.pidfd = None
+        if hasattr(os, 'pidfd_open'):
+            try:
+                record.pidfd = os.pidfd_open(popen.pid)
+                self._selector.register(record.pidfd, selectors.EVENT_READ, ('exit', record, ''))
+            except OSError:
+                record.pidfd = None
+        self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
+
+    # --- output -------------------------------------------------------------------------
+
+    def _read(self, record: ProcessRecord, stream: str, fd: int) -> None:
+        try:
+            data = os.read(fd, 65536)
+        except BlockingIOError:
+            return
+        except OSError:
+            data = b''
+        if not data:
+            self._close_stream(record, stream, fd)
+            return
+        self._emit_lines(record, stream, record.partial.get(stream, b'') + data)
+
+    def _emit_lines(self, record: ProcessRecord, stream: str, buffer: bytes) -> None:
+        *complete, rest = buffer.split(b'\n')
+        for raw in complete:
+            self.output.child(record.label, stream, record.spec.output,
+                              raw.rstrip(b'\r').decode('utf-8', errors='replace'))
+        record.partial[stream] = rest
+
+    def _close_stream(self, record: ProcessRecord, stream: str, fd: int) -> None:
+        try:
+            self._selector.unregister(fd)
+        except (KeyError, ValueError):
+            return
+        rest = record.partial.get(stream, b'')
+        if rest:
+            self.output.child(record.label, stream, record.spec.output,
+                              rest.decode('utf-8', errors='replace'))
+            record.partial[stream] = b''
+        record.open_streams -= 1
+
+    def _drain(self, record: ProcessRecord) -> None:
+        """Read what the exited child left in its pipes, then close them."""
+        popen = record.popen
+        assert popen is not None
+        for stream, pipe in (('stdout', popen.stdout), ('stderr', popen.stderr)):
+            if pipe is None:
+                continue
+            fd = pipe.fileno()
+            while True:
+                try:
+                    data = os.read(fd, 65536)
+                except (BlockingIOError, OSError):
+                    break  # a grandchild may hold the pipe open; do not wait for it
+                if not data:
+                    break
+                self._emit_lines(record, stream, record.partial.get(stream, b'') + data)
+            self._close_stream(record, stream, fd)
+            pipe.close()
+
+    # --- exits, respawn, shutdown -------------------------------------------------------
+
+    def _reap(self, record: ProcessRecord) -> None:
+        popen = record.popen
+        if popen is None or record.state != 'running':
+            return
+        code = popen.wait()
+        if record.pidfd is not None:
+            with contextlib.suppress(KeyError, ValueError):
+                self._selector.unregister(record.pidfd)
+            os.close(record.pidfd)
+            record.pidfd = None
+        self._drain(record)
+        record.returncode = code
+        cmd = ' '.join(part for part in record.spec.cmd if part.strip())
+        if code == 0:
+            record.state = 'finished'
+            self.output.launcher('INFO', record.label,
+                                 f'process has finished cleanly [pid {popen.pid}]')
+        else:
+            record.state = 'died'
+            self.output.launcher(
+                'ERROR', record.label,
+                f"process has died [pid {popen.pid}, exit code {code}, cmd '{cmd}'].",
+            )
+        if self.is_shutdown or record.stopping:
+            return
+        if record.spec.on_exit == 'shutdown':
+            self.output.launcher(
+                'INFO', 'launch',
+                f'process[{record.label}] was required: shutting down launched system',
+            )
+            self._shutdown(due_to_sigint=False, reason=f'{record.label} exited')
+            return
+        spec = record.spec
+        if spec.respawn and (spec.respawn_max_retries < 0
+                             or record.retries < spec.respawn_max_retries):
+            record.retries += 1
+            record.state = 'respawning'
+            self._at(max(0.0, spec.respawn_delay), lambda: self._respawn(record))
+
+    def _respawn(self, record: ProcessRecord) -> None:
+        if record.state == 'respawning' and not self.is_shutdown:
+            self._start(record)
+
+    def _shutdown(self, *, due_to_sigint: bool, reason: str = '') -> None:
+        if self.is_shutdown:
+            return
+        self.is_shutdown = True
+        if reason:
+            self.output.launcher('DEBUG', 'launch', f'shutting down: {reason}')
+        for item in self._schedule:
+            if item.keeps_alive:
+                item.cancelled = True  # timers and pending respawns never start now
+        for record in self.records:
+            if record.state == 'respawning':
+                record.state = 'died' if record.returncode else 'finished'
+        send_sigint = not due_to_sigint or self.noninteractive
+        # launch signals the newest process first; so do we.
+        for record in reversed(self.records):
+            if record.state == 'running':
+                self._stop_process(record, send_sigint=send_sigint)
+
+    def _stop_process(self, record: ProcessRecord, *, send_sigint: bool) -> None:
+        """SIGINT now, SIGTERM after sigterm_timeout, SIGKILL after sigkill_timeout more."""
+        record.stopping = True
+        spec = record.spec
+        generation = record.generation
+        base = ("process[{}] failed to terminate '{}' seconds after receiving '{}', "
+                "escalating to '{}'")
+
+        def escalate(sig: signal.Signals, previous: str, waited: str) -> None:
+            if record.state != 'running' or record.generation != generation:
+                return
+            self.output.launcher(
+                'ERROR', record.label, base.format(record.label, waited, previous, sig.name))
+            self._signal(record, sig)
+
+        self._at(spec.sigterm_timeout,
+                 lambda: escalate(signal.SIGTERM, 'SIGINT', _seconds(spec.sigterm_timeout)),
+                 keeps_alive=False)
+        total = float(spec.sigterm_timeout) + float(spec.sigkill_timeout)
+        self._at(total, lambda: escalate(signal.SIGKILL, 'SIGTERM', str(total)),
+                 keeps_alive=False)
+        if send_sigint:
+            self._signal(record, signal.SIGINT)
+
+    def _signal(self, record: ProcessRecord, sig: signal.Signals) -> None:
+        popen = record.popen
+        if popen is None or popen.poll() is not None:
+            return
+        self.output.launcher('INFO', record.label,
+                             f"sending signal '{sig.name}' to process[{record.label}]")
+        with contextlib.suppress(ProcessLookupError):
+            popen.send_signal(sig)
+
+    def _kill_leftovers(self) -> None:
+        """Only reached on an error inside the loop: never leave a child behind."""
+        for record in self.records:
+            if record.popen is not None and record.popen.poll() is None:
+                record.popen.kill()
+                record.popen.wait()
+                record.state, record.returncode = 'died', record.popen.returncode
+
+
+def run_plan(plan: LaunchPlan, output: LaunchOutput, *, noninteractive: bool = True,
+             on_start: Callable[[Supervisor], None] | None = None) -> int:
+    """Check the plan's parameter files, then run it to the end in this thread."""
+    check_param_files(plan)
+    supervisor = Supervisor(plan, output, noninteractive=noninteractive)
+    if on_start is not None:
+        on_start(supervisor)
+    output.open()
+    try:
+        return supervisor.run()
+    finally:
+        output.close()
+
