@@ -10,6 +10,7 @@ the jitter (std of inter-arrival gaps, ms). Median over RUNS runs.
 from __future__ import annotations
 
 import argparse
+import itertools
 import os
 import statistics
 import subprocess
@@ -20,10 +21,10 @@ from pathlib import Path
 
 os.environ.setdefault('ROS_DOMAIN_ID', '97')
 
-from robot_lab.context import session  # noqa: E402
-from robot_lab.env import ros_environment  # noqa: E402
-from robot_lab.messages import message_class  # noqa: E402
-from robot_lab.process import spawn, stop  # noqa: E402
+from robot_lab.context import session
+from robot_lab.env import ros_environment
+from robot_lab.messages import message_class
+from robot_lab.process import spawn, stop
 
 BIN = Path(sys.executable).parent
 CASES = [
@@ -60,7 +61,7 @@ def measure(executable: str, param: str, rate: int, topic: str, type_name: str,
     finally:
         stop(proc)
         node.destroy_subscription(sub)
-    gaps = [b - a for a, b in zip(window, window[1:], strict=False)]
+    gaps = [b - a for a, b in itertools.pairwise(window)]
     achieved = len(gaps) / sum(gaps)
     return 100.0 * (achieved - rate) / rate, statistics.pstdev(gaps) * 1000.0
 

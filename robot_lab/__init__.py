@@ -91,6 +91,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
+    from robot_lab.context import Session, session
     from robot_lab.env import apply_ros_defaults
     from robot_lab.errors import (
         BagError,
@@ -103,4 +104,3 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         RobotLabError,
     )
     from robot_lab.pkg.index import find_executable, package_prefix, package_share
-    from robot_lab.context import Session, session

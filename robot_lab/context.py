@@ -8,6 +8,7 @@ no signal handlers, and spins a background executor so callbacks run between cel
 from __future__ import annotations
 
 import atexit
+import contextlib
 import os
 import threading
 import time
@@ -96,7 +97,7 @@ class Session:
             self.executor.spin()
         except ExternalShutdownException:
             pass
-        except Exception:  # noqa: BLE001 - a dying executor must not kill the kernel
+        except Exception:
             if self.context.ok():
                 raise
 
@@ -133,7 +134,7 @@ class Session:
         def _call() -> None:
             try:
                 future.set_result(fn())
-            except Exception as exc:  # noqa: BLE001 - handed to the caller
+            except Exception as exc:
                 future.set_exception(exc)
 
         guard = self.node.create_guard_condition(_call)
@@ -146,14 +147,11 @@ class Session:
 
     def close(self) -> None:
         """Stop the executor and, if this session created it, the context."""
-        try:
+        # Best effort: at interpreter exit rclpy may already be half torn down.
+        with contextlib.suppress(Exception):
             self.executor.shutdown(timeout_sec=2.0)
-        except Exception:  # noqa: BLE001, S110 - best effort at exit
-            pass
-        try:
+        with contextlib.suppress(Exception):
             self.node.destroy_node()
-        except Exception:  # noqa: BLE001, S110
-            pass
         if self._owns_context:
             self.context.try_shutdown()
         self._thread.join(timeout=2.0)

@@ -114,8 +114,8 @@ def _fill(msg: Any, values: Mapping[str, Any], path: str) -> None:
             _fill(current, value, f'{path}{key}.')
             continue
         try:
-            if isinstance(current, float) and isinstance(value, int) and not isinstance(value, bool):
-                value = float(value)
+            if isinstance(current, float) and type(value) is int:
+                value = float(value)  # YAML `1` for a float field, as ros2 topic pub allows
             setattr(msg, key, value)
         except (AssertionError, TypeError, ValueError) as exc:
             raise GraphError(

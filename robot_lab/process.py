@@ -59,11 +59,13 @@ def spawn(
         stdout=stdout,
         stderr=stderr,
         shell=shell,
-        preexec_fn=_child_setup,  # noqa: PLW1509 - prctl must run in the child
+        preexec_fn=_child_setup,
     )
 
 
-def stop(proc: subprocess.Popen[Any], sigint_timeout: float = 5.0, sigterm_timeout: float = 5.0) -> int:
+def stop(
+    proc: subprocess.Popen[Any], sigint_timeout: float = 5.0, sigterm_timeout: float = 5.0
+) -> int:
     """SIGINT, then SIGTERM, then SIGKILL, waiting between steps; returns the exit code."""
     for sig, timeout in ((signal.SIGINT, sigint_timeout), (signal.SIGTERM, sigterm_timeout)):
         if proc.poll() is not None:

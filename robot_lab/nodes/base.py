@@ -35,7 +35,9 @@ def declare(
         if isinstance(default, bool) or not isinstance(default, int | float):
             raise TypeError(f'parameter {name}: a range needs a numeric default')
         if isinstance(default, int):
-            descriptor.integer_range = [IntegerRange(from_value=int(low), to_value=int(high), step=1)]
+            descriptor.integer_range = [
+                IntegerRange(from_value=int(low), to_value=int(high), step=1)
+            ]
         else:
             descriptor.floating_point_range = [
                 FloatingPointRange(from_value=float(low), to_value=float(high), step=0.0)
@@ -68,4 +70,4 @@ def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None) -> N
     finally:
         if node is not None:
             node.destroy_node()
-        rclpy.try_shutdown()
+        rclpy.utilities.try_shutdown()

@@ -25,8 +25,10 @@ class ControllerNode(Node):  # type: ignore[misc]
     def __init__(self, **kwargs: Any) -> None:
         super().__init__('controller_node', **kwargs)
         declare(self, 'control_rate', 20, 'Control loop rate in Hz', (1, 100))
-        declare(self, 'temp_threshold', 25.0, 'Above this temperature (°C) status is HIGH', (0.0, 50.0))
-        declare(self, 'max_speed', 0.5, 'Forward speed (m/s) commanded while status is OK', (0.0, 2.0))
+        declare(self, 'temp_threshold', 25.0, 'Above this temperature (°C) status is HIGH',
+                (0.0, 50.0))
+        declare(self, 'max_speed', 0.5, 'Forward speed (m/s) commanded while status is OK',
+                (0.0, 2.0))
         self.rate = int(self.get_parameter('control_rate').value)
         self.threshold = float(self.get_parameter('temp_threshold').value)
         self.max_speed = float(self.get_parameter('max_speed').value)
