@@ -1,0 +1,30 @@
+"""`robot-lab build [WORKSPACE]`: the real `colcon build`, with progress and the errors
+that matter."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+HELP = 'Build the packages of a workspace with colcon (colcon build)'
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('workspace', nargs='?', default='.',
+                        help='The workspace folder (holding src/); default: the current one')
+    parser.add_argument('--packages-select', nargs='+', metavar='PKG_NAME',
+                        help='Only process a subset of packages')
+    parser.add_argument('--symlink-install', action='store_true',
+                        help='Use symlinks instead of copying files where possible')
+
+
+def main(args: argparse.Namespace) -> int:
+    from robot_lab.pkg.build import build
+
+    result = build(args.workspace, packages_select=args.packages_select,
+                   symlink_install=args.symlink_install, progress=True)
+    print(str(result), file=sys.stdout if result.ok else sys.stderr)
+    if result.ok:
+        print('To use it: source install/setup.bash (shell) or '
+              "robot_lab.use_workspace('" + str(result.workspace) + "') (notebook)")
+    return 0 if result.ok else 1
