@@ -137,3 +137,33 @@ def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,
         [str(BIN / 'robot-lab'), *args], capture_output=True, text=True,
         timeout=timeout, cwd=cwd, env=full_env, check=False,
     )
+
+
+# --- seed packages (Lab 1.3, Chapter 6) built once per run with the venv's colcon ----------
+
+
+class SeedWorkspaces:
+    """Built copies of the seed packages and the environment `source install/setup.bash` gives.
+
+    `fixed`: Lab 1.3 (build type added, parameters nested) and Chapter 6, ready to launch.
+    `flat`: Lab 1.3 with the build type added but its flat robot_params.yaml as written.
+    """
+
+    def __init__(self, root: Path) -> None:
+        from seeds import CH6, LAB13, colcon_build, copy_seed, workspace_env
+
+        self.fixed = root / 'fixed_ws'
+        self.flat = root / 'flat_ws'
+        copy_seed(LAB13, self.fixed)
+        copy_seed(CH6, self.fixed)
+        copy_seed(LAB13, self.flat, nest_params=False)
+        colcon_build(self.fixed)
+        colcon_build(self.flat)
+        self.fixed_env = workspace_env(self.fixed)
+        self.flat_env = workspace_env(self.flat)
+
+
+@pytest.fixture(scope='session')
+def seed_workspaces(tmp_path_factory: pytest.TempPathFactory) -> SeedWorkspaces:
+    """The seed packages, built once per pytest run (see tests/seeds.py)."""
+    return SeedWorkspaces(tmp_path_factory.mktemp('seeds'))

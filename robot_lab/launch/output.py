@@ -109,6 +109,7 @@ class LaunchOutput:
 
     def open(self) -> None:
         """Create the log directory and print launch's two opening lines."""
+        self.log_dir.mkdir(parents=True, exist_ok=True)
         self._launch_log = (self.log_dir / 'launch.log').open('a', encoding='utf-8')
         self.launcher('INFO', 'launch', f'All log files can be found below {self.log_dir}')
         level = 'DEBUG' if self.debug else 'INFO'

@@ -1,0 +1,336 @@
+"""The supervisor with hand-built plans: output lines, routing, exits, respawn, shutdown.
+
+Real processes throughout: the kit's three nodes over real DDS, and small Python
+children whose behaviour (exit codes, ignored signals) a test needs to control.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import psutil
+import pytest
+from conftest import Proc
+
+from robot_lab.errors import ParamFileError
+from robot_lab.launch.description import (
+    LaunchPlan,
+    LogAction,
+    ProcessSpec,
+    ShutdownAction,
+    TimerAction,
+)
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.supervisor import Supervisor, check_param_files
+from robot_lab.pkg.index import find_executable
+
+PY = sys.executable
+
+
+def node_spec(exe: str, name: str, n: int, *extra: str, output: str = 'screen',
+              **kw: object) -> ProcessSpec:
+    """A ProcessSpec for one of the kit's nodes, as launch_ros would build it."""
+    cmd = [str(find_executable('robot_lab', exe)), '--ros-args', '-r', f'__node:={name}', *extra]
+    return ProcessSpec(cmd=cmd, label=f'{exe}-{n}', env={}, output=output, node_name=name,
+                       package='robot_lab', executable=exe, **kw)  # type: ignore[arg-type]
+
+
+def py_spec(code: str, n: int, **kw: object) -> ProcessSpec:
+    return ProcessSpec(cmd=[PY, '-c', code], label=f'python-{n}', env={},
+                       executable='python', **kw)  # type: ignore[arg-type]
+
+
+class Running:
+    """A Supervisor running in a thread of the test, its screen captured."""
+
+    def __init__(self, plan: LaunchPlan, log_dir: Path) -> None:
+        self.screen = io.StringIO()
+        self.output = LaunchOutput(self.screen, log_dir=log_dir)
+        self.supervisor = Supervisor(plan, self.output, noninteractive=True)
+        self.code: int | None = None
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+        assert self.supervisor.started.wait(15)
+
+    def _run(self) -> None:
+        self.output.open()
+        try:
+            self.code = self.supervisor.run()
+        finally:
+            self.output.close()
+
+    @property
+    def text(self) -> str:
+        return self.screen.getvalue()
+
+    def wait_for(self, pattern: str, timeout: float = 15.0) -> re.Match[str]:
+        deadline = time.monotonic() + timeout
+        seen = 0
+        while True:
+            lines, seen_now = self.output.since(seen)
+            for line in lines:
+                found = re.search(pattern, line.text)
+                if found:
+                    return found
+            seen = seen_now
+            if time.monotonic() > deadline:
+                raise AssertionError(f'no line matching {pattern!r}:\n{self.text[-4000:]}')
+            self.output.wait(seen, 0.2)
+
+    def join(self, timeout: float = 30.0) -> int:
+        self.thread.join(timeout)
+        assert not self.thread.is_alive(), f'launch did not end:\n{self.text[-3000:]}'
+        assert self.code is not None
+        return self.code
+
+    def stop(self) -> None:
+        self.supervisor.shutdown()
+        self.join()
+
+
+@pytest.fixture
+def launches(tmp_path: Path) -> Iterator[list[Running]]:
+    started: list[Running] = []
+    yield started
+    for running in started:
+        if running.thread.is_alive():
+            running.stop()
+
+
+@pytest.fixture
+def run_plan(tmp_path: Path, launches: list[Running]):  # type: ignore[no-untyped-def]
+    def _run(*actions: object) -> Running:
+        plan = LaunchPlan(tmp_path / 'hand.launch.xml', list(actions), [])  # type: ignore[arg-type]
+        running = Running(plan, tmp_path / f'log{len(launches)}')
+        launches.append(running)
+        return running
+
+    return _run
+
+
+def test_output_lines_log_dir_and_routing(run_plan, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    code = 'import sys; print("to-stdout"); print("to-stderr", file=sys.stderr); sys.exit({})'
+    run = run_plan(py_spec(code.format(0), 1, output='log'),
+                   py_spec(code.format(3), 2, output='screen'))
+    assert run.join() == 0
+    lines = run.text.splitlines()
+    log_dir = run.output.log_dir
+    assert lines[0] == f'[INFO] [launch]: All log files can be found below {log_dir}'
+    assert lines[1] == '[INFO] [launch]: Default logging verbosity is set to INFO'
+    pid1 = int(re.search(r'\[INFO\] \[python-1\]: process started with pid \[(\d+)\]',
+                         run.text).group(1))  # type: ignore[union-attr]
+    pid2 = run.supervisor.records[1].pid
+    assert f'[INFO] [python-1]: process has finished cleanly [pid {pid1}]' in lines
+    cmd = f'{PY} -c ' + code.format(3)
+    assert f"[ERROR] [python-2]: process has died [pid {pid2}, exit code 3, cmd '{cmd}']." in lines
+    # output='log': stdout only to the log file, stderr on screen; 'screen': both on screen.
+    assert '[python-1] to-stderr' in lines
+    assert '[python-1] to-stdout' not in lines
+    assert '[python-2] to-stdout' in lines and '[python-2] to-stderr' in lines
+    launch_log = (log_dir / 'launch.log').read_text()
+    assert re.search(r'^\d+\.\d{7} \[python-1\] to-stdout$', launch_log, re.M)
+    assert re.search(r'^\d+\.\d{7} \[INFO\] \[launch\]: All log files', launch_log, re.M)
+    assert 'to-stdout' in (log_dir / 'python-1.log').read_text()
+    assert [r.state for r in run.supervisor.records] == ['finished', 'died']
+    assert [r.returncode for r in run.supervisor.records] == [0, 3]
+
+
+def test_log_dir_follows_ros_log_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv('ROS_LOG_DIR', str(tmp_path / 'logs'))
+    out = LaunchOutput(None)
+    assert out.log_dir.parent == tmp_path / 'logs'
+    assert re.fullmatch(r'\d{4}-\d\d-\d\d-\d\d-\d\d-\d\d-\d{6}-.+-\d+', out.log_dir.name)
+    assert (tmp_path / 'logs' / 'latest').resolve() == out.log_dir
+
+
+def test_seed_nodes_run_and_stop_cleanly(run_plan) -> None:  # type: ignore[no-untyped-def]
+    run = run_plan(node_spec('sensor_node', 'sensor', 1),
+                   node_spec('controller_node', 'controller', 2),
+                   node_spec('robot_node', 'robot', 3, '-p', 'robot_name:=robot_alpha'))
+    run.wait_for(r'^\[sensor_node-1\] \[INFO\] \[[\d.]+\] \[sensor\]: '
+                 r'Sensor node started \(rate: 10 Hz\)$')
+    run.wait_for(r'\[controller\]: Controller node started$')
+    run.wait_for(r'\[robot\]: Robot node started: robot_alpha$')
+    run.wait_for(r'^\[robot_node-3\] .*\[robot\]: Status: OK \(temp: 2\d\.\d°C\)$')
+    run.stop()
+    for n, label in enumerate(['sensor_node-1', 'controller_node-2', 'robot_node-3']):
+        pid = run.supervisor.records[n].pid
+        assert f"[INFO] [{label}]: sending signal 'SIGINT' to process[{label}]" in run.text
+        assert f'[INFO] [{label}]: process has finished cleanly [pid {pid}]' in run.text
+        assert not psutil.pid_exists(pid) or psutil.Process(pid).status() == 'zombie'
+
+
+def test_crash_leaves_siblings_running(run_plan) -> None:  # type: ignore[no-untyped-def]
+    run = run_plan(node_spec('sensor_node', 'sensor', 1),
+                   node_spec('controller_node', 'controller', 2),
+                   node_spec('robot_node', 'robot', 3),
+                   py_spec('import sys, time; time.sleep(1.0); sys.exit(7)', 4))
+    run.wait_for(r'\[ERROR\] \[python-4\]: process has died \[pid \d+, exit code 7')
+    # The siblings carry on: the robot keeps reporting the controller's status.
+    _, mark = run.output.since(0)
+    run.wait_for(r'Robot node started')
+    deadline = time.monotonic() + 10
+    while not any('Status: OK' in line.text for line in run.output.since(mark)[0]):
+        assert time.monotonic() < deadline, run.text[-3000:]
+        run.output.wait(run.output.count, 0.5)
+    assert [r.state for r in run.supervisor.records] == ['running'] * 3 + ['died']
+    run.stop()
+    assert [r.state for r in run.supervisor.records] == ['finished'] * 3 + ['died']
+
+
+def test_respawn_with_delay_and_max_retries(run_plan) -> None:  # type: ignore[no-untyped-def]
+    spec = py_spec('import sys; print("up", file=sys.stderr); sys.exit(1)', 1,
+                   respawn=True, respawn_delay=0.3, respawn_max_retries=2)
+    run = run_plan(spec)
+    assert run.join() == 0  # all attempts used: the launch ends by itself
+    started = re.findall(r'\[INFO\] \[python-1\]: process started with pid \[(\d+)\]', run.text)
+    died = re.findall(r'process has died \[pid (\d+), exit code 1', run.text)
+    assert len(started) == 3 and started == died
+    assert len(set(started)) == 3
+    stamps = [line.time for line in run.output.lines() if 'process started' in line.text]
+    assert all(b - a >= 0.3 for a, b in zip(stamps, stamps[1:], strict=False))
+
+
+def test_respawn_stops_at_shutdown(run_plan) -> None:  # type: ignore[no-untyped-def]
+    spec = py_spec('import sys; sys.exit(2)', 1, respawn=True, respawn_delay=30.0)
+    run = run_plan(spec)
+    run.wait_for(r'process has died')
+    assert run.supervisor.records[0].state == 'respawning'
+    run.stop()  # a pending respawn must not keep the launch alive for 30 s
+    assert run.text.count('process started') == 1
+
+
+def test_on_exit_shutdown_stops_the_others(run_plan) -> None:  # type: ignore[no-untyped-def]
+    run = run_plan(node_spec('sensor_node', 'sensor', 1),
+                   py_spec('import time; time.sleep(1.0)', 2, on_exit='shutdown'))
+    assert run.join() == 0
+    assert '[INFO] [launch]: process[python-2] was required: shutting down launched system' \
+        in run.text
+    assert "[INFO] [sensor_node-1]: sending signal 'SIGINT' to process[sensor_node-1]" in run.text
+    assert run.supervisor.records[0].state == 'finished'
+
+
+def test_timer_log_and_shutdown_actions(run_plan) -> None:  # type: ignore[no-untyped-def]
+    run = run_plan(LogAction('starting'),
+                   py_spec('import time; time.sleep(60)', 1),
+                   TimerAction(0.4, [LogAction('timer fired', 'WARNING'), ShutdownAction('done')]))
+    assert run.join() == 0
+    lines = run.text.splitlines()
+    assert '[INFO] [launch.user]: starting' in lines
+    assert '[WARNING] [launch.user]: timer fired' in lines
+    fired = next(ln.time for ln in run.output.lines() if 'timer fired' in ln.text)
+    began = next(ln.time for ln in run.output.lines() if 'starting' in ln.text)
+    assert fired - began >= 0.4
+    assert "sending signal 'SIGINT' to process[python-1]" in run.text
+
+
+def test_sigint_sigterm_sigkill_escalation(run_plan) -> None:  # type: ignore[no-untyped-def]
+    stubborn = ('import signal, sys, time\n'
+                'signal.signal(signal.SIGINT, signal.SIG_IGN)\n'
+                'signal.signal(signal.SIGTERM, signal.SIG_IGN)\n'
+                'print("ignoring", file=sys.stderr, flush=True)\n'
+                'time.sleep(120)\n')
+    run = run_plan(py_spec(stubborn, 1, sigterm_timeout=0.5, sigkill_timeout=0.5))
+    run.wait_for(r'\[python-1\] ignoring')
+    began = time.monotonic()
+    run.stop()
+    took = time.monotonic() - began
+    pid = run.supervisor.records[0].pid
+    expected = [
+        "[INFO] [python-1]: sending signal 'SIGINT' to process[python-1]",
+        "[ERROR] [python-1]: process[python-1] failed to terminate '0.5' seconds after "
+        "receiving 'SIGINT', escalating to 'SIGTERM'",
+        "[INFO] [python-1]: sending signal 'SIGTERM' to process[python-1]",
+        "[ERROR] [python-1]: process[python-1] failed to terminate '1.0' seconds after "
+        "receiving 'SIGTERM', escalating to 'SIGKILL'",
+        "[INFO] [python-1]: sending signal 'SIGKILL' to process[python-1]",
+    ]
+    lines = run.text.splitlines()
+    positions = [lines.index(line) for line in expected]
+    assert positions == sorted(positions)
+    assert re.search(rf'\[ERROR\] \[python-1\]: process has died \[pid {pid}, exit code -9, ',
+                     run.text)
+    assert 0.9 <= took < 10
+
+
+def test_flat_param_file_refused_before_start(tmp_path: Path) -> None:
+    flat = tmp_path / 'robot_params.yaml'
+    flat.write_text('# Sensor parameters\nsensor_rate: 10\nnoise_level: 0.1\n')
+    plan = LaunchPlan(tmp_path / 'x.launch.xml',
+                      [node_spec('sensor_node', 'sensor', 1, '--params-file', str(flat),
+                                 param_files=[str(flat)])], [])
+    with pytest.raises(ParamFileError) as err:
+        check_param_files(plan)
+    assert 'robot_params.yaml' in str(err.value) and 'ros__parameters' in str(err.value)
+
+
+# --- the launcher as its own process: Ctrl-C and kill -9 -----------------------------------
+
+RUNNER = r'''
+import json, sys
+from pathlib import Path
+from robot_lab.cli.launch import run
+from robot_lab.launch.description import LaunchPlan, ProcessSpec
+specs = [ProcessSpec(**d) for d in json.loads(sys.argv[1])]
+sys.exit(run(LaunchPlan(Path('hand.launch.xml'), specs, []), noninteractive=sys.argv[2] == '1'))
+'''
+
+
+def three_nodes_json() -> str:
+    specs = [node_spec('sensor_node', 'sensor', 1), node_spec('controller_node', 'controller', 2),
+             node_spec('robot_node', 'robot', 3)]
+    return json.dumps([{k: v for k, v in vars(s).items()} for s in specs])
+
+
+def node_pids(launcher: psutil.Process) -> list[int]:
+    return [p.pid for p in launcher.children(recursive=True)]
+
+
+def test_ctrl_c_stops_everything_exit_zero(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    proc: Proc = start(PY, '-c', RUNNER, three_nodes_json(), '1',
+                       env={'ROS_LOG_DIR': str(tmp_path)})
+    proc.wait_for(r'Status: OK')
+    children = node_pids(psutil.Process(proc.popen.pid))
+    assert len(children) == 3
+    proc.popen.send_signal(signal.SIGINT)
+    assert proc.popen.wait(20) == 0
+    proc.wait_for(r'finished cleanly', 5)
+    out = proc.output
+    assert '[WARNING] [launch]: user interrupted with ctrl-c (SIGINT)' in out
+    assert out.count('process has finished cleanly') == 3, out
+    for pid in children:
+        assert not psutil.pid_exists(pid)
+
+
+def test_kill_9_of_launcher_leaves_no_node(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    proc: Proc = start(PY, '-c', RUNNER, three_nodes_json(), '1',
+                       env={'ROS_LOG_DIR': str(tmp_path)})
+    proc.wait_for(r'Status: OK')
+    children = [psutil.Process(pid) for pid in node_pids(psutil.Process(proc.popen.pid))]
+    assert len(children) == 3
+    names = {exe for c in children for exe in ('sensor_node', 'controller_node', 'robot_node')
+             if any(arg.endswith(exe) for arg in c.cmdline())}
+    assert names == {'sensor_node', 'controller_node', 'robot_node'}
+    os.kill(proc.popen.pid, signal.SIGKILL)
+    proc.popen.wait(5)
+    gone, alive = psutil.wait_procs(children, timeout=10)
+    assert not alive, [p.pid for p in alive]
+    assert len(gone) == 3
+
+
+def test_launcher_imports_no_rclpy() -> None:
+    """No DDS participant in the launcher: it must not even import rclpy."""
+    code = ('import sys, robot_lab.cli.launch, robot_lab.launch.supervisor, '
+            'robot_lab.launch.api; print("rclpy" in sys.modules)')
+    out = subprocess.run([PY, '-c', code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == 'False'
