@@ -7,6 +7,7 @@ children whose behaviour (exit codes, ignored signals) a test needs to control.
 from __future__ import annotations
 
 import io
+import itertools
 import json
 import os
 import re
@@ -198,7 +199,7 @@ def test_respawn_with_delay_and_max_retries(run_plan) -> None:  # type: ignore[n
     assert len(started) == 3 and started == died
     assert len(set(started)) == 3
     stamps = [line.time for line in run.output.lines() if 'process started' in line.text]
-    assert all(b - a >= 0.3 for a, b in zip(stamps, stamps[1:], strict=False))
+    assert all(b - a >= 0.3 for a, b in itertools.pairwise(stamps))
 
 
 def test_respawn_stops_at_shutdown(run_plan) -> None:  # type: ignore[no-untyped-def]
@@ -276,14 +277,14 @@ def test_flat_param_file_refused_before_start(tmp_path: Path) -> None:
 
 # --- the launcher as its own process: Ctrl-C and kill -9 -----------------------------------
 
-RUNNER = r'''
+RUNNER = r"""
 import json, sys
 from pathlib import Path
 from robot_lab.cli.launch import run
 from robot_lab.launch.description import LaunchPlan, ProcessSpec
 specs = [ProcessSpec(**d) for d in json.loads(sys.argv[1])]
 sys.exit(run(LaunchPlan(Path('hand.launch.xml'), specs, []), noninteractive=sys.argv[2] == '1'))
-'''
+"""
 
 
 def three_nodes_json() -> str:
