@@ -1,0 +1,146 @@
+"""`robot-lab param list|get|set|describe|dump|load`: prints what `ros2 param …` prints."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+
+HELP = 'Various param related sub-commands'
+
+# ParameterType -> the label `ros2 param get` prints before the value
+_GET_LABELS = {
+    1: 'Boolean value is:', 2: 'Integer value is:', 3: 'Double value is:',
+    4: 'String value is:', 5: 'Byte values are:', 6: 'Boolean values are:',
+    7: 'Integer values are:', 8: 'Double values are:', 9: 'String values are:',
+}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest='param_verb', metavar='VERB')
+
+    lister = sub.add_parser('list', help='Output a list of available parameters')
+    lister.add_argument('node_name', nargs='?', help='Name of the ROS node')
+    lister.add_argument('--filter', nargs=1, help='Only parameters matching the regex '
+                        'expression will be showed. Supports `re` regex syntax.')
+    lister.add_argument('--param-prefixes', nargs='+', default=[],
+                        help='Only list parameters with the provided prefixes')
+    lister.add_argument('--param-type', action='store_true',
+                        help='Print parameter types with parameter names')
+
+    get = sub.add_parser('get', help='Get parameter')
+    get.add_argument('node_name', help='Name of the ROS node')
+    get.add_argument('parameter_name', help='Name of the parameter')
+    get.add_argument('--hide-type', action='store_true', help='Hide the type information')
+
+    setter = sub.add_parser('set', help='Set parameter')
+    setter.add_argument('node_name', help='Name of the ROS node')
+    setter.add_argument('parameter_name', help='Name of the parameter')
+    setter.add_argument('value', help='Value of the parameter')
+
+    describe = sub.add_parser('describe', help='Show descriptive information about declared '
+                              'parameters')
+    describe.add_argument('node_name', help='Name of the ROS node')
+    describe.add_argument('parameter_names', nargs='+', help='Names of the parameters')
+
+    dump = sub.add_parser('dump', help='Show all of the parameters of a node in a YAML file '
+                          'format')
+    dump.add_argument('node_name', help='Name of the ROS node')
+
+    load = sub.add_parser('load', help='Load parameter file for a node')
+    load.add_argument('node_name', help='Name of the ROS node')
+    load.add_argument('parameter_file', help='Parameter file')
+    load.add_argument('--no-use-wildcard', action='store_true',
+                      help="Do not load parameters in the '/**' namespace into the node")
+    parser.set_defaults(_parser=parser)
+
+
+def main(args: argparse.Namespace) -> int:
+    verbs = {'list': _list, 'get': _get, 'set': _set, 'describe': _describe, 'dump': _dump,
+             'load': _load}
+    verb = verbs.get(args.param_verb or '')
+    if verb is None:
+        args._parser.print_help()
+        return 0
+    return verb(args)
+
+
+def _list(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+
+    by_node = api.param_list(args.node_name, prefixes=args.param_prefixes)
+    pattern = re.compile(args.filter[0]) if args.filter else None
+    for node, names in sorted(by_node.items()):
+        if pattern is not None:
+            names = [n for n in names if pattern.match(n)]
+        if not args.node_name and names:
+            print(f'{node}:')
+        types = {}
+        if args.param_type:
+            types = {n: api.param_describe(node, n).type for n in names}
+        for name in names:
+            print(f'  {name} (type: {types[name]})' if args.param_type else f'  {name}')
+    return 0
+
+
+def _get(args: argparse.Namespace) -> int:
+    from robot_lab.graph.parameters import param_get_typed
+
+    ptype, value = param_get_typed(args.node_name, args.parameter_name)
+    print(value if args.hide_type else f'{_GET_LABELS[ptype]} {value}')
+    return 0
+
+
+def _set(args: argparse.Namespace) -> int:
+    from robot_lab.graph.parameters import set_parameters
+
+    (result,) = set_parameters(args.node_name, {args.parameter_name: args.value})
+    if result.successful:
+        print('Set parameter successful' + (f': {result.reason}' if result.reason else ''))
+    else:
+        # ros2cli prints the node's reason on stderr and still exits 0
+        print('Setting parameter failed' + (f': {result.reason}' if result.reason else ''),
+              file=sys.stderr)
+    return 0
+
+
+def _describe(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+
+    for name in args.parameter_names:
+        d = api.param_describe(args.node_name, name)
+        print('Parameter name:', d.name)
+        print('  Type:', d.type)
+        if d.description:
+            print('  Description:', d.description)
+        print('  Constraints:')
+        if d.read_only:
+            print('    Read only: true')
+        if d.min_value is not None:
+            print('    Min value:', d.min_value)
+            print('    Max value:', d.max_value)
+            if d.step:
+                print('    Step:', d.step)
+        if d.additional_constraints:
+            print('    Additional constraints:', d.additional_constraints)
+    return 0
+
+
+def _dump(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+
+    print(api.param_dump(args.node_name, as_yaml=True))
+    return 0
+
+
+def _load(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+
+    for result in api.param_load(args.node_name, args.parameter_file,
+                                 use_wildcard=not args.no_use_wildcard):
+        reason = f': {result.reason}' if result.reason else ''
+        if result.successful:
+            print(f'Set parameter {result.name} successful{reason}')
+        else:
+            print(f'Set parameter {result.name} failed{reason}', file=sys.stderr)
+    return 0

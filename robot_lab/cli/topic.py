@@ -1,0 +1,316 @@
+"""`robot-lab topic list|info|type|echo|hz|pub`: prints what `ros2 topic …` (Jazzy) prints.
+
+Beyond ros2cli: `echo --times N` (`-n N`) stops after N messages, and `hz --duration S`
+stops after S seconds (ros2cli runs until Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import Any
+
+HELP = 'Various topic related sub-commands'
+
+DEFAULT_TRUNCATE_LENGTH = 128
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value <= 0:
+        raise argparse.ArgumentTypeError('value must be a positive integer')
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError('Expects a floating point number') from None
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError('Value must be positive')
+    return value
+
+
+def _nonnegative_int(text: str) -> int:
+    value = int(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError('Value must be positive or zero')
+    return value
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--include-hidden-topics', action='store_true',
+                        help='Consider hidden topics as well')
+    sub = parser.add_subparsers(dest='topic_verb', metavar='VERB')
+
+    lister = sub.add_parser('list', help='Output a list of available topics')
+    lister.add_argument('-t', '--show-types', action='store_true',
+                        help='Additionally show the topic type')
+    lister.add_argument('-c', '--count-topics', action='store_true',
+                        help='Only display the number of topics discovered')
+    lister.add_argument('-a', '--include-hidden-topics', dest='list_hidden', action='store_true',
+                        help='Consider hidden topics as well')
+    lister.add_argument('-v', '--verbose', action='store_true',
+                        help='List full details about each topic')
+
+    info = sub.add_parser('info', help='Print information about a topic')
+    info.add_argument('topic_name', help="Name of the ROS topic to get info (e.g. '/chatter')")
+    info.add_argument('--verbose', '-v', action='store_true',
+                      help='Prints detailed information like the node name, node namespace, '
+                      'topic type, GUID and QoS Profile of the publishers and subscribers')
+
+    kind = sub.add_parser('type', help="Print a topic's type")
+    kind.add_argument('topic_name', help="Name of the ROS topic to get type (e.g. '/chatter')")
+
+    echo = sub.add_parser('echo', help='Output messages from a topic')
+    echo.add_argument('topic_name', help="Name of the ROS topic to listen to (e.g. '/chatter')")
+    echo.add_argument('message_type', nargs='?',
+                      help="Type of the ROS message (e.g. 'std_msgs/msg/String')")
+    echo.add_argument('--field', type=str, default=None,
+                      help="Echo a selected field of a message. Use '.' to select sub-fields")
+    echo.add_argument('--full-length', '-f', action='store_true',
+                      help='Output all elements for arrays, bytes, and strings')
+    echo.add_argument('--truncate-length', '-l', type=_nonnegative_int,
+                      default=DEFAULT_TRUNCATE_LENGTH,
+                      help=f'The length to truncate arrays, bytes, and string to '
+                      f'(default: {DEFAULT_TRUNCATE_LENGTH})')
+    echo.add_argument('--no-arr', action='store_true', help="Don't print array fields of messages")
+    echo.add_argument('--no-str', action='store_true',
+                      help="Don't print string fields of messages")
+    echo.add_argument('--once', action='store_true',
+                      help='Print the first message received and then exit.')
+    echo.add_argument('--times', '-n', type=_positive_int, default=None, metavar='N',
+                      help='Print N messages and then exit (robot_lab)')
+    echo.add_argument('--timeout', metavar='N', type=_positive_float, default=None,
+                      help='Set a timeout in seconds for waiting')
+
+    hz = sub.add_parser('hz', help='Print the average publishing rate to screen')
+    hz.add_argument('topic_name', help="Name of the ROS topic to listen to (e.g. '/chatter')")
+    hz.add_argument('--window', '-w', dest='window_size', type=_positive_int, default=10000,
+                    metavar='WINDOW', help='window size, in # of messages, for calculating '
+                    'rate (default: 10000)')
+    hz.add_argument('--duration', type=_positive_float, default=None, metavar='S',
+                    help='stop after S seconds (robot_lab; ros2cli runs until Ctrl-C)')
+
+    pub = sub.add_parser('pub', help='Publish a message to a topic')
+    pub.add_argument('topic_name', help="Name of the ROS topic to publish to (e.g. '/chatter')")
+    pub.add_argument('message_type', help="Type of the ROS message (e.g. 'std_msgs/String')")
+    pub.add_argument('values', nargs='?', default='{}',
+                     help="Values to fill the message with in YAML format (e.g. 'data: Hello "
+                     "World'), otherwise the message will be published with default values")
+    pub.add_argument('-r', '--rate', metavar='N', type=_positive_float, default=1.0,
+                     help='Publishing rate in Hz (default: 1)')
+    pub.add_argument('-p', '--print', metavar='N', type=int, default=1,
+                     help='Only print every N-th published message (default: 1)')
+    once = pub.add_mutually_exclusive_group()
+    once.add_argument('-1', '--once', action='store_true', help='Publish one message and exit')
+    once.add_argument('-t', '--times', type=_nonnegative_int, default=0,
+                      help='Publish this number of times and then exit')
+    pub.add_argument('-w', '--wait-matching-subscriptions', type=_nonnegative_int, default=None,
+                     help='Wait until finding the specified number of matching subscriptions. '
+                     'Defaults to 1 when using "-1"/"--once"/"--times", otherwise defaults to 0.')
+    pub.add_argument('--max-wait-time-secs', type=_positive_float, default=None,
+                     help='The maximum wait time in seconds for --wait-matching-subscriptions')
+    pub.add_argument('--keep-alive', metavar='N', type=_positive_float, default=0.1,
+                     help='Keep publishing node alive for N seconds after the last msg '
+                     '(default: 0.1)')
+    parser.set_defaults(_parser=parser)
+
+
+def main(args: argparse.Namespace) -> int:
+    verbs = {'list': _list, 'info': _info, 'type': _type, 'echo': _echo, 'hz': _hz, 'pub': _pub}
+    verb = verbs.get(args.topic_verb or '')
+    if verb is None:
+        args._parser.print_help()
+        return 0
+    return verb(args)
+
+
+def _list(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+    from robot_lab.graph.discovery import get_session
+
+    hidden = args.include_hidden_topics or args.list_hidden
+    sess = get_session(None)
+    topics = api.topic_list(include_hidden=hidden, session=sess)
+    if args.count_topics:
+        print(len(topics))
+    elif topics and args.verbose:
+        for publishing in (True, False):
+            lines = ['Published topics:' if publishing else 'Subscribed topics:']
+            for name, types in topics:
+                count = (sess.node.count_publishers(name) if publishing
+                         else sess.node.count_subscribers(name))
+                if count:
+                    what = 'publisher' if publishing else 'subscriber'
+                    lines.append(f' * {name} [{", ".join(types)}] {count} {what}'
+                                 + ('s' if count > 1 else ''))
+            print('\n'.join(lines) + '\n')
+    else:
+        for name, types in topics:
+            print(f'{name} [{", ".join(types)}]' if args.show_types else name)
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from robot_lab.graph import api
+
+    info = api.topic_info(args.topic_name, verbose=args.verbose)
+    end = '\n\n' if args.verbose else '\n'
+    type_text = info.types[0] if len(info.types) == 1 else str(info.types)
+    print(f'Type: {type_text}', end=end)
+    print(f'Publisher count: {len(info.publishers)}', end=end)
+    if args.verbose:
+        for endpoint in info.publishers:
+            print(endpoint.text, end=end)
+    print(f'Subscription count: {len(info.subscribers)}', end=end)
+    if args.verbose:
+        for endpoint in info.subscribers:
+            print(endpoint.text, end=end)
+    return 0
+
+
+def _type(args: argparse.Namespace) -> int:
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+    from robot_lab.graph.topics import topic_list
+
+    topic = absolute_name(args.topic_name)
+    sess = get_session(None)
+
+    def lookup() -> list[str] | None:
+        found = dict(topic_list(include_hidden=True, session=sess))
+        return found.get(topic)
+
+    types = wait_until(lookup, LOOKUP_TIMEOUT)
+    if types is None:
+        return 1  # ros2cli prints nothing and exits 1
+    for name in types:
+        print(name)
+    return 0
+
+
+def _render(msg: Any, args: argparse.Namespace) -> str:
+    from robot_lab.messages import message_to_yaml
+
+    if not hasattr(msg, 'get_fields_and_field_types'):
+        return f'{msg}\n---'  # a selected primitive field, printed as Python prints it
+    limit = None if args.full_length else args.truncate_length
+    text = message_to_yaml(msg, no_arr=args.no_arr, no_str=args.no_str, truncate_length=limit)
+    return f'{text}---'
+
+
+def _echo(args: argparse.Namespace) -> int:
+    from robot_lab.errors import GraphError
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+    from robot_lab.graph.topics import echo_stream
+    from robot_lab.messages import field_value
+
+    topic = absolute_name(args.topic_name)
+    limit = 1 if args.once else args.times
+    if args.field is not None and not [p for p in args.field.split('.') if p]:
+        raise GraphError(f"Invalid field value '{args.field}'")
+    sess = get_session(None)
+    if args.message_type is None:
+        found = wait_until(
+            lambda: next((t for n, t in sess.node.get_topic_names_and_types() if n == topic),
+                         None), LOOKUP_TIMEOUT)
+        if found is None:
+            print(f'WARNING: topic [{topic}] does not appear to be published yet')
+            raise GraphError(
+                'Could not determine the type for the passed topic',
+                fix=f'check the name with `robot-lab topic list`, or give the type: '
+                f'`robot-lab topic echo {topic} std_msgs/msg/String`',
+            )
+    stream = echo_stream(topic, args.message_type, timeout=args.timeout, session=sess)
+    for shown, msg in enumerate(stream, start=1):
+        print(_render(field_value(msg, args.field) if args.field else msg, args), flush=True)
+        if limit is not None and shown >= limit:
+            break
+    return 0
+
+
+def _hz(args: argparse.Namespace) -> int:
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+    from robot_lab.graph.topics import rate_subscription
+
+    topic = absolute_name(args.topic_name)
+    sess = get_session(None)
+    start = time.monotonic()
+    end = None if args.duration is None else start + args.duration
+
+    def has_type() -> bool | None:
+        return True if any(n == topic for n, _ in sess.node.get_topic_names_and_types()) else None
+
+    if wait_until(has_type, LOOKUP_TIMEOUT) is None:
+        # Like ros2cli: say so once, then keep waiting for a publisher (bounded by --duration).
+        print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
+        remaining = None if end is None else max(0.0, end - time.monotonic())
+        if wait_until(has_type, 1e9 if remaining is None else remaining) is None:
+            return 0
+    meter = rate_subscription(topic, args.window_size, session=sess)
+    try:
+        # ros2cli prints about once a second of message time, starting a second after the
+        # first interval was measured.
+        first_seen: float | None = None
+        last_print = 0.0
+        while end is None or time.monotonic() < end:
+            time.sleep(0.02)
+            stats = meter.meter.stats()
+            now = time.monotonic()
+            if stats is None:
+                continue
+            if first_seen is None:
+                first_seen = last_print = now
+                continue
+            if now - last_print >= 1.0:
+                print(stats, flush=True)
+                last_print = now
+    finally:
+        meter.close()
+    return 0
+
+
+def _pub(args: argparse.Namespace) -> int:
+    from robot_lab.graph.topics import open_publisher, wait_for_subscribers
+    from robot_lab.messages import message_class, message_from_yaml
+
+    times = 1 if args.once else args.times
+    wait_for = (args.wait_matching_subscriptions if args.wait_matching_subscriptions is not None
+                else int(times != 0))
+    if wait_for == 0 and args.max_wait_time_secs is not None:
+        print('--max-wait-time-secs option is only effective with '
+              '--wait-matching-subscriptions, --once or --times', file=sys.stderr)
+        return 1
+    cls = message_class(args.message_type)  # GraphError: The passed message type is invalid
+    msg = message_from_yaml(cls, args.values)  # GraphError: needs a dictionary in YAML format
+    pub = open_publisher(args.topic_name, args.message_type)
+    if wait_for and not wait_for_subscribers(pub, wait_for, 0):
+        print(f'Waiting for at least {wait_for} matching subscription(s)...', flush=True)
+        start = time.monotonic()
+        while not wait_for_subscribers(pub, wait_for, 1.0):
+            if (args.max_wait_time_secs is not None
+                    and time.monotonic() - start >= args.max_wait_time_secs):
+                print(f'Timed out waiting for subscribers: Expected {wait_for} subcribers but '
+                      f'only got {pub.get_subscription_count()} subscribers', file=sys.stderr)
+                return 1
+            print(f'Waiting for at least {wait_for} matching subscription(s)...', flush=True)
+    print('publisher: beginning loop', flush=True)
+    period = 1.0 / args.rate
+    start = time.monotonic()
+    count = 0
+    while times == 0 or count < times:
+        if count:
+            delay = start + count * period - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+        count += 1
+        if args.print and count % args.print == 0:
+            print(f'publishing #{count}: {msg!r}\n', flush=True)
+        pub.publish(msg)
+    time.sleep(args.keep_alive)  # let the last message reach the wire before the exit
+    return 0

@@ -1,0 +1,92 @@
+"""How long to wait for the ROS graph: DDS discovery is not instant.
+
+A fresh participant learns about the others in bursts: the ones that answer its initial
+announcements at once, the rest only at their next lease announcement (0.5 s with the
+kit's Fast DDS profile, see robot_lab/data/fastdds_profile.xml). So a query that must be
+complete (`node list`) waits until the session is older than one announcement period and
+the answer has stopped changing; a query for one thing (`param get /sensor …`) polls
+until it appears, bounded by a deadline, before calling it unknown.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, TypeVar
+
+if TYPE_CHECKING:
+    from robot_lab.context import Session
+
+__all__ = [
+    'DISCOVERY_WINDOW',
+    'LOOKUP_TIMEOUT',
+    'POLL',
+    'SETTLE',
+    'WARM_SETTLE',
+    'absolute_name',
+    'get_session',
+    'settled',
+    'wait_until',
+]
+
+T = TypeVar('T')
+
+# One lease announcement period of the kit's profile plus the endpoint exchange after it.
+DISCOVERY_WINDOW = 0.6
+# An answer unchanged for this long (after the window) is taken as the settled graph.
+SETTLE = 0.2
+# A session past its first second has seen the graph; only fresh changes need settling.
+WARM_AGE = 1.5
+WARM_SETTLE = 0.05
+# How long a lookup of a named node/topic waits for discovery before calling it unknown.
+LOOKUP_TIMEOUT = 2.5
+POLL = 0.02
+
+
+def get_session(session: Session | None) -> Session:
+    """The session to use: the one given, or the process's session for ROS_DOMAIN_ID."""
+    if session is not None:
+        return session
+    from robot_lab.context import session as process_session
+
+    return process_session()
+
+
+def absolute_name(name: str) -> str:
+    """`sensor` -> `/sensor` (ros2cli accepts both for node and topic names)."""
+    name = name.strip()
+    return name if name.startswith('/') else '/' + name
+
+
+def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
+    """Poll `probe` until it returns something other than None, or `timeout` passes."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = probe()
+        if value is not None:
+            return value
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(POLL)
+
+
+def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
+            window: float = DISCOVERY_WINDOW, settle: float = SETTLE) -> T:
+    """`probe()` once discovery has had its window and the answer stopped changing.
+
+    Bounded by `timeout`: on a graph that keeps changing it returns the latest answer.
+    """
+    deadline = time.monotonic() + timeout
+    if time.monotonic() - session.created >= WARM_AGE:
+        settle = min(settle, WARM_SETTLE)
+    value = probe()
+    changed = time.monotonic()
+    while True:
+        now = time.monotonic()
+        old_enough = now - session.created >= window
+        if (old_enough and now - changed >= settle) or now >= deadline:
+            return value
+        time.sleep(POLL)
+        fresh = probe()
+        if fresh != value:
+            value, changed = fresh, time.monotonic()

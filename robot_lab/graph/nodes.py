@@ -1,0 +1,147 @@
+"""Nodes in the graph: `node list`, `node info`, waiting for nodes to come up."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from robot_lab.errors import GraphError
+from robot_lab.graph.discovery import (
+    LOOKUP_TIMEOUT,
+    absolute_name,
+    get_session,
+    settled,
+    wait_until,
+)
+
+if TYPE_CHECKING:
+    from robot_lab.context import Session
+
+__all__ = ['NodeInfo', 'find_node', 'is_hidden', 'node_info', 'node_list', 'wait_for_nodes']
+
+NamesAndTypes = list[tuple[str, list[str]]]
+
+
+def is_hidden(name: str) -> bool:
+    """Hidden like ROS: any part of the name starts with `_` (the kit's own node, `_x/y`)."""
+    return any(part.startswith('_') for part in name.split('/'))
+
+
+def split_name(full_name: str) -> tuple[str, str]:
+    """`/ns/name` -> (`name`, `/ns`); `/name` -> (`name`, `/`)."""
+    namespace, _, name = absolute_name(full_name).rpartition('/')
+    return name, namespace or '/'
+
+
+def _full_names(sess: Session, include_hidden: bool) -> list[str]:
+    names = []
+    for name, namespace in sess.node.get_node_names_and_namespaces():
+        if not name or (not include_hidden and name.startswith('_')):
+            continue
+        names.append(namespace.rstrip('/') + '/' + name)
+    return sorted(names)
+
+
+def node_list(include_hidden: bool = False, *, settle: bool = True,
+              timeout: float = 2.0, session: Session | None = None) -> list[str]:
+    """Full names of the nodes in the graph, sorted (like `ros2 node list`).
+
+    With `settle` (default) it returns once discovery has had its first window and the
+    list has stopped changing, so a list taken right after a launch is not partial.
+    """
+    sess = get_session(session)
+    if not settle:
+        return _full_names(sess, include_hidden)
+    return settled(sess, lambda: _full_names(sess, include_hidden), timeout=timeout)
+
+
+def find_node(name: str, include_hidden: bool = False, timeout: float = LOOKUP_TIMEOUT,
+              session: Session | None = None) -> str:
+    """The node's full name once discovered; GraphError `Unable to find node` after `timeout`."""
+    sess = get_session(session)
+    full = absolute_name(name)
+    found = wait_until(
+        lambda: full if full in _full_names(sess, include_hidden=True) else None, timeout
+    )
+    if found is None or (is_hidden(full) and not include_hidden):
+        raise GraphError(
+            f"Unable to find node '{full}'",
+            fix='check the name with `robot-lab node list` (is the node running, in '
+            f'ROS_DOMAIN_ID={sess.domain_id}?)',
+        )
+    return found
+
+
+def wait_for_nodes(names: Iterable[str], timeout: float = 10.0,
+                   session: Session | None = None) -> list[str]:
+    """Block until every node in `names` is in the graph; GraphError names the missing ones."""
+    sess = get_session(session)
+    wanted = [absolute_name(n) for n in names]
+
+    def all_there() -> list[str] | None:
+        present = set(_full_names(sess, include_hidden=True))
+        return wanted if all(n in present for n in wanted) else None
+
+    if wait_until(all_there, timeout) is None:
+        present = set(_full_names(sess, include_hidden=True))
+        missing = [n for n in wanted if n not in present]
+        raise GraphError(
+            f'nodes not up within {timeout:g} s: {", ".join(missing)}',
+            fix='check that they were started (and did not die) with `robot-lab node list`',
+        )
+    return wanted
+
+
+@dataclass
+class NodeInfo:
+    """What `ros2 node info` shows: a node's endpoints as (name, types) pairs."""
+
+    name: str
+    subscribers: NamesAndTypes = field(default_factory=list)
+    publishers: NamesAndTypes = field(default_factory=list)
+    service_servers: NamesAndTypes = field(default_factory=list)
+    service_clients: NamesAndTypes = field(default_factory=list)
+    action_servers: NamesAndTypes = field(default_factory=list)
+    action_clients: NamesAndTypes = field(default_factory=list)
+
+
+def _by_node(query: Callable[..., Any], node: Any, name: str, namespace: str,
+             include_hidden: bool) -> NamesAndTypes:
+    try:
+        found = query(node, name, namespace)
+    except Exception as exc:  # rclpy raises NodeNameNonExistentError and the like
+        raise GraphError(
+            f"Unable to find node '{namespace.rstrip('/')}/{name}' ({exc})",
+            fix='check the name with `robot-lab node list`',
+        ) from None
+    return [(n, list(t)) for n, t in sorted(found) if include_hidden or not is_hidden(n)]
+
+
+def node_info(name: str, include_hidden: bool = False,
+              session: Session | None = None) -> NodeInfo:
+    """Subscribers, publishers, services and actions of one node (`ros2 node info`)."""
+    from rclpy.action.graph import (
+        get_action_client_names_and_types_by_node,
+        get_action_server_names_and_types_by_node,
+    )
+    from rclpy.node import Node
+
+    sess = get_session(session)
+    full = find_node(name, include_hidden=True, session=sess)
+    base, namespace = split_name(full)
+    node = sess.node
+
+    def query(method: Callable[[Any, str, str], Any]) -> NamesAndTypes:
+        return _by_node(method, node, base, namespace, include_hidden)
+
+    # A fresh session may have the node but not yet all of its endpoints.
+    return settled(sess, lambda: NodeInfo(
+        name=full,
+        subscribers=query(Node.get_subscriber_names_and_types_by_node),
+        publishers=query(Node.get_publisher_names_and_types_by_node),
+        service_servers=query(Node.get_service_names_and_types_by_node),
+        service_clients=query(Node.get_client_names_and_types_by_node),
+        action_servers=query(get_action_server_names_and_types_by_node),
+        action_clients=query(get_action_client_names_and_types_by_node),
+    ))
