@@ -72,9 +72,59 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def message_to_dict(msg: Any) -> dict[str, Any]:
-    """Field name -> plain Python value, nested messages as dicts (ordered as declared)."""
-    return {name: _plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
+def message_to_dict(msg: Any, *, no_arr: bool = False, no_str: bool = False,
+                    truncate_length: int | None = None) -> dict[str, Any]:
+    """Field name -> plain Python value, nested messages as dicts (ordered as declared).
+
+    `no_arr`, `no_str` and `truncate_length` abridge as `ros2 topic echo` does
+    (`<sequence type: float64, length: 9>`, `<string length: <5>>`, `...`).
+    """
+    if not (no_arr or no_str or truncate_length is not None):
+        return {name: _plain(getattr(msg, name)) for name in msg.get_fields_and_field_types()}
+    return {
+        name: _abridged(getattr(msg, name), slot, no_arr, no_str, truncate_length)
+        for name, slot in zip(msg.get_fields_and_field_types(), msg.SLOT_TYPES, strict=False)
+    }
+
+
+def _slot_type_name(slot: Any) -> str:
+    kind = type(slot).__name__
+    if kind == 'BasicType':
+        return str(slot.typename)
+    if kind in ('UnboundedString', 'BoundedString'):
+        return 'string'
+    if kind in ('UnboundedWString', 'BoundedWString'):
+        return 'wstring'
+    if kind == 'NamespacedType':
+        return '/'.join(slot.namespaced_name())
+    return str(getattr(slot, 'name', 'unknown'))
+
+
+def _array_info(value: Any, slot: Any) -> str:
+    item = _slot_type_name(slot.value_type)
+    kind = type(slot).__name__
+    if kind == 'Array':
+        return f'<array type: {item}[{slot.size}]>'
+    if kind == 'BoundedSequence':
+        return f'<sequence type: {item}[{slot.maximum_size}], length: {len(value)}>'
+    return f'<sequence type: {item}, length: {len(value)}>'
+
+
+def _abridged(value: Any, slot: Any, no_arr: bool, no_str: bool, limit: int | None) -> Any:
+    if _is_message(value):
+        return message_to_dict(value, no_arr=no_arr, no_str=no_str, truncate_length=limit)
+    if isinstance(value, str):
+        if no_str:
+            return f'<string length: <{len(value)}>>'
+        return value[:limit] + '...' if limit is not None and len(value) > limit else value
+    if isinstance(value, list | tuple | bytes) or type(value).__name__ in ('array', 'ndarray'):
+        if no_arr and slot is not None and hasattr(slot, 'value_type'):
+            return _array_info(value, slot)
+        items = [_abridged(v, None, no_arr, no_str, limit) for v in value]
+        if limit is not None and len(items) > limit:
+            return [*items[:limit], '...']
+        return items
+    return _plain(value)
 
 
 class _EchoDumper(yaml.SafeDumper):
@@ -94,9 +144,10 @@ def _float_repr(dumper: yaml.SafeDumper, value: float) -> yaml.Node:
 _EchoDumper.add_representer(float, _float_repr)
 
 
-def message_to_yaml(msg: Any) -> str:
+def message_to_yaml(msg: Any, *, no_arr: bool = False, no_str: bool = False,
+                    truncate_length: int | None = None) -> str:
     """The YAML `ros2 topic echo` prints for one message (without the `---`)."""
-    data = message_to_dict(msg)
+    data = message_to_dict(msg, no_arr=no_arr, no_str=no_str, truncate_length=truncate_length)
     return yaml.dump(data, Dumper=_EchoDumper, default_flow_style=False, sort_keys=False,
                      allow_unicode=True)
 
