@@ -1,0 +1,428 @@
+"""rqt_plot in the notebook: live plots of message fields over a rolling time window.
+
+An argument is a topic followed by a field path, `/cmd_vel/linear/x`; like rqt_plot, it
+is split at the longest prefix that is a topic on the graph. A topic alone plots its one
+numeric field (`/sensor/temperature` is `data`). Drawing happens on a thread of its own
+into an ipywidgets.Image, so the kernel stays free; with no frontend (nbval, CI) the plot
+collects for a bounded time and leaves a static PNG of what it saw.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+from robot_lab.errors import GraphError
+from robot_lab.widgets.output import WidgetLog, in_ci, is_headless
+
+__all__ = ['Plot', 'Series', 'plot', 'resolve_field_path']
+
+# Colours that stay apart for colour-blind readers (Okabe–Ito).
+_COLOURS = ['#0072B2', '#D55E00', '#009E73', '#CC79A7', '#E69F00', '#56B4E9', '#000000']
+
+
+@dataclass
+class Series:
+    """One plotted field: where it comes from and the (time, value) samples received."""
+
+    path: str
+    topic: str
+    field: str
+    type_name: str
+    samples: deque[tuple[float, float]] = dataclasses.field(
+        default_factory=lambda: deque(maxlen=200_000))
+
+
+def _numeric(value: Any) -> float | None:
+    if isinstance(value, bool):
+        return float(value)
+    if isinstance(value, int | float):
+        return float(value)
+    return None
+
+
+def _default_field(cls: Any, path: str) -> str:
+    """The field to plot when only a topic was named: its single numeric field."""
+    fields = cls.get_fields_and_field_types()
+    numeric = [name for name, kind in fields.items()
+               if kind in {'float', 'double', 'int8', 'uint8', 'int16', 'uint16', 'int32',
+                           'uint32', 'int64', 'uint64', 'boolean', 'octet'}]
+    if len(numeric) == 1:
+        return str(numeric[0])
+    raise GraphError(
+        f"'{path}' is a topic of type {cls.__module__.split('.')[0]}/msg/{cls.__name__}, "
+        'not a numeric field',
+        fix=f'name a field after the topic, e.g. {path}/{next(iter(fields), "data")}',
+    )
+
+
+def resolve_field_path(path: str, topics: dict[str, str]) -> tuple[str, str]:
+    """Split `/topic/field/path` at the longest prefix that is a topic in `topics`."""
+    if not path.startswith('/'):
+        path = '/' + path
+    parts = path.rstrip('/').split('/')
+    for cut in range(len(parts), 1, -1):
+        topic = '/'.join(parts[:cut])
+        if topic in topics:
+            return topic, '/'.join(parts[cut:])
+    raise GraphError(
+        f"no topic on the graph is a prefix of '{path}'",
+        fix='start the node that publishes it, or check `robot-lab topic list` '
+        f'(known: {", ".join(sorted(topics)) or "none"})',
+    )
+
+
+class Plot:
+    """A live plot of message fields; `.data` holds the samples for check cells.
+
+    Times are seconds since the plot was created. Drive it from code with `pause()`,
+    `resume()`, `clear()`, `snapshot()` and `close()`; the buttons do the same.
+    """
+
+    def __init__(self, *paths: str, window: float = 10.0, fps: float = 15.0,
+                 timeout: float = 5.0, domain_id: int | None = None,
+                 headless_seconds: float | None = None) -> None:
+        if not paths:
+            raise GraphError('plot() needs at least one field path',
+                             fix="e.g. robot_lab.plot('/sensor/temperature')")
+        from robot_lab.context import session
+
+        self.window = float(window)
+        self.fps = float(fps)
+        self.headless_seconds = headless_seconds
+        self.session = session(domain_id)
+        self.t0 = time.monotonic()
+        self.redraws = 0
+        self.log = WidgetLog(max_lines=20, height='5em')
+        self._lock = threading.Lock()
+        self._render_lock = threading.Lock()
+        self._paused_at: float | None = None
+        self._closed = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._widget: Any = None
+        self._image: Any = None
+        self._figure: Any = None
+        self.series = self._resolve(paths, timeout)
+        self._subscriptions: list[Any] = []
+        self._subscribe()
+
+    # -- set-up ---------------------------------------------------------------------
+    def _resolve(self, paths: Iterable[str], timeout: float) -> list[Series]:
+        """Find each path's topic, waiting (bounded) for discovery to show it."""
+        from robot_lab.messages import field_value, message_class
+
+        deadline = time.monotonic() + timeout
+        pending = list(paths)
+        resolved: list[Series] = []
+        while True:
+            topics = {name: types[0] for name, types in
+                      self.session.node.get_topic_names_and_types() if types}
+            try:
+                for path in list(pending):
+                    topic, field_path = resolve_field_path(path, topics)
+                    cls = message_class(topics[topic])
+                    if not field_path:
+                        field_path = _default_field(cls, path)
+                    if _numeric(field_value(cls(), field_path)) is None:
+                        raise GraphError(
+                            f"field '{field_path}' of {topic} ({topics[topic]}) is not a number",
+                            fix='plot a numeric field, e.g. /cmd_vel/linear/x',
+                        )
+                    resolved.append(Series(path, topic, field_path, topics[topic]))
+                    pending.remove(path)
+                return resolved
+            except GraphError:
+                if time.monotonic() >= deadline:
+                    raise
+                self._closed.wait(0.05)  # discovery still running: look again
+
+    def _subscribe(self) -> None:
+        from rclpy.qos import qos_profile_sensor_data
+
+        from robot_lab.messages import message_class
+
+        by_topic: dict[str, list[Series]] = {}
+        for series in self.series:
+            by_topic.setdefault(series.topic, []).append(series)
+        for topic, group in by_topic.items():
+            cls = message_class(group[0].type_name)
+            callback = self.log.guard(self._receiver(group))
+            # Best effort matches reliable and best-effort publishers alike.
+
+            def _create(cls: Any = cls, topic: str = topic, callback: Any = callback) -> Any:
+                return self.session.node.create_subscription(cls, topic, callback,
+                                                             qos_profile_sensor_data)
+
+            self._subscriptions.append(self.session.run_in_executor(_create))
+
+    def _receiver(self, group: list[Series]) -> Any:
+        from robot_lab.messages import field_value
+
+        def _on_message(msg: Any) -> None:
+            now = time.monotonic() - self.t0
+            with self._lock:
+                for series in group:
+                    value = _numeric(field_value(msg, series.field))
+                    if value is not None:
+                        series.samples.append((now, value))
+
+        return _on_message
+
+    # -- data -----------------------------------------------------------------------
+    @property
+    def data(self) -> dict[str, list[tuple[float, float]]]:
+        """Field path -> [(seconds since start, value), ...] received so far."""
+        with self._lock:
+            return {s.path: list(s.samples) for s in self.series}
+
+    def values(self, path: str, last: float | None = None) -> list[float]:
+        """The values of one series, optionally only those of the `last` seconds."""
+        samples = self.data[self._key(path)]
+        if last is not None:
+            since = time.monotonic() - self.t0 - last
+            samples = [s for s in samples if s[0] >= since]
+        return [v for _, v in samples]
+
+    def _key(self, path: str) -> str:
+        for series in self.series:
+            if path in (series.path, f'{series.topic}/{series.field}'):
+                return series.path
+        raise KeyError(f'{path!r} is not plotted here (plotted: '
+                       f'{", ".join(s.path for s in self.series)})')
+
+    def wait_for_samples(self, count: int = 1, timeout: float = 5.0) -> bool:
+        """Block until every series has `count` samples (or the timeout); True if so."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self._lock:
+                if all(len(s.samples) >= count for s in self.series):
+                    return True
+            self._closed.wait(0.02)
+        return False
+
+    def clear(self) -> None:
+        with self._lock:
+            for series in self.series:
+                series.samples.clear()
+
+    def pause(self) -> None:
+        """Freeze the view (samples keep arriving in `.data`)."""
+        if self._paused_at is None:
+            self._paused_at = time.monotonic() - self.t0
+        if self._widget is not None:
+            self._pause_button.value = True
+
+    def resume(self) -> None:
+        self._paused_at = None
+        if self._widget is not None:
+            self._pause_button.value = False
+
+    @property
+    def paused(self) -> bool:
+        return self._paused_at is not None
+
+    # -- drawing --------------------------------------------------------------------
+    def _make_figure(self) -> Any:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        topics = list(dict.fromkeys(s.topic for s in self.series))
+        fig = Figure(figsize=(8.0, 1.1 + 1.7 * len(topics)), dpi=100)
+        FigureCanvasAgg(fig)
+        axes = fig.subplots(len(topics), 1, squeeze=False)[:, 0]
+        self._axes = dict(zip(topics, axes, strict=True))
+        self._ylims: dict[str, tuple[float, float]] = {}
+        self._background: Any = None
+        self._lines: dict[str, Any] = {}
+        for index, series in enumerate(self.series):
+            ax = self._axes[series.topic]
+            # Animated lines are left out of full draws and blitted over a cached background.
+            (line,) = ax.plot([], [], color=_COLOURS[index % len(_COLOURS)], linewidth=1.6,
+                              label=series.field.replace('/', '.'), animated=True)
+            self._lines[series.path] = line
+        for topic, ax in self._axes.items():
+            ax.set_title(topic, loc='left', fontsize=10, color='#333333')
+            ax.set_xlim(-self.window, 0.0)
+            ax.grid(True, color='#e5e5e5', linewidth=0.8)
+            ax.legend(loc='upper left', fontsize=8, frameon=False)
+            for side in ('top', 'right'):
+                ax.spines[side].set_visible(False)
+            ax.tick_params(labelsize=8)
+            if ax is not axes[-1]:
+                ax.tick_params(labelbottom=False)
+        axes[-1].set_xlabel('time relative to now (s)', fontsize=9)
+        fig.tight_layout(h_pad=0.6)
+        return fig
+
+    def render_png(self) -> bytes:
+        """Draw the current window to PNG bytes (used by the live view and snapshots).
+
+        The x axis is fixed (seconds before now), so axes and ticks are drawn only when a
+        y range changes; every other frame blits the lines over the cached background.
+        """
+        from PIL import Image
+
+        with self._render_lock:
+            if self._figure is None:
+                self._figure = self._make_figure()
+            end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
+            start = end - self.window
+            data = self.data
+            full = self._background is None
+            for topic, ax in self._axes.items():
+                visible: list[float] = []
+                for series in self.series:
+                    if series.topic != topic:
+                        continue
+                    points = [p for p in data[series.path] if start <= p[0] <= end]
+                    self._lines[series.path].set_data([p[0] - end for p in points],
+                                                      [p[1] for p in points])
+                    visible.extend(p[1] for p in points)
+                wanted = _autoscale(visible)
+                current = self._ylims.get(topic)
+                if current is None or _needs_rescale(current, wanted):
+                    ax.set_ylim(*wanted)
+                    self._ylims[topic] = wanted
+                    full = True
+            canvas = self._figure.canvas
+            if full:
+                canvas.draw()
+                self._background = canvas.copy_from_bbox(self._figure.bbox)
+            else:
+                canvas.restore_region(self._background)
+            for series in self.series:
+                self._axes[series.topic].draw_artist(self._lines[series.path])
+            # PIL with light compression encodes the Agg buffer far faster than savefig.
+            buffer = io.BytesIO()
+            Image.frombuffer('RGBA', canvas.get_width_height(), canvas.buffer_rgba()).save(
+                buffer, format='PNG', compress_level=1)
+            self.redraws += 1
+            return buffer.getvalue()
+
+    def snapshot(self) -> Any:
+        """An IPython Image of the window now (what a static page should show)."""
+        from IPython.display import Image
+
+        return Image(data=self.render_png(), format='png')
+
+    # -- live view ------------------------------------------------------------------
+    @property
+    def widget(self) -> Any:
+        """The live view: pause/clear buttons, status, and the plot image."""
+        if self._widget is None:
+            import ipywidgets as widgets
+
+            self._pause_button = widgets.ToggleButton(
+                description='Pause', icon='pause', tooltip='freeze the view',
+                layout=widgets.Layout(width='7em'))
+            clear = widgets.Button(description='Clear', icon='eraser',
+                                   layout=widgets.Layout(width='7em'))
+            self._status = widgets.HTML()
+            self._image = widgets.Image(format='png', value=self.render_png())
+            self._pause_button.observe(self._on_pause, names='value')
+            clear.on_click(lambda _b: self.clear())
+            toolbar = widgets.HBox([self._pause_button, clear, self._status])
+            self._widget = widgets.VBox([toolbar, self._image, self.log.widget])
+        return self._widget
+
+    def _on_pause(self, change: dict[str, Any]) -> None:
+        if change['new']:
+            self.pause()
+        else:
+            self.resume()
+
+    def start(self) -> Plot:
+        """Start redrawing the widget `fps` times a second on a thread of its own."""
+        _ = self.widget
+        if self._thread is None or not self._thread.is_alive():
+            self._thread = threading.Thread(target=self.log.guard(self._redraw_loop),
+                                            name='robot_lab-plot', daemon=True)
+            self._thread.start()
+        return self
+
+    def _redraw_loop(self) -> None:
+        period = 1.0 / self.fps
+        next_frame = time.monotonic()
+        while not self._closed.is_set():
+            if self._paused_at is None:
+                self._image.value = self.render_png()
+                counts = ', '.join(f'{s.field.replace("/", ".")}: {len(s.samples)}'
+                                   for s in self.series)
+                self._status.value = (f'<span style="color:#666;font-size:12px">'
+                                      f'&nbsp;{counts} samples</span>')
+            next_frame += period
+            delay = next_frame - time.monotonic()
+            if delay < 0:  # drawing is slower than fps: skip frames instead of piling up
+                next_frame = time.monotonic()
+                delay = 0.0
+            self._closed.wait(delay)
+
+    def close(self) -> None:
+        """Stop drawing and unsubscribe."""
+        self._closed.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+        subscriptions, self._subscriptions = self._subscriptions, []
+
+        def _destroy() -> None:
+            for sub in subscriptions:
+                self.session.node.destroy_subscription(sub)
+
+        self.session.run_in_executor(_destroy)
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        if is_headless():
+            seconds = self.headless_seconds
+            if seconds is None:
+                seconds = min(self.window, 1.5 if in_ci() else 3.0)
+            self._closed.wait(max(0.0, seconds - (time.monotonic() - self.t0)))
+            display(self.snapshot())
+        else:
+            display(self.start().widget)
+
+    def __repr__(self) -> str:
+        counts = ', '.join(f'{s.path}: {len(s.samples)} samples' for s in self.series)
+        return f'<Plot {counts}>'
+
+
+def _autoscale(values: list[float]) -> tuple[float, float]:
+    """Y limits around the visible values with a margin; a flat line gets a band."""
+    finite = [v for v in values if math.isfinite(v)]
+    if not finite:
+        return (-1.0, 1.0)
+    low, high = min(finite), max(finite)
+    span = high - low
+    minimum = max(0.2, 0.02 * abs(high))
+    if span < minimum:
+        middle = (low + high) / 2
+        return (middle - minimum / 2 - 0.05 * minimum, middle + minimum / 2 + 0.05 * minimum)
+    return (low - 0.1 * span, high + 0.1 * span)
+
+
+def _needs_rescale(current: tuple[float, float], wanted: tuple[float, float]) -> bool:
+    """Rescale when data leaves the range or fills under a quarter of it (hysteresis)."""
+    low, high = current
+    want_low, want_high = wanted
+    if want_low < low or want_high > high:
+        return True
+    return (want_high - want_low) < 0.25 * (high - low)
+
+
+def plot(*paths: str, window: float = 10.0, fps: float = 15.0, timeout: float = 5.0,
+         domain_id: int | None = None, headless_seconds: float | None = None) -> Plot:
+    """Plot message fields live: `robot_lab.plot('/sensor/temperature', '/cmd_vel/linear/x')`.
+
+    `window` is the visible time span in seconds. Shown as a cell's result it draws
+    live in JupyterLab; headless it collects `headless_seconds` and shows a PNG.
+    """
+    return Plot(*paths, window=window, fps=fps, timeout=timeout, domain_id=domain_id,
+                headless_seconds=headless_seconds)

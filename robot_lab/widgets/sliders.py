@@ -1,0 +1,252 @@
+"""rqt_reconfigure in the notebook: one control per parameter of a running node.
+
+Each control is built from the parameter's descriptor (type, range, read-only), sets the
+value through the node's own `set_parameters` service (so the node can refuse it), shows
+the node's answer next to the control, and follows changes made by anyone else (a
+`ros2 param set` in a terminal, a launch file) through `/parameter_events`.
+"""
+
+from __future__ import annotations
+
+import html
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+from robot_lab.errors import GraphError
+from robot_lab.widgets.output import WidgetLog
+
+__all__ = ['SetResult', 'Sliders', 'sliders']
+
+# rcl_interfaces/msg/ParameterType
+_BOOL, _INTEGER, _DOUBLE, _STRING = 1, 2, 3, 4
+
+
+class SetResult(NamedTuple):
+    """The node's answer to a set: `successful`, and its `reason` when it refused."""
+
+    successful: bool
+    reason: str
+
+
+@dataclass
+class _Control:
+    name: str
+    kind: int
+    read_only: bool
+    description: str
+    widget: Any = None
+    status: Any = None
+
+
+def _node_name(name: str) -> str:
+    return name if name.startswith('/') else '/' + name
+
+
+class Sliders:
+    """Controls for every parameter of one node; drivable with `set()` and `values`."""
+
+    def __init__(self, node: str, timeout: float = 5.0, domain_id: int | None = None,
+                 call_timeout: float = 3.0) -> None:
+        from rclpy.parameter import parameter_value_to_python
+        from rclpy.parameter_client import AsyncParameterClient
+
+        from robot_lab.context import session
+
+        self.node = _node_name(node)
+        self.session = session(domain_id)
+        self.call_timeout = call_timeout
+        self.log = WidgetLog(max_lines=20, height='5em')
+        self._lock = threading.Lock()
+        self._updating = threading.local()
+        self._widget: Any = None
+        self.client = self.session.run_in_executor(
+            lambda: AsyncParameterClient(self.session.node, self.node))
+        if not self.client.wait_for_services(timeout_sec=timeout):
+            raise GraphError(
+                f"Node not found: no parameter services of '{self.node}' within {timeout:g} s",
+                fix='start the node first and check its name with `robot-lab node list`',
+            )
+        names = list(self._call(self.client.list_parameters(), 'list_parameters').result.names)
+        names.sort()
+        described = self._call(self.client.describe_parameters(names),
+                               'describe_parameters').descriptors
+        got = self._call(self.client.get_parameters(names), 'get_parameters').values
+        self.descriptors = dict(zip(names, described, strict=True))
+        self._values: dict[str, Any] = {
+            name: parameter_value_to_python(value) for name, value in zip(names, got, strict=True)
+        }
+        self.controls = {
+            name: _Control(name, int(d.type), bool(d.read_only), d.description)
+            for name, d in self.descriptors.items()
+        }
+        self.last_result: dict[str, SetResult] = {}
+        from rcl_interfaces.msg import ParameterEvent
+
+        self._events = self.session.run_in_executor(
+            lambda: self.session.node.create_subscription(
+                ParameterEvent, '/parameter_events', self.log.guard(self._on_event), 100))
+
+    def _call(self, future: Any, what: str) -> Any:
+        return self.session.wait_future(future, self.call_timeout, f'{self.node} {what}')
+
+    # -- driving from code -----------------------------------------------------------
+    @property
+    def values(self) -> dict[str, Any]:
+        """Parameter name -> value as the node last reported it."""
+        with self._lock:
+            return dict(self._values)
+
+    def set(self, name: str, value: Any) -> SetResult:
+        """Ask the node to take `value`; its answer shows next to the control and is returned."""
+        from rclpy.parameter import Parameter
+
+        control = self.controls.get(name)
+        if control is None:
+            raise GraphError(f"node '{self.node}' has no parameter '{name}'",
+                             fix=f'its parameters are: {", ".join(self.controls)}')
+        value = _coerce(value, control.kind)
+        future = self.client.set_parameters([Parameter(name, value=value)])
+        try:
+            results = self._call(future, f'set_parameters {name}').results
+            result = SetResult(bool(results[0].successful), str(results[0].reason))
+        except GraphError as err:
+            result = SetResult(False, err.message)
+        self.last_result[name] = result
+        if result.successful:
+            self._take(name, value)
+        self._show(name, result)
+        return result
+
+    def wait_for(self, name: str, value: Any, timeout: float = 5.0) -> bool:
+        """Block until the node reports `name == value` (e.g. set elsewhere); True if so."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if self.values.get(name) == value:
+                return True
+            time.sleep(0.02)
+        return False
+
+    # -- following /parameter_events -------------------------------------------------
+    def _on_event(self, event: Any) -> None:
+        from rclpy.parameter import parameter_value_to_python
+
+        if event.node != self.node:
+            return
+        for param in [*event.new_parameters, *event.changed_parameters]:
+            self._take(param.name, parameter_value_to_python(param.value))
+
+    def _take(self, name: str, value: Any) -> None:
+        with self._lock:
+            self._values[name] = value
+        control = self.controls.get(name)
+        if control is not None and control.widget is not None and control.widget.value != value:
+            self._updating.active = True  # the widget follows the node; do not send it back
+            try:
+                control.widget.value = value
+            finally:
+                self._updating.active = False
+
+    # -- the widget ------------------------------------------------------------------
+    @property
+    def widget(self) -> Any:
+        if self._widget is None:
+            import ipywidgets as widgets
+
+            rows = [widgets.HTML(f'<b>{html.escape(self.node)}</b> parameters')]
+            for name, control in self.controls.items():
+                control.widget = self._make_control(control, self.values.get(name))
+                control.status = widgets.HTML(layout=widgets.Layout(width='40%'))
+                control.widget.observe(self._user_changed(name), names='value')
+                rows.append(widgets.HBox([control.widget, control.status]))
+            rows.append(self.log.widget)
+            self._widget = widgets.VBox(rows)
+        return self._widget
+
+    def _make_control(self, control: _Control, value: Any) -> Any:
+        import ipywidgets as widgets
+
+        descriptor = self.descriptors[control.name]
+        common: dict[str, Any] = {
+            'description': control.name,
+            'disabled': control.read_only,
+            'tooltip': control.description or None,
+            'style': {'description_width': '11em'},
+            'layout': widgets.Layout(width='55%'),
+        }
+        if control.kind == _BOOL:
+            return widgets.Checkbox(value=bool(value), indent=True, **common)
+        if control.kind == _INTEGER and descriptor.integer_range:
+            rng = descriptor.integer_range[0]
+            return widgets.IntSlider(value=int(value), min=rng.from_value, max=rng.to_value,
+                                     step=max(1, rng.step), continuous_update=False, **common)
+        if control.kind == _INTEGER:
+            return widgets.IntText(value=int(value), **common)
+        if control.kind == _DOUBLE and descriptor.floating_point_range:
+            rng = descriptor.floating_point_range[0]
+            step = rng.step or (rng.to_value - rng.from_value) / 100
+            return widgets.FloatSlider(value=float(value), min=rng.from_value,
+                                       max=rng.to_value, step=step, readout_format='.2f',
+                                       continuous_update=False, **common)
+        if control.kind == _DOUBLE:
+            return widgets.FloatText(value=float(value), **common)
+        if control.kind == _STRING:
+            return widgets.Text(value=str(value), continuous_update=False, **common)
+        common['disabled'] = True  # arrays and byte arrays: shown, set them from code
+        return widgets.Text(value=repr(value), **common)
+
+    def _user_changed(self, name: str) -> Any:
+        def _changed(change: dict[str, Any]) -> None:
+            if getattr(self._updating, 'active', False):
+                return
+            result = self.set(name, change['new'])
+            if not result.successful:
+                self._take(name, self.values.get(name))  # put the control back
+
+        return _changed
+
+    def _show(self, name: str, result: SetResult) -> None:
+        control = self.controls[name]
+        if control.status is None:
+            return
+        if result.successful:
+            control.status.value = '<span style="color:#1a7f37">✓ set</span>'
+        else:
+            control.status.value = (f'<span style="color:#cf222e">✗ refused: '
+                                    f'{html.escape(result.reason)}</span>')
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        display(self.widget)
+
+    def __repr__(self) -> str:
+        values = ', '.join(f'{k}={v!r}' for k, v in self.values.items())
+        return f'<Sliders {self.node}: {values}>'
+
+    def close(self) -> None:
+        """Stop following events and drop the service clients."""
+        node = self.session.node
+
+        def _destroy() -> None:
+            node.destroy_subscription(self._events)
+            for value in vars(self.client).values():
+                if value in node.clients:
+                    node.destroy_client(value)
+
+        self.session.run_in_executor(_destroy)
+
+
+def _coerce(value: Any, kind: int) -> Any:
+    """A slider gives 2 where a double is declared: send 2.0, as the node expects."""
+    if kind == _DOUBLE and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if kind == _INTEGER and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+def sliders(node: str, timeout: float = 5.0, domain_id: int | None = None) -> Sliders:
+    """Controls for the parameters of a running node: `robot_lab.sliders('/sensor')`."""
+    return Sliders(node, timeout=timeout, domain_id=domain_id)

@@ -1,0 +1,212 @@
+"""Notebook widgets against real nodes: plot, sliders, console, and output routing."""
+
+from __future__ import annotations
+
+import io
+import sys
+import threading
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from robot_lab.errors import GraphError
+from robot_lab.widgets.console import Console
+from robot_lab.widgets.output import WidgetLog, is_headless, routed_to
+from robot_lab.widgets.plot import Plot, resolve_field_path
+from robot_lab.widgets.sliders import Sliders
+
+PNG_MAGIC = b'\x89PNG\r\n\x1a\n'
+
+
+@pytest.fixture(scope='module')
+def system(ros_domain: int) -> Iterator[None]:
+    """sensor + controller, with noise high enough around a low threshold to log WARN."""
+    import conftest
+
+    procs = [
+        conftest.Proc([str(conftest.BIN / 'robot-lab'), 'run', 'robot_lab', 'sensor_node',
+                       '--ros-args', '-r', '__node:=sensor', '-p', 'noise_level:=0.0']),
+        conftest.Proc([str(conftest.BIN / 'robot-lab'), 'run', 'robot_lab', 'controller_node',
+                       '--ros-args', '-r', '__node:=controller']),
+    ]
+    try:
+        procs[0].wait_for('Sensor node started')
+        procs[1].wait_for('Controller node started')
+        yield None
+    finally:
+        for proc in procs:
+            proc.stop()
+
+
+def test_field_paths_split_at_the_longest_topic() -> None:
+    topics = {'/cmd_vel': 'geometry_msgs/msg/Twist', '/cmd': 'std_msgs/msg/Float32',
+              '/sensor/temperature': 'std_msgs/msg/Float32'}
+    assert resolve_field_path('/cmd_vel/linear/x', topics) == ('/cmd_vel', 'linear/x')
+    assert resolve_field_path('/sensor/temperature', topics) == ('/sensor/temperature', '')
+    assert resolve_field_path('sensor/temperature/data', topics) == ('/sensor/temperature', 'data')
+    with pytest.raises(GraphError, match="no topic on the graph is a prefix of '/nope/x'"):
+        resolve_field_path('/nope/x', topics)
+
+
+def test_plot_collects_real_samples_and_draws_them(system: None) -> None:
+    plot = Plot('/sensor/temperature', '/cmd_vel/linear/x', window=5.0)
+    try:
+        assert [(s.topic, s.field) for s in plot.series] == [
+            ('/sensor/temperature', 'data'), ('/cmd_vel', 'linear/x')]
+        assert plot.wait_for_samples(5, timeout=10.0), plot
+        temps = plot.values('/sensor/temperature')
+        speeds = plot.values('/cmd_vel/linear/x')
+        assert all(abs(t - 22.5) < 1e-3 for t in temps), temps  # noise_level 0.0
+        assert set(speeds) == {0.5}
+        times = [t for t, _ in plot.data['/sensor/temperature']]
+        assert times == sorted(times) and times[0] >= 0.0
+        png = plot.render_png()
+        assert png.startswith(PNG_MAGIC)
+        # pause freezes the view, not the data
+        plot.pause()
+        frozen = plot.render_png()
+        count = len(plot.values('/sensor/temperature'))
+        assert plot.wait_for_samples(count + 3, timeout=5.0)
+        assert plot.render_png() == frozen
+        plot.resume()
+        plot.clear()
+        assert plot.data['/sensor/temperature'] == [] or len(plot.values('/sensor/temperature')) < 3
+    finally:
+        plot.close()
+
+
+def test_plot_live_view_redraws_on_its_own_thread(system: None) -> None:
+    plot = Plot('/sensor/temperature', window=5.0, fps=20.0)
+    try:
+        plot.start()
+        deadline = time.monotonic() + 5.0
+        while plot.redraws < 12 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert plot.redraws >= 12, f'only {plot.redraws} redraws in 5 s'
+        assert bytes(plot.widget.children[1].value).startswith(PNG_MAGIC)
+    finally:
+        plot.close()
+    drawn = plot.redraws
+    time.sleep(0.3)
+    assert plot.redraws == drawn, 'the redraw thread kept running after close()'
+
+
+def test_plot_errors_name_the_problem(system: None) -> None:
+    with pytest.raises(GraphError, match="no topic on the graph is a prefix of '/no/such/topic'"):
+        Plot('/no/such/topic', timeout=0.5)
+    with pytest.raises(GraphError, match='not a numeric field'):
+        Plot('/cmd_vel', timeout=5.0)
+    with pytest.raises(GraphError, match="'speed' in field path"):
+        Plot('/cmd_vel/speed', timeout=5.0)
+
+
+def test_sliders_follow_descriptors_set_refuse_and_follow_events(system: None) -> None:
+    import ipywidgets as widgets
+
+    from robot_lab.graph.api import param_set
+
+    sliders = Sliders('/sensor')
+    try:
+        view = sliders.widget
+        assert isinstance(view, widgets.VBox)
+        noise = sliders.controls['noise_level'].widget
+        rate = sliders.controls['sensor_rate'].widget
+        assert isinstance(noise, widgets.FloatSlider)
+        assert (noise.min, noise.max, noise.value) == (0.0, 5.0, 0.0)
+        assert isinstance(rate, widgets.IntSlider)
+        assert (rate.min, rate.max, rate.value) == (1, 100, 10)
+        assert isinstance(sliders.controls['use_sim_time'].widget, widgets.Checkbox)
+
+        result = sliders.set('noise_level', 2)  # an int for a double: sent as 2.0
+        assert result.successful, result
+        assert sliders.values['noise_level'] == 2.0 and noise.value == 2.0
+        assert '✓' in sliders.controls['noise_level'].status.value
+
+        refused = sliders.set('noise_level', 9.0)
+        assert not refused.successful
+        assert 'out of range' in refused.reason
+        assert 'refused' in sliders.controls['noise_level'].status.value
+        assert sliders.values['noise_level'] == 2.0 and noise.value == 2.0
+
+        # a student moving the slider goes through the same service
+        noise.value = 1.5
+        assert sliders.last_result['noise_level'].successful
+        assert sliders.wait_for('noise_level', 1.5)
+
+        # set by someone else: the control follows /parameter_events
+        param_set('/sensor', 'noise_level', 0.25)
+        assert sliders.wait_for('noise_level', 0.25, timeout=5.0), sliders.values
+        assert noise.value == 0.25
+    finally:
+        param_set('/sensor', 'noise_level', 0.0)
+        sliders.close()
+
+
+def test_sliders_for_a_missing_node_say_so(system: None) -> None:
+    with pytest.raises(GraphError, match=r"Node not found.*'/ghost'"):
+        Sliders('ghost', timeout=0.5)
+
+
+def test_console_filters_rosout_by_level_and_node(system: None) -> None:
+    from robot_lab.graph.api import param_set
+
+    console = Console(level='DEBUG')
+    try:
+        param_set('/controller', 'temp_threshold', 20.0)  # 22.5 > 20: HIGH, warned
+        warn = console.wait_for(r'Temperature HIGH: 22\.50°C', timeout=10.0)
+        assert warn.level_name == 'WARN' and warn.node == 'controller'
+        console.set_filter(level='WARN')
+        shown = console.lines()
+        assert shown and all('[WARN]' in line for line in shown)
+        assert console.log.text.splitlines() == shown[-len(console.log.lines):]
+        param_set('/sensor', 'sensor_rate', 11)  # the sensor logs the new rate at INFO
+        console.wait_for('Sensor rate changed to 11 Hz', timeout=5.0)
+        console.set_filter(level='INFO', node='sensor')
+        assert any('Sensor rate changed to 11 Hz' in line for line in console.lines())
+        assert all('[sensor]' in line for line in console.lines())
+        # the widget's node list offers the nodes seen so far
+        view = console.widget
+        assert view is console.widget
+        assert {'controller', 'sensor'} <= set(console._node_box.options)
+    finally:
+        param_set('/controller', 'temp_threshold', 25.0)
+        param_set('/sensor', 'sensor_rate', 10)
+        console.close()
+
+
+def test_background_output_goes_to_its_widget_not_the_next_cell() -> None:
+    log = WidgetLog()
+    captured = io.StringIO()
+    real = sys.stdout
+    sys.stdout = captured
+    try:
+        def callback(value: int) -> int:
+            print(f'from the callback: {value}')
+            raise ValueError('callback failed')
+
+        guarded = log.guard(callback)
+        thread = threading.Thread(target=guarded, args=(7,))
+        thread.start()
+        thread.join()
+        print('from the cell')
+        with routed_to(log):
+            print('routed in this thread')
+    finally:
+        sys.stdout = real
+    assert 'from the callback: 7' in log.text
+    assert 'ValueError: callback failed' in log.text
+    assert 'routed in this thread' in log.text
+    assert captured.getvalue() == 'from the cell\n'
+
+
+def test_headless_is_decided_by_env(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv('ROBOT_LAB_HEADLESS', '1')
+    assert is_headless()
+    monkeypatch.setenv('ROBOT_LAB_HEADLESS', '0')
+    assert not is_headless()
+    monkeypatch.delenv('ROBOT_LAB_HEADLESS')
+    monkeypatch.setenv('CI', 'true')
+    assert is_headless()
+    monkeypatch.delenv('CI')
+    assert is_headless()  # pytest is no IPython kernel: no frontend to draw on
