@@ -1,0 +1,47 @@
+"""launch (robot_lab's stand-in): LaunchDescription and the modules launch files import."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+from robot_lab.launch.describe import Condition, LaunchContext, LaunchStep
+from robot_lab.launch.substitutions import Substitution
+
+from . import actions, conditions, launch_description_sources, substitutions
+
+__all__ = [
+    'Action',
+    'Condition',
+    'LaunchContext',
+    'LaunchDescription',
+    'LaunchDescriptionEntity',
+    'SomeSubstitutionsType',
+    'Substitution',
+    'actions',
+    'conditions',
+    'launch_description_sources',
+    'substitutions',
+]
+
+Action = LaunchStep
+LaunchDescriptionEntity = LaunchStep
+SomeSubstitutionsType = Any
+
+
+class LaunchDescription:
+    """What generate_launch_description() returns: an ordered list of actions."""
+
+    def __init__(self, initial_entities: Iterable[Any] | None = None, *,
+                 deprecated_reason: str | None = None) -> None:
+        self.entities: list[Any] = list(initial_entities or [])
+        self.deprecated_reason = deprecated_reason
+
+    def add_action(self, action: Any) -> None:
+        self.entities.append(action)
+
+    def add_entity(self, entity: Any) -> None:
+        self.entities.append(entity)
+
+    def describe_sub_entities(self) -> list[Any]:
+        return list(self.entities)

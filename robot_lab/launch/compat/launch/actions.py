@@ -1,0 +1,154 @@
+"""launch.actions: robot_lab's launch actions with launch's constructor signatures."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any
+
+from robot_lab.launch import describe as core
+from robot_lab.launch.describe import Condition, LaunchStep, ProcessOptions
+
+from .substitutions import opt, subs
+
+__all__ = [
+    'AppendEnvironmentVariable',
+    'DeclareLaunchArgument',
+    'ExecuteProcess',
+    'GroupAction',
+    'IncludeLaunchDescription',
+    'LogInfo',
+    'OpaqueFunction',
+    'SetEnvironmentVariable',
+    'SetLaunchConfiguration',
+    'Shutdown',
+    'TimerAction',
+    'UnsetEnvironmentVariable',
+]
+
+
+def _place(step: LaunchStep, condition: Condition | None) -> None:
+    step.condition = condition
+    step.locate_caller()
+
+
+def to_step(entity: Any) -> LaunchStep:
+    """An action or a (nested) LaunchDescription."""
+    return core._as_step(entity)
+
+
+class DeclareLaunchArgument(core.DeclareArgumentStep):
+    def __init__(self, name: str, *, default_value: Any = None, description: str | None = None,
+                 choices: Sequence[str] | None = None, condition: Condition | None = None,
+                 **_: Any) -> None:
+        super().__init__(name, default_value, description or '', choices)
+        _place(self, condition)
+
+    @property
+    def default_value(self) -> Any:
+        return self.default
+
+
+class SetLaunchConfiguration(core.SetConfigurationStep):
+    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+        super().__init__(name, value)
+        _place(self, condition)
+
+
+class IncludeLaunchDescription(core.IncludeStep):
+    def __init__(self, launch_description_source: Any, *,
+                 launch_arguments: Iterable[tuple[Any, Any]] | Mapping[Any, Any] | None = None,
+                 condition: Condition | None = None, **_: Any) -> None:
+        location = getattr(launch_description_source, 'location', launch_description_source)
+        pairs = launch_arguments.items() if isinstance(launch_arguments, Mapping) \
+            else (launch_arguments or [])
+        super().__init__(location, list(pairs))
+        _place(self, condition)
+
+
+class GroupAction(core.GroupStep):
+    def __init__(self, actions: Iterable[Any], *, scoped: bool = True, forwarding: bool = True,
+                 launch_configurations: Mapping[Any, Any] | None = None,
+                 condition: Condition | None = None, **_: Any) -> None:
+        super().__init__([to_step(a) for a in actions], scoped, forwarding, launch_configurations)
+        _place(self, condition)
+
+
+def process_options(
+    *, name: Any = None, cwd: Any = None, env: Mapping[Any, Any] | None = None,
+    additional_env: Mapping[Any, Any] | None = None, shell: bool = False,
+    sigterm_timeout: Any = 5.0, sigkill_timeout: Any = 5.0, prefix: Any = None,
+    output: Any = 'log', respawn: Any = False, respawn_delay: float | None = None,
+    respawn_max_retries: int = -1, on_exit: Any = None, **_: Any,
+) -> ProcessOptions:
+    """ExecuteProcess's keyword arguments (emulate_tty, output_format, ... are accepted)."""
+    exit_action = None
+    if on_exit is not None:
+        actions = on_exit if isinstance(on_exit, list | tuple) else [on_exit]
+        if not all(isinstance(a, Shutdown) for a in actions):
+            raise TypeError('robot_lab supports on_exit=Shutdown() only')
+        exit_action = 'shutdown'
+    return ProcessOptions(
+        cwd=opt(cwd), name=opt(name), prefix=opt(prefix), output=opt(output),
+        respawn=respawn if isinstance(respawn, bool) else subs(respawn),
+        respawn_delay=respawn_delay, respawn_max_retries=respawn_max_retries,
+        sigterm_timeout=sigterm_timeout, sigkill_timeout=sigkill_timeout, shell=shell,
+        on_exit=exit_action,
+        env=None if env is None else [(subs(k), subs(v)) for k, v in env.items()],
+        additional_env=[(subs(k), subs(v)) for k, v in (additional_env or {}).items()],
+    )
+
+
+class ExecuteProcess(core.ExecuteStep):
+    def __init__(self, *, cmd: Iterable[Any], condition: Condition | None = None,
+                 **kwargs: Any) -> None:
+        super().__init__([subs(part) for part in cmd], process_options(**kwargs))
+        _place(self, condition)
+
+
+class TimerAction(core.TimerStep):
+    def __init__(self, *, period: Any, actions: Iterable[Any],
+                 condition: Condition | None = None, **_: Any) -> None:
+        super().__init__(period if isinstance(period, float | int) else subs(period),
+                         [to_step(a) for a in actions])
+        _place(self, condition)
+
+
+class LogInfo(core.LogStep):
+    def __init__(self, *, msg: Any, condition: Condition | None = None, **_: Any) -> None:
+        super().__init__(msg)
+        _place(self, condition)
+
+
+class SetEnvironmentVariable(core.EnvironmentStep):
+    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+        super().__init__('set', name, value)
+        _place(self, condition)
+
+
+class UnsetEnvironmentVariable(core.EnvironmentStep):
+    def __init__(self, name: Any, *, condition: Condition | None = None) -> None:
+        super().__init__('unset', name)
+        _place(self, condition)
+
+
+class AppendEnvironmentVariable(core.EnvironmentStep):
+    def __init__(self, name: Any, value: Any, *, prepend: Any = False,
+                 separator: Any = os.pathsep, condition: Condition | None = None) -> None:
+        super().__init__('append', name, value, prepend, separator)
+        _place(self, condition)
+
+
+class OpaqueFunction(core.OpaqueStep):
+    def __init__(self, *, function: Callable[..., Any], args: Sequence[Any] | None = None,
+                 kwargs: Mapping[str, Any] | None = None,
+                 condition: Condition | None = None) -> None:
+        super().__init__(function, args, kwargs)
+        _place(self, condition)
+
+
+class Shutdown(core.ShutdownStep):
+    def __init__(self, *, reason: Any = 'reason not given',
+                 condition: Condition | None = None) -> None:
+        super().__init__(reason)
+        _place(self, condition)

@@ -1,0 +1,106 @@
+"""launch_ros.actions: Node, PushROSNamespace, SetParameter, SetParametersFromFile, SetRemap."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+from robot_lab.launch import describe as core
+from robot_lab.launch.compat.launch.actions import _place, process_options
+from robot_lab.launch.compat.launch.substitutions import subs
+from robot_lab.launch.compat.launch_ros.parameter_descriptions import Parameter
+from robot_lab.launch.describe import Condition, ParamFileRef, ParamValue
+from robot_lab.launch.substitutions import Substitution
+
+__all__ = [
+    'Node',
+    'PushROSNamespace',
+    'PushRosNamespace',
+    'SetParameter',
+    'SetParametersFromFile',
+    'SetRemap',
+]
+
+
+def _value(value: Any) -> Any:
+    """launch_ros's normalize_parameter_dict for one value."""
+    if isinstance(value, Mapping):
+        return {k: _value(v) for k, v in value.items()}
+    if isinstance(value, ParamValue | str | bool | int | float | bytes):
+        return value
+    if isinstance(value, Substitution):
+        return ParamValue(subs(value))
+    if isinstance(value, list | tuple):
+        if any(isinstance(v, Substitution) for v in value) and \
+                all(isinstance(v, str | Substitution) for v in value):
+            return ParamValue(subs(value))  # one string made of the parts
+        if any(isinstance(v, list | tuple) for v in value):
+            return ParamValue([subs(v) for v in value])  # a list of strings
+        return list(value)
+    raise TypeError(f'Unexpected type for parameter value {value!r}')
+
+
+def _parameters(parameters: Iterable[Any]) -> list[Any]:
+    result: list[Any] = []
+    for entry in parameters:
+        if isinstance(entry, Mapping):
+            result.append({k: _value(v) for k, v in entry.items()})
+        elif isinstance(entry, Parameter):
+            result.append({entry.name: entry.value})
+        elif isinstance(entry, ParamFileRef):
+            result.append(entry)
+        elif isinstance(entry, str | os.PathLike | Substitution | list | tuple):
+            result.append(ParamFileRef(subs(entry)))
+        else:
+            raise TypeError(f'Expecting list of parameters, got {entry!r}')
+    return result
+
+
+class Node(core.NodeStep):
+    def __init__(self, *, executable: Any, package: Any = None, name: Any = None,
+                 namespace: Any = None, exec_name: Any = None,
+                 parameters: Iterable[Any] | None = None,
+                 remappings: Iterable[tuple[Any, Any]] | None = None,
+                 ros_arguments: Iterable[Any] | None = None,
+                 arguments: Iterable[Any] | None = None,
+                 condition: Condition | None = None, **kwargs: Any) -> None:
+        kwargs.pop('name', None)
+        super().__init__(
+            executable, package=package, name=name, namespace=namespace, exec_name=exec_name,
+            parameters=_parameters(parameters) if parameters is not None else None,
+            remappings=list(remappings) if remappings is not None else None,
+            ros_arguments=list(ros_arguments) if ros_arguments is not None else None,
+            arguments=list(arguments) if arguments is not None else None,
+            options=process_options(**kwargs),
+        )
+        _place(self, condition)
+
+
+class PushROSNamespace(core.PushNamespaceStep):
+    def __init__(self, namespace: Any, *, condition: Condition | None = None) -> None:
+        super().__init__(namespace)
+        _place(self, condition)
+
+
+PushRosNamespace = PushROSNamespace
+
+
+class SetParameter(core.GlobalRosStep):
+    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+        super().__init__('parameter', name, _value(value))
+        _place(self, condition)
+
+
+class SetParametersFromFile(core.GlobalRosStep):
+    def __init__(self, filename: Any, *, condition: Condition | None = None) -> None:
+        super().__init__('file', filename)
+        _place(self, condition)
+
+
+class SetRemap(core.GlobalRosStep):
+    def __init__(self, src: Any, dst: Any, *, condition: Condition | None = None) -> None:
+        super().__init__('remap', src, dst)
+        _place(self, condition)
+
+
