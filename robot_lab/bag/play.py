@@ -1,0 +1,357 @@
+"""Playing a bag back onto live topics, as `ros2 bag play` does: same bytes, same timing.
+
+The recorded CDR bytes are published unchanged (rclpy publishes raw bytes), at the
+recorded receive-time gaps divided by `rate`. A virtual bag clock (anchored at the last
+start/resume/rate change) makes pause, resume and rate changes exact. Before the first
+message the player waits, bounded, until its publishers have matched the subscribers the
+graph already shows, so a listener that is running does not miss the first messages.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+import time
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from robot_lab.bag.read import message_class_for, open_bag
+from robot_lab.errors import BagError
+
+__all__ = ['Player', 'play']
+
+NODE_NAME = 'rosbag2_player'
+DISCOVERY_WINDOW = 0.6  # one lease announcement of the kit's Fast DDS profile, and a bit
+MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
+
+
+def _log_line(level: str, name: str, text: str) -> str:
+    now = time.time_ns()
+    return f'[{level}] [{now // 1_000_000_000}.{now % 1_000_000_000:09d}] [{name}]: {text}'
+
+
+def _publisher_qos(profiles: list[Any]) -> Any:
+    """rosbag2's choice: the recorded offers if they agree, else reliable + volatile."""
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+    reliability = ReliabilityPolicy.RELIABLE
+    durability = DurabilityPolicy.VOLATILE
+    if profiles:
+        rel = {str(p.get('reliability', '')).lower() for p in profiles}
+        dur = {str(p.get('durability', '')).lower() for p in profiles}
+        if rel == {'best_effort'}:
+            reliability = ReliabilityPolicy.BEST_EFFORT
+        if dur == {'transient_local'}:
+            durability = DurabilityPolicy.TRANSIENT_LOCAL
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST, depth=1000,
+        reliability=reliability, durability=durability,
+    )
+
+
+class Player:
+    """A playback in progress: `progress`, `played`, `pause()`/`resume()`, `wait()`, `stop()`."""
+
+    def __init__(
+        self,
+        bag: str | Path,
+        *,
+        rate: float = 1.0,
+        loop: bool = False,
+        topics: Iterable[str] | None = None,
+        start_offset: float = 0.0,
+        domain_id: int | None = None,
+        log: Callable[[str], None] | None = None,
+        node_name: str = NODE_NAME,
+    ) -> None:
+        if rate <= 0:
+            raise BagError(f'{rate} is not in the valid range (> 0.0)', fix='e.g. --rate 2')
+        if start_offset < 0:
+            raise BagError(
+                f'Value {start_offset} is less than zero.', fix='--start-offset 0 or more'
+            )
+        self.bag = Path(bag)
+        self._rate = float(rate)
+        self.loop = loop
+        self.only = (
+            None if topics is None else [t if t.startswith('/') else '/' + t for t in topics]
+        )
+        self.start_offset = start_offset
+        self.domain_id = domain_id
+        self.node_name = node_name
+        self._log_fn = log
+        self.log_lines: list[str] = []
+        self.played = 0
+        self.counts: dict[str, int] = {}
+        self.error: BaseException | None = None
+        self._cond = threading.Condition()
+        self._paused = False
+        self._stop = False
+        self._done = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._node: Any = None
+        self._publishers: dict[str, Any] = {}
+        self._connections: list[Any] = []
+        self.start_ns = 0
+        self.end_ns = 0
+        self.total = 0
+        self._position_ns = 0
+        self._anchor_wall = 0.0
+        self._anchor_bag = 0
+        self.published: list[tuple[str, int, float]] = []  # (topic, bag ns, wall monotonic)
+        self.keep_timing = False
+
+    # ---------------------------------------------------------------- state
+    def _log(self, level: str, text: str) -> None:
+        line = _log_line(level, self.node_name, text)
+        self.log_lines.append(line)
+        if self._log_fn is not None:
+            self._log_fn(line)
+
+    @property
+    def rate(self) -> float:
+        return self._rate
+
+    @property
+    def paused(self) -> bool:
+        return self._paused
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and not self._done.is_set()
+
+    @property
+    def finished(self) -> bool:
+        return self._done.is_set()
+
+    @property
+    def progress(self) -> float:
+        """0.0 … 1.0: how far through the bag's time span playback is."""
+        span = self.end_ns - self.start_ns
+        if span <= 0:
+            return 1.0 if self.played else 0.0
+        return min(1.0, max(0.0, (self._position_ns - self.start_ns) / span))
+
+    @property
+    def position(self) -> float:
+        """Seconds of bag time played so far."""
+        return max(0, self._position_ns - self.start_ns) / 1e9
+
+    # ---------------------------------------------------------------- control
+    def start(self) -> Player:
+        """Check the bag, create the publishers and start playing (returns at once)."""
+        if self._thread is not None:
+            return self
+        import rclpy
+
+        from robot_lab.context import session
+
+        with open_bag(self.bag) as reader:
+            conns = list(reader.connections)
+            self.start_ns = int(reader.start_time) if reader.message_count else 0
+            self.end_ns = max(self.start_ns, int(reader.end_time) - 1)
+        wanted = conns if self.only is None else [c for c in conns if c.topic in self.only]
+        if self.only is not None:
+            for name in sorted(set(self.only) - {c.topic for c in conns}):
+                self._log('WARN', f"Topic '{name}' is not in the bag; nothing to play for it")
+        sess = session(self.domain_id)
+        self._session = sess
+        self._node = rclpy.create_node(
+            self.node_name, context=sess.context, start_parameter_services=False,
+            enable_rosout=False,
+        )
+        for conn in wanted:
+            try:
+                cls = message_class_for(conn.msgtype, self.bag, conn.topic)
+            except BagError as exc:
+                self._log('WARN', f"Ignoring a topic '{conn.topic}', reason: {exc}")
+                continue
+            if conn.topic not in self._publishers:
+                profiles = _profiles(conn)
+                self._publishers[conn.topic] = self._node.create_publisher(
+                    cls, conn.topic, _publisher_qos(profiles)
+                )
+                self.counts[conn.topic] = 0
+            self._connections.append(conn)
+        self.total = sum(int(c.msgcount) for c in self._connections)
+        self._thread = threading.Thread(target=self._run, name='robot_lab-bag-player', daemon=True)
+        self._thread.start()
+        return self
+
+    def pause(self) -> None:
+        with self._cond:
+            if not self._paused:
+                self._anchor_bag = self._virtual_now()
+                self._paused = True
+                self._log('INFO', 'Pausing play.')
+            self._cond.notify_all()
+
+    def resume(self) -> None:
+        with self._cond:
+            if self._paused:
+                self._anchor_wall = time.monotonic()
+                self._paused = False
+                self._log('INFO', 'Resuming play.')
+            self._cond.notify_all()
+
+    def toggle_paused(self) -> None:
+        if self._paused:
+            self.resume()
+        else:
+            self.pause()
+
+    def set_rate(self, rate: float) -> bool:
+        if rate <= 0:
+            self._log('WARN', f'Failed to set rate to invalid value {rate}')
+            return False
+        with self._cond:
+            self._anchor_bag = self._virtual_now()
+            self._anchor_wall = time.monotonic()
+            self._rate = float(rate)
+            self._cond.notify_all()
+        self._log('INFO', f'Set rate to {rate:g}')
+        return True
+
+    def stop(self, timeout: float = 10.0) -> None:
+        """Stop playing now (publishers are destroyed; the bag is untouched)."""
+        with self._cond:
+            if not self._stop and self._thread is not None and not self._done.is_set():
+                self._log('INFO', 'Stopping playback.')
+            self._stop = True
+            self._cond.notify_all()
+        if self._thread is not None:
+            self._thread.join(timeout)
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Block until playback ends (never, with loop=True, unless stopped)."""
+        finished = self._done.wait(timeout)
+        if finished and self.error is not None:
+            raise BagError(f"Playback of '{self.bag}' failed: {self.error}") from None
+        return finished
+
+    def __enter__(self) -> Player:
+        return self.start()
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.stop()
+
+    # ---------------------------------------------------------------- playing
+    def _virtual_now(self) -> int:
+        if self._paused:
+            return self._anchor_bag
+        return self._anchor_bag + int((time.monotonic() - self._anchor_wall) * self._rate * 1e9)
+
+    def _wait_until(self, stamp: int) -> bool:
+        """Sleep until bag time `stamp` is due; False if stopped meanwhile."""
+        with self._cond:
+            while not self._stop:
+                if self._paused:
+                    self._cond.wait()
+                    continue
+                remaining = (stamp - self._virtual_now()) / 1e9 / self._rate
+                if remaining <= 0:
+                    return True
+                self._cond.wait(remaining)
+            return False
+
+    def _wait_for_matches(self) -> None:
+        """Give subscribers the graph already knows the chance to match before message 1."""
+        sess = self._session
+        deadline = time.monotonic() + MATCH_TIMEOUT
+        while not self._stop and time.monotonic() < deadline:
+            settled = time.monotonic() - getattr(sess, 'created', 0.0) >= DISCOVERY_WINDOW
+            matched = all(
+                pub.get_subscription_count() >= self._node.count_subscribers(topic)
+                for topic, pub in self._publishers.items()
+            )
+            if settled and matched:
+                return
+            with self._cond:
+                self._cond.wait(0.02)
+
+    def _run(self) -> None:
+        try:
+            self._log('INFO', 'Playback until timestamp: -1')
+            self._wait_for_matches()
+            first = self.start_ns + int(self.start_offset * 1e9)
+            while not self._stop:
+                with self._cond:
+                    self._anchor_bag = first
+                    self._anchor_wall = time.monotonic()
+                    self._position_ns = first
+                if not self._play_once(first) or not self.loop:
+                    break
+            self._flush_publishers()
+        except BaseException as exc:
+            self.error = exc
+        finally:
+            try:
+                for pub in self._publishers.values():
+                    self._node.destroy_publisher(pub)
+                self._node.destroy_node()
+            except Exception:  # the context was shut down first (kernel exit): nothing to free
+                pass
+            self._done.set()
+
+    def _play_once(self, first: int) -> bool:
+        with open_bag(self.bag) as reader:
+            conns = [c for c in reader.connections if c.topic in self._publishers]
+            if not conns:
+                return False
+            for conn, stamp, data in reader.messages(connections=conns, start=first):
+                if not self._wait_until(stamp):
+                    return False
+                self._publishers[conn.topic].publish(bytes(data))
+                self._position_ns = stamp
+                self.played += 1
+                self.counts[conn.topic] += 1
+                if self.keep_timing:
+                    self.published.append((conn.topic, stamp, time.monotonic()))
+        return True
+
+    def _flush_publishers(self) -> None:
+        """Reliable subscribers get the last messages before the publishers go away."""
+        from rclpy.duration import Duration
+
+        for pub in self._publishers.values():
+            with contextlib.suppress(Exception):  # best-effort publishers have no acks
+                pub.wait_for_all_acked(Duration(seconds=1))
+
+
+def _profiles(conn: Any) -> list[dict[str, Any]]:
+    out = []
+    for qos in getattr(conn.ext, 'offered_qos_profiles', []) or []:
+        out.append({
+            'reliability': qos.reliability.name.lower(),
+            'durability': qos.durability.name.lower(),
+        })
+    return out
+
+
+def play(
+    bag: str | Path,
+    *,
+    rate: float = 1.0,
+    loop: bool = False,
+    topics: Iterable[str] | None = None,
+    start_offset: float = 0.0,
+    domain_id: int | None = None,
+    log: Callable[[str], None] | None = None,
+) -> Player:
+    """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
+
+    `player.wait()` blocks until it has played everything; `pause()`, `resume()`,
+    `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0.
+    """
+    player = Player(
+        bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset,
+        domain_id=domain_id, log=log,
+    )
+    return player.start()

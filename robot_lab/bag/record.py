@@ -1,0 +1,417 @@
+"""Recording topics into a rosbag2 bag, as `ros2 bag record` does, without losing messages.
+
+Why the design: a notebook's session executor is busy with plots and echoes, so the
+recorder has its own node and its own single-threaded executor in a thread; callbacks
+only take the raw CDR bytes and the DDS receive time (what rosbag2 Jazzy stores) and
+queue them; a writer thread writes and flushes every half second, so a SIGKILL loses
+little and a `stop()` (or Ctrl-C, or a kernel interrupt) drains the queue and closes a
+complete bag. QoS follows rosbag2: reliable/transient-local only when every publisher
+offers it; the queue is deep (KEEP_ALL when reliable) so a burst is not dropped.
+"""
+
+from __future__ import annotations
+
+import datetime
+import queue
+import threading
+import time
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
+from robot_lab.errors import BagError, GraphError
+
+__all__ = ['Recorder', 'default_bag_name', 'record']
+
+NODE_NAME = 'rosbag2_recorder'
+POLL_INTERVAL = 0.1  # rosbag2's default --polling-interval (100 ms)
+FLUSH_PERIOD = 0.5  # at most this much recorded data is lost when the recorder is killed
+NOT_FOUND_GRACE = 1.5  # discovery time before a missing topic is reported as missing
+_STOP = object()
+
+
+def default_bag_name(now: datetime.datetime | None = None) -> str:
+    """`rosbag2_YYYY_MM_DD-HH_MM_SS`, the folder `ros2 bag record` makes by default."""
+    return (now or datetime.datetime.now()).strftime('rosbag2_%Y_%m_%d-%H_%M_%S')
+
+
+def _log_line(level: str, name: str, text: str) -> str:
+    now = time.time_ns()
+    return f'[{level}] [{now // 1_000_000_000}.{now % 1_000_000_000:09d}] [{name}]: {text}'
+
+
+def type_hash_string(type_hash: Any) -> str:
+    """rclpy's TypeHash -> `RIHS01_<hex>` as rosbag2 stores it ('' if unset)."""
+    if type_hash is None or int(getattr(type_hash, 'version', 0)) != 1:
+        return ''
+    return 'RIHS01_' + bytes(type_hash.value).hex()
+
+
+def _is_hidden(topic: str) -> bool:
+    return any(part.startswith('_') for part in topic.split('/'))
+
+
+class Recorder:
+    """A recording in progress: `start()`, live `counts`, `stop()`; or use `with`.
+
+    topics: names to record (waits for each to appear); all_topics: every topic that has
+    a publisher (like `ros2 bag record -a`, hidden topics excluded). The bag is finished
+    (metadata.yaml written) when `stop()` returns, or when `duration` seconds or
+    `max_messages` messages are reached.
+    """
+
+    def __init__(
+        self,
+        topics: Iterable[str] = (),
+        *,
+        all_topics: bool = False,
+        output: str | Path | None = None,
+        storage: str = 'mcap',
+        duration: float | None = None,
+        max_messages: int | None = None,
+        domain_id: int | None = None,
+        log: Callable[[str], None] | None = None,
+        node_name: str = NODE_NAME,
+    ) -> None:
+        names = [t if t.startswith('/') else '/' + t for t in topics]
+        if not names and not all_topics:
+            raise BagError(
+                'Need to specify at least one option out of --all or topics to record',
+                fix='e.g. `robot-lab bag record /sensor/temperature` or `-a`',
+            )
+        self.topics = list(dict.fromkeys(names))
+        self.all_topics = all_topics
+        self.path = Path(output) if output else Path(default_bag_name())
+        self.storage = storage
+        self.duration = duration
+        self.max_messages = max_messages
+        self.domain_id = domain_id
+        self.node_name = node_name
+        self._log_fn = log
+        self.log_lines: list[str] = []
+        self.counts: dict[str, int] = {}
+        self.types: dict[str, str] = {}
+        self.received = 0
+        self.error: BaseException | None = None
+        self._queue: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        self._stop = threading.Event()
+        self._done = threading.Event()
+        self._started_at: float | None = None
+        self._stopped_at: float | None = None
+        self._writer: BagWriter | None = None
+        self._subs: dict[str, Any] = {}
+        self._warned: set[str] = set()
+        self._spin_thread: threading.Thread | None = None
+        self._write_thread: threading.Thread | None = None
+        self._node: Any = None
+        self._executor: Any = None
+
+    # ---------------------------------------------------------------- state
+    @property
+    def running(self) -> bool:
+        return self._started_at is not None and not self._done.is_set()
+
+    @property
+    def finished(self) -> bool:
+        return self._done.is_set()
+
+    @property
+    def elapsed(self) -> float:
+        """Seconds since start (frozen when the recording stopped)."""
+        if self._started_at is None:
+            return 0.0
+        end = self._stopped_at if self._stopped_at is not None else time.monotonic()
+        return end - self._started_at
+
+    @property
+    def total(self) -> int:
+        return sum(self.counts.values())
+
+    def _log(self, level: str, text: str) -> None:
+        line = _log_line(level, self.node_name, text)
+        self.log_lines.append(line)
+        if self._log_fn is not None:
+            self._log_fn(line)
+
+    # ---------------------------------------------------------------- control
+    def start(self) -> Recorder:
+        """Open the bag and start discovering and recording topics (returns at once)."""
+        if self._started_at is not None:
+            return self
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+
+        from robot_lab.context import session
+
+        self._writer = BagWriter(self.path, self.storage)
+        sess = session(self.domain_id)
+        try:
+            self._node = rclpy.create_node(
+                self.node_name, context=sess.context, start_parameter_services=False,
+                enable_rosout=False,
+            )
+            self._executor = SingleThreadedExecutor(context=sess.context)
+            self._executor.add_node(self._node)
+        except Exception:
+            self._writer.close()
+            raise
+        self._started_at = time.monotonic()
+        self._log('INFO', 'Listening for topics...')
+        self._write_thread = threading.Thread(
+            target=self._write_loop, name='robot_lab-bag-writer', daemon=True
+        )
+        self._spin_thread = threading.Thread(
+            target=self._spin_loop, name='robot_lab-bag-recorder', daemon=True
+        )
+        self._write_thread.start()
+        self._spin_thread.start()
+        self._log('INFO', 'Recording...')
+        return self
+
+    def stop(self, timeout: float = 30.0) -> Path:
+        """Stop recording, write what was received, close the bag; returns its folder."""
+        if self._started_at is None:
+            raise BagError('The recording was never started', fix='call start() first')
+        self._stop.set()
+        if not self._done.wait(timeout):
+            raise BagError(
+                f"Recorder did not finish writing '{self.path}' within {timeout:g} s",
+                fix='check the disk (full? slow network folder?)',
+            )
+        if self.error is not None:
+            raise BagError(
+                f"Recording to '{self.path}' failed: {self.error}",
+                fix='check that the folder is writable and the disk is not full',
+            )
+        return self.path
+
+    def wait(self, timeout: float | None = None) -> bool:
+        """Block until the recording ends by itself (duration/max_messages) or is stopped."""
+        return self._done.wait(timeout)
+
+    def __enter__(self) -> Recorder:
+        return self.start()
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.stop()
+
+    def info(self) -> Any:
+        """The finished bag's metadata (robot_lab.bag.info.BagInfo)."""
+        from robot_lab.bag.info import bag_info
+
+        return bag_info(self.path)
+
+    # ---------------------------------------------------------------- threads
+    def _limit_reached(self) -> bool:
+        if self.duration is not None and self.elapsed >= self.duration:
+            return True
+        return self.max_messages is not None and self.received >= self.max_messages
+
+    def _spin_loop(self) -> None:
+        next_poll = 0.0
+        try:
+            while not self._stop.is_set() and not self._limit_reached():
+                now = time.monotonic()
+                if now >= next_poll and (self.all_topics or len(self._subs) < len(self.topics)):
+                    self._discover()
+                    next_poll = now + POLL_INTERVAL
+                self._executor.spin_once(timeout_sec=0.05)
+            self._drain_subscriptions()
+        except BaseException as exc:
+            self.error = exc
+        finally:
+            self._stopped_at = time.monotonic()
+            self._teardown_node()
+            self._queue.put(_STOP)
+
+    def _drain_subscriptions(self) -> None:
+        """Take what DDS already received before closing: stop must not drop messages."""
+        if self.max_messages is not None and self.received >= self.max_messages:
+            return
+        quiet = 0
+        deadline = time.monotonic() + 5.0
+        while quiet < 3 and time.monotonic() < deadline:
+            before = self.received
+            self._executor.spin_once(timeout_sec=0.0)
+            quiet = quiet + 1 if self.received == before else 0
+
+    def _teardown_node(self) -> None:
+        try:
+            for sub in self._subs.values():
+                self._node.destroy_subscription(sub)
+            self._executor.remove_node(self._node)
+            self._executor.shutdown(timeout_sec=1.0)
+            self._node.destroy_node()
+        except Exception:  # the context was shut down first (kernel exit): nothing to free
+            pass
+        missing = [t for t in self.topics if t not in self._subs]
+        for topic in missing:
+            self._log('WARN', f"Topic '{topic}' was never found: nothing recorded for it")
+
+    def _write_loop(self) -> None:
+        writer = self._writer
+        assert writer is not None
+        last_flush = time.monotonic()
+        try:
+            while True:
+                try:
+                    item = self._queue.get(timeout=0.1)
+                except queue.Empty:
+                    item = None
+                if item is _STOP:
+                    break
+                if item is not None:
+                    self._write_item(writer, item)
+                    # Write the backlog in one go before checking the clock again.
+                    for _ in range(10000):
+                        try:
+                            item = self._queue.get_nowait()
+                        except queue.Empty:
+                            break
+                        if item is _STOP:
+                            self._queue.put(_STOP)
+                            break
+                        self._write_item(writer, item)
+                if time.monotonic() - last_flush >= FLUSH_PERIOD:
+                    writer.flush()
+                    last_flush = time.monotonic()
+            while True:  # whatever arrived before the stop marker is already written
+                try:
+                    item = self._queue.get_nowait()
+                except queue.Empty:
+                    break
+                if item is not _STOP:
+                    self._write_item(writer, item)
+        except BaseException as exc:
+            self.error = exc
+            self._stop.set()
+        finally:
+            try:
+                writer.close()
+                self._log('INFO', 'Recording stopped')
+            except BaseException as exc:
+                self.error = self.error or exc
+            self._done.set()
+
+    @staticmethod
+    def _write_item(writer: BagWriter, item: Any) -> None:
+        if isinstance(item, TopicSpec):
+            writer.add_topic(item)
+            return
+        topic, stamp, data = item
+        writer.write(writer.connections[topic], stamp, data)
+
+    # ---------------------------------------------------------------- discovery
+    def _wanted(self, available: dict[str, list[str]]) -> list[str]:
+        if self.all_topics:
+            return [t for t in sorted(available) if not _is_hidden(t)]
+        return self.topics
+
+    def _discover(self) -> None:
+        available = dict(self._node.get_topic_names_and_types())
+        for topic in self._wanted(available):
+            if topic in self._subs:
+                continue
+            publishers = (
+                self._node.get_publishers_info_by_topic(topic) if topic in available else []
+            )
+            if not publishers:
+                if (
+                    not self.all_topics
+                    and topic not in self._warned
+                    and self.elapsed >= NOT_FOUND_GRACE
+                ):
+                    self._warned.add(topic)
+                    self._log(
+                        'WARN',
+                        f"Topic '{topic}' not found... waiting for a publisher — fix: start "
+                        'the node that publishes it (`robot-lab topic list` shows what exists)',
+                    )
+                continue
+            self._subscribe(topic, available[topic][0], publishers)
+
+    def _subscribe(self, topic: str, msgtype: str, publishers: list[Any]) -> None:
+        from rclpy.qos import (
+            DurabilityPolicy,
+            HistoryPolicy,
+            QoSProfile,
+            ReliabilityPolicy,
+        )
+
+        from robot_lab.messages import message_class
+
+        try:
+            cls = message_class(msgtype)
+        except GraphError:
+            if topic not in self._warned:
+                self._warned.add(topic)
+                self._log(
+                    'WARN',
+                    f"Topic '{topic}' has type '{msgtype}', unknown in this environment — "
+                    f"fix: build and source the package '{msgtype.split('/')[0]}'",
+                )
+            return
+        reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in publishers)
+        latched = all(
+            p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers
+        )
+        qos = QoSProfile(
+            history=HistoryPolicy.KEEP_ALL if reliable else HistoryPolicy.KEEP_LAST,
+            depth=1000,
+            reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+            durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
+        )
+        hashes = {type_hash_string(p.topic_type_hash) for p in publishers} - {''}
+        spec = TopicSpec(
+            name=topic,
+            type=msgtype,
+            offered_qos_profiles=[qos_from_profile(p.qos_profile) for p in publishers],
+            type_description_hash=hashes.pop() if len(hashes) == 1 else '',
+        )
+        # The writer learns the topic before the first message can arrive (same queue).
+        self._queue.put(spec)
+        self.counts.setdefault(topic, 0)
+        self.types[topic] = msgtype
+
+        def on_message(data: bytes, info: Any, topic: str = topic) -> None:
+            if self.max_messages is not None and self.received >= self.max_messages:
+                return
+            stamp = info.get('received_timestamp') if isinstance(info, dict) else None
+            self.received += 1
+            self.counts[topic] += 1
+            self._queue.put((topic, stamp or time.time_ns(), data))
+
+        self._subs[topic] = self._node.create_subscription(cls, topic, on_message, qos, raw=True)
+        self._log('INFO', f"Subscribed to topic '{topic}'")
+        if not self.all_topics and len(self._subs) == len(self.topics):
+            self._log('INFO', 'All requested topics are subscribed. Stopping discovery...')
+
+
+def record(
+    *topics: str,
+    all_topics: bool = False,
+    output: str | Path | None = None,
+    storage: str = 'mcap',
+    duration: float | None = None,
+    max_messages: int | None = None,
+    domain_id: int | None = None,
+    log: Callable[[str], None] | None = None,
+) -> Recorder:
+    """Start recording `topics` (or all) into a rosbag2 bag; returns the running Recorder.
+
+    Use it as a handle (`rec = record('/sensor/temperature'); …; rec.stop()`) or as a
+    context manager (`with record('/sensor/temperature', output='run1'): …`). With
+    `duration`, `rec.wait()` returns when the recording has finished by itself.
+    """
+    rec = Recorder(
+        topics, all_topics=all_topics, output=output, storage=storage, duration=duration,
+        max_messages=max_messages, domain_id=domain_id, log=log,
+    )
+    return rec.start()

@@ -1,0 +1,183 @@
+"""`robot-lab bag record|info|play|reindex`: the `ros2 bag` verbs, over robot_lab.bag."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import time
+from pathlib import Path
+from types import FrameType
+
+from robot_lab.errors import BagError
+
+HELP = 'Various rosbag related sub-commands'
+
+
+def _positive_float(value: str) -> float:
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{value} is not the valid type (float)') from None
+    if number <= 0.0:
+        raise argparse.ArgumentTypeError(f'{value} is not in the valid range (> 0.0)')
+    return number
+
+
+def _not_negative_float(value: str) -> float:
+    try:
+        number = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{value} is not the valid type (float)') from None
+    if number < 0.0:
+        raise argparse.ArgumentTypeError(f'Value {value} is less than zero.')
+    return number
+
+
+def _positive_int(value: str) -> int:
+    try:
+        number = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{value} is not the valid type (int)') from None
+    if number <= 0:
+        raise argparse.ArgumentTypeError(f'{value} is not in the valid range (> 0)')
+    return number
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest='bag_verb', metavar='Call `robot-lab bag <command> -h`')
+
+    rec = sub.add_parser('record', help='Record ROS data to a bag')
+    rec.add_argument('topics', nargs='*', metavar='Topic',
+                     help='Space-delimited list of topics to record.')
+    rec.add_argument('--topics', dest='topics_opt', nargs='+', default=[], metavar='Topic',
+                     help='Space-delimited list of topics to record.')
+    rec.add_argument('-a', '--all', '--all-topics', dest='all', action='store_true',
+                     help='Record all topics (Exclude hidden topic).')
+    rec.add_argument('-o', '--output',
+                     help='Destination of the bagfile to create, defaults to a timestamped '
+                     'folder in the current directory.')
+    rec.add_argument('-s', '--storage', default='mcap', choices=['mcap', 'sqlite3'],
+                     help="Storage identifier to be used, defaults to '%(default)s'.")
+    rec.add_argument('--duration', type=_positive_float, metavar='S',
+                     help='Stop recording after S seconds (robot_lab extension).')
+    rec.add_argument('--max-messages', type=_positive_int, metavar='N',
+                     help='Stop recording after N messages in total (robot_lab extension).')
+
+    info = sub.add_parser('info', help='Print information about a bag to the screen')
+    info.add_argument('bag_path', help='Bag to open')
+    info.add_argument('-t', '--topic-name', action='store_true', help='Only display topic names.')
+
+    play = sub.add_parser('play', help='Play back ROS data from a bag')
+    play.add_argument('bag_path', help='Bag to open')
+    play.add_argument('-r', '--rate', type=_positive_float, default=1.0,
+                      help='rate at which to play back messages. Valid range > 0.0.')
+    play.add_argument('-l', '--loop', action='store_true',
+                      help='enables loop playback when playing a bagfile: it starts back at '
+                      'the beginning on reaching the end and plays indefinitely.')
+    play.add_argument('--topics', nargs='+', default=None, metavar='topic',
+                      help='Space-delimited list of topics to play.')
+    play.add_argument('--start-offset', type=_not_negative_float, default=0.0,
+                      help='Start the playback player this many seconds into the bag file.')
+
+    reindex = sub.add_parser('reindex', help='Reconstruct metadata file for a bag')
+    reindex.add_argument('bag_path', help='Bag to open')
+    parser.set_defaults(_bag_parser=parser)
+
+
+def _err(text: str) -> None:
+    print(text, file=sys.stderr, flush=True)
+
+
+def _interrupt_on_sigterm() -> None:
+    """SIGTERM (and an inherited-ignored SIGINT) end a recording like Ctrl-C does."""
+
+    def _raise(_sig: int, _frame: FrameType | None) -> None:
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    signal.signal(signal.SIGTERM, _raise)
+
+
+def _record(args: argparse.Namespace) -> int:
+    from robot_lab.bag.record import Recorder
+
+    topics = list(args.topics_opt or args.topics)
+    if args.all and topics:
+        _err('[WARN] [ros2bag]: --all or --all-topics will override --topics')
+        topics = []
+    if not args.all and not topics:
+        _err('[ERROR] [ros2bag]: Need to specify at least one option out of --all, '
+             '--all-topics or topics')
+        return 1
+    if args.output and Path(args.output).is_dir():
+        raise BagError(
+            f"Output folder '{args.output}' already exists.",
+            fix='choose another name with -o/--output, or delete the old bag first',
+        )
+    _interrupt_on_sigterm()
+    rec = Recorder(
+        topics, all_topics=args.all, output=args.output, storage=args.storage,
+        duration=args.duration, max_messages=args.max_messages, log=_err,
+    )
+    rec.start()
+    try:
+        while not rec.wait(0.1):
+            pass
+    except KeyboardInterrupt:
+        pass
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C must not cut the close
+        rec.stop()
+    return 0
+
+
+def _info(args: argparse.Namespace) -> int:
+    from robot_lab.bag.info import bag_info, format_info
+
+    info = bag_info(args.bag_path)
+    if args.topic_name:
+        for topic in info.topics:
+            print(topic.name)
+    else:
+        print(format_info(info))
+    return 0
+
+
+def _play(args: argparse.Namespace) -> int:
+    from robot_lab.bag.play import Player
+
+    _interrupt_on_sigterm()
+    player = Player(
+        args.bag_path, rate=args.rate, loop=args.loop, topics=args.topics,
+        start_offset=args.start_offset, log=_err,
+    )
+    player.start()
+    try:
+        while not player.wait(0.1):
+            pass
+    except KeyboardInterrupt:
+        player.stop()
+    return 0
+
+
+def _reindex(args: argparse.Namespace) -> int:
+    from robot_lab.bag.reindex import reindex
+
+    started = time.monotonic()
+    report = reindex(args.bag_path)
+    cut = f', {report.truncated_bytes} bytes of an unfinished record dropped' \
+        if report.truncated_bytes else ''
+    counts = ', '.join(f'{t}: {n}' for t, n in report.counts.items()) or 'no topics'
+    _err(f"[INFO] [ros2bag]: Reindexed '{report.path}' ({report.storage_id}): "
+         f'{report.message_count} messages ({counts}){cut} in {time.monotonic() - started:.2f} s')
+    return 0
+
+
+def main(args: argparse.Namespace) -> int:
+    verbs = {'record': _record, 'info': _info, 'play': _play, 'reindex': _reindex}
+    verb = verbs.get(args.bag_verb or '')
+    if verb is None:
+        args._bag_parser.print_help()
+        return 0
+    return verb(args)
