@@ -220,8 +220,7 @@ def _check_package_xml(pkg: _Package) -> None:
                 f"package name '{xml_name}' does not match its folder '{pkg.dir.name}'",
                 file, name_el.line,
                 fix=f'rename the folder to {xml_name} or set <name>{pkg.dir.name}</name>')
-    if xml_name:
-        pkg.name = xml_name
+    # The other rules keep using the folder's name: one mismatch, one finding.
     for tag in ('depend', 'exec_depend'):
         pkg.declared |= {e.text.strip() for e in root.findall(tag)}
     export = root.find('export')
@@ -356,8 +355,10 @@ def _check_setup_py(pkg: _Package) -> None:
     if isinstance(declared, str) and declared != pkg.name:
         line = name_kw.lineno if name_kw is not None else _line_of(text, 'package_name')
         pkg.add('setup.py-name', 'error',
-                f"setup.py names the package '{declared}', package.xml says '{pkg.name}'",
+                f"setup.py names the package '{declared}', but the package is '{pkg.name}'",
                 file, line, fix=f"set package_name = '{pkg.name}'")
+        # Check the rest as it will be once the name is fixed: one cause, one finding.
+        evaluate.names['package_name'] = pkg.name
     _check_data_files(pkg, file, keywords.get('data_files'), evaluate, call.lineno)
     _check_console_scripts(pkg, file, keywords.get('entry_points'))
 

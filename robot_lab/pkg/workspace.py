@@ -163,14 +163,15 @@ def use_workspace(path: str | os.PathLike[str] = '.') -> list[Path]:
             _prepend(os.environ, 'AMENT_PREFIX_PATH', str(prefix))
         if prefix not in prefixes:
             prefixes.append(prefix)
-    # Children read PYTHONPATH; this process needs the same entries on sys.path.
+    # Children read PYTHONPATH; this process needs the same entries on sys.path
+    # (under install/, or build/ for a --symlink-install).
+    ws = install.parent if install.name == 'install' else install
     for entry in reversed(os.environ.get('PYTHONPATH', '').split(os.pathsep)):
-        if entry and Path(entry).is_relative_to(install):
+        if entry and Path(entry).is_relative_to(ws):
             if entry in sys.path:
                 sys.path.remove(entry)
             sys.path.insert(0, entry)
-    _forget_modules([install, install.parent / 'build'])
-    ws = install.parent if install.name == 'install' else install
+    _forget_modules([install, ws / 'build'])
     if ws in _used:
         _used.remove(ws)
     _used.append(ws)
