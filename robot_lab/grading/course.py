@@ -1,0 +1,78 @@
+"""A notebook's first cell: the same set-up for every lesson, in JupyterLab and under nbval.
+
+It puts the kit's venv on PATH (so `!ros2 …` cells run the kit's verbs), picks the
+lesson's ROS_DOMAIN_ID when a test run asks for one (notebooks run by nbval must not hear
+each other or the tests), and names the scratch workspace where student work goes —
+never the repository. In CI the workspace is a temporary folder shared by one run.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from robot_lab.widgets.output import is_headless
+
+__all__ = ['Lesson', 'setup']
+
+
+@dataclass(frozen=True)
+class Lesson:
+    """What `setup()` decided; printed at the top of each notebook."""
+
+    notebook: str
+    domain_id: int
+    workspace: Path
+
+    def __str__(self) -> str:
+        return (f'{self.notebook}: ROS_DOMAIN_ID={self.domain_id}, '
+                f'workspace {self.workspace}')
+
+
+def _number(notebook: str) -> int:
+    found = re.match(r'(\d+)', notebook)
+    return int(found.group(1)) if found else 0
+
+
+def _domain(notebook: str) -> int:
+    """ROBOT_LAB_NOTEBOOK_DOMAIN_BASE + lesson number when set (test runs); else as is.
+
+    Without it, a test run's ROBOT_LAB_TEST_DOMAIN_BASE still keeps notebooks apart from
+    the test modules (which count up from base + 1): lessons use base + 60 + number.
+    """
+    base = os.environ.get('ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', '').strip()
+    if base:
+        return (int(base) + _number(notebook)) % 102
+    test_base = os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '').strip()
+    if test_base:
+        return (int(test_base) + 60 + _number(notebook)) % 100 + 1
+    return int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
+
+
+def _workspace() -> Path:
+    if 'ROBOT_LAB_WORKSPACE' not in os.environ and is_headless():
+        # One folder per test run (the kernels of one nbval run share a parent), so
+        # notebook 02 finds the package notebook 01 created.
+        run = tempfile.gettempdir() + f'/robot_lab_ws-{os.getuid()}-{os.getppid()}'
+        os.environ['ROBOT_LAB_WORKSPACE'] = run
+    from robot_lab.pkg.workspace import workspace_dir
+
+    return workspace_dir()
+
+
+def setup(notebook: str) -> Lesson:
+    """Prepare this kernel for lesson `notebook` (e.g. '04_parameters'); what was chosen."""
+    bin_dir = os.path.dirname(sys.executable)
+    path = os.environ.get('PATH', '').split(os.pathsep)
+    if bin_dir not in path:
+        os.environ['PATH'] = os.pathsep.join([bin_dir, *path])
+    domain = _domain(notebook)
+    os.environ['ROS_DOMAIN_ID'] = str(domain)
+    from robot_lab.env import apply_ros_defaults
+
+    apply_ros_defaults()
+    return Lesson(notebook, domain, _workspace())
