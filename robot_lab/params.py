@@ -12,7 +12,7 @@ import math
 import os
 import re
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -88,17 +88,29 @@ class _Parser:
     def fail(self, message: str, line: int, fix: str | None = None) -> ParamFileError:
         return ParamFileError(message, file=self.path, line=line, fix=fix)
 
+    def events(self, text: str) -> Iterator[yaml.Event]:
+        """PyYAML's events; a syntax error is reported at the last good event's line, as rcl."""
+        line = 0
+        stream = yaml.parse(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader))
+        while True:
+            try:
+                event = next(stream)
+            except StopIteration:
+                return
+            except yaml.MarkedYAMLError as err:
+                mark = err.problem_mark or err.context_mark
+                problem = err.problem or err.context or 'invalid YAML'
+                where = f' ({problem} at line {mark.line + 1})' if mark is not None else ''
+                raise ParamFileError(
+                    f'Error parsing a event near line {line}{where}', file=self.path,
+                    line=mark.line + 1 if mark is not None else line,
+                    fix='fix the YAML syntax (indent with spaces, `name: value`, close [ ])',
+                ) from None
+            if event.start_mark is not None:
+                line = event.start_mark.line + 1
+            yield event
+
     def parse(self, text: str) -> dict[str, dict[str, Any]]:
-        try:
-            events = list(yaml.parse(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader)))
-        except yaml.MarkedYAMLError as err:
-            mark = err.problem_mark or err.context_mark
-            line = mark.line + 1 if mark is not None else None
-            problem = err.problem or err.context or 'invalid YAML'
-            raise ParamFileError(
-                f'Error parsing a event near line {line}: {problem}', file=self.path, line=line,
-                fix='fix the YAML syntax (indent with spaces, `name: value`)',
-            ) from None
         node_ns: list[str] = []  # keys above ros__parameters
         param_ns: list[str] = []  # nested parameter groups
         level = 'node'
@@ -108,7 +120,7 @@ class _Parser:
         node: str | None = None
         seq: list[Any] | None = None
         seq_line = 0
-        for event in events:
+        for event in self.events(text):
             line = event.start_mark.line + 1 if event.start_mark is not None else 0
             if isinstance(event, yaml.AliasEvent):
                 raise self.fail(f'Will not support aliasing at line {line}', line)

@@ -1227,6 +1227,6 @@ def parse_launch_arguments(items: Iterable[str]) -> dict[str, str]:
         if not sep or not name:
             raise LaunchError(
                 f"malformed launch argument '{item}', expected format '<name>:=<value>'",
-                fix=f'write it as name:=value, e.g. robot_name:={item or "robot_alpha"}')
+                fix='write each as <name>:=<value>, e.g. robot_name:=robot_alpha')
         result[name] = value
     return result

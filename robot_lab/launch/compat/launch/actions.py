@@ -85,7 +85,7 @@ def process_options(
     exit_action = None
     if on_exit is not None:
         actions = on_exit if isinstance(on_exit, list | tuple) else [on_exit]
-        if not all(isinstance(a, Shutdown) for a in actions):
+        if not all(isinstance(a, core.ShutdownStep) for a in actions):
             raise TypeError('robot_lab supports on_exit=Shutdown() only')
         exit_action = 'shutdown'
     return ProcessOptions(

@@ -9,7 +9,6 @@ from typing import Any
 from robot_lab.launch import describe as core
 from robot_lab.launch.compat.launch.actions import _place, process_options
 from robot_lab.launch.compat.launch.substitutions import subs
-from robot_lab.launch.compat.launch_ros.parameter_descriptions import Parameter
 from robot_lab.launch.describe import Condition, ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
 
@@ -46,8 +45,8 @@ def _parameters(parameters: Iterable[Any]) -> list[Any]:
     for entry in parameters:
         if isinstance(entry, Mapping):
             result.append({k: _value(v) for k, v in entry.items()})
-        elif isinstance(entry, Parameter):
-            result.append({entry.name: entry.value})
+        elif isinstance(getattr(entry, 'value', None), ParamValue) and hasattr(entry, 'name'):
+            result.append({entry.name: entry.value})  # a Parameter (from either import path)
         elif isinstance(entry, ParamFileRef):
             result.append(entry)
         elif isinstance(entry, str | os.PathLike | Substitution | list | tuple):
