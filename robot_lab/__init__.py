@@ -33,6 +33,7 @@ _API: dict[str, str] = {
     'create_package': 'robot_lab.pkg.create',
     'build': 'robot_lab.pkg.build',
     'use_workspace': 'robot_lab.pkg.workspace',
+    'workspace_dir': 'robot_lab.pkg.workspace',
     'doctor': 'robot_lab.pkg.doctor',
     # parameter files
     'load_param_file': 'robot_lab.params',
