@@ -288,17 +288,22 @@ def write_param_file(
 def node_parameters(
     files: Iterable[str | os.PathLike[str]], node: str
 ) -> dict[str, Any]:
-    """The values node `node` (fully qualified) gets from `--params-file`s, in rclpy's order.
+    """The values node `node` (fully qualified) gets from `--params-file`s, as rclpy does it.
 
-    rcl merges the files (a later file overrides an earlier one), then rclpy applies `/**`
-    first and the node's own fully qualified name last, so an exact name beats the wildcard.
+    rcl merges the files into one list of node sections, ordered by first appearance (a
+    later file overrides a value in place). rclpy then walks that list and applies every
+    section whose name matches (`/*` one token, `/**` any), later sections winning. So a
+    fully qualified section overrides `/**` when it comes after it, as in the usual file
+    (`/**` first) and in launch (`from=` files, then the node's own name/value file).
     """
     merged: dict[str, dict[str, Any]] = {}
     for file in files:
         for pattern, values in load_param_file(file).items():
             merged.setdefault(pattern, {}).update(values)
+    target = node if node.startswith('/') else '/' + node
     result: dict[str, Any] = {}
-    for target in ('/**', node if node.startswith('/') else '/' + node):
-        result.update(merged.get(target, {}))
+    for pattern, values in merged.items():
+        regex = re.escape(pattern).replace(re.escape('/*'), r'(/\w+)').replace(r'\*', '*')
+        if re.fullmatch(regex, target):
+            result.update(values)
     return result
-
