@@ -12,6 +12,7 @@ import os
 import shlex
 import signal
 import sys
+from collections.abc import Callable
 from types import FrameType
 
 from robot_lab.launch.description import (
@@ -23,6 +24,8 @@ from robot_lab.launch.description import (
     ShutdownAction,
     TimerAction,
 )
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.supervisor import Supervisor, check_param_files
 
 HELP = 'Run a launch file'
 
@@ -80,7 +83,10 @@ def format_arguments(arguments: list[LaunchArgument]) -> str:
 
 def format_plan(plan: LaunchPlan) -> str:
     """Every action of the plan, each process with the full command line it would run."""
+    from robot_lab.env import ros_environment
+
     lines = [f'# {plan.source}']
+    base = ros_environment()
 
     def walk(actions: list[Action], indent: str) -> None:
         for action in actions:
@@ -93,8 +99,12 @@ def format_plan(plan: LaunchPlan) -> str:
                     details.append(f'respawn (delay {action.respawn_delay:g} s)')
                 if action.on_exit:
                     details.append(f'on_exit={action.on_exit}')
-                if action.env:
-                    details.append('env: ' + ' '.join(f'{k}={v}' for k, v in action.env.items()))
+                changed = {k: v for k, v in action.env.items() if base.get(k) != v}
+                removed = sorted(k for k in base if action.env and k not in action.env)
+                if changed:
+                    details.append('env: ' + ' '.join(f'{k}={v}' for k, v in changed.items()))
+                if removed:
+                    details.append('unset: ' + ' '.join(removed))
                 lines.append(f'{indent}    ' + ', '.join(details))
             elif isinstance(action, LogAction):
                 lines.append(f'{indent}log [{action.level}]: {action.message}')
@@ -109,14 +119,17 @@ def format_plan(plan: LaunchPlan) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    from robot_lab.launch import describe
+    from robot_lab.launch.describe import (
+        describe_launch,
+        launch_arguments,
+        parse_launch_arguments,
+    )
 
     source, file, argv = _source(args)
     if args.show_args:
-        print(format_arguments(describe.launch_arguments(source, file)))
+        print(format_arguments(launch_arguments(source, file)))
         return 0
-    launch_args = describe.parse_launch_arguments(argv)
-    plan = describe.describe_launch(source, file, launch_args)
+    plan = describe_launch(source, file, parse_launch_arguments(argv))
     if args.print:
         print(format_plan(plan))
         return 0
@@ -124,11 +137,8 @@ def main(args: argparse.Namespace) -> int:
 
 
 def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
-        duration: float | None = None) -> int:
+        on_start: Callable[[Supervisor], None] | None = None) -> int:
     """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order."""
-    from robot_lab.launch.output import LaunchOutput
-    from robot_lab.launch.supervisor import Supervisor, check_param_files
-
     check_param_files(plan)
     output = LaunchOutput(sys.stdout, debug=debug)
     supervisor = Supervisor(plan, output, noninteractive=noninteractive)
@@ -143,19 +153,12 @@ def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
         signal.SIGINT: signal.signal(signal.SIGINT, on_sigint),
         signal.SIGTERM: signal.signal(signal.SIGTERM, on_sigterm),
     }
-    timer = None
-    if duration is not None:
-        import threading
-
-        timer = threading.Timer(duration, supervisor.shutdown, kwargs={'reason': 'demo ended'})
-        timer.daemon = True
-        timer.start()
     output.open()
     try:
+        if on_start is not None:
+            on_start(supervisor)
         return supervisor.run()
     finally:
-        if timer is not None:
-            timer.cancel()
         output.close()
         for sig, handler in previous.items():
             signal.signal(sig, handler)

@@ -14,6 +14,7 @@ import html
 import re
 import threading
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
@@ -36,18 +37,18 @@ _REGISTRY_LOCK = threading.Lock()
 
 
 def describe_launch(source: str | Path, file: str | None = None,
-                    args: Any = None) -> LaunchPlan:
+                    args: Mapping[str, str] | None = None) -> LaunchPlan:
     """The resolved plan of a launch file, nothing started (see robot_lab.launch.describe)."""
-    from robot_lab.launch import describe
+    from robot_lab.launch.describe import describe_launch as resolve
 
-    return describe.describe_launch(source, file, args)
+    return resolve(source, file, args)
 
 
 @dataclass(frozen=True)
 class ProcessStatus:
     """One process of a launch as it is now."""
 
-    name: str  # the node name (`sensor`), or the label for a plain executable
+    name: str  # the node's full name (`/sensor`), or the label for a plain executable
     label: str  # `sensor_node-1`, as the output prefixes it
     pid: int | None
     state: str  # 'pending' | 'running' | 'finished' | 'died' | 'respawning'

@@ -92,7 +92,7 @@ class ProcessRecord:
 
     @property
     def name(self) -> str:
-        """The node name when it is a node (`sensor`), else the label."""
+        """The node's full name when it is a node (`/sensor`), else the label."""
         return self.spec.node_name or self.spec.label
 
 
@@ -265,8 +265,9 @@ class Supervisor:
         return lambda: self._execute(actions)
 
     def _environment(self, spec: ProcessSpec) -> dict[str, str]:
-        env = dict(os.environ)
-        env.update(spec.env)
+        # The frontends resolve the whole environment (set_env/unset_env applied); a
+        # hand-built spec may leave it empty, meaning "this process's environment".
+        env = dict(spec.env) if spec.env else dict(os.environ)
         apply_ros_defaults(env)
         return env
 
