@@ -3,7 +3,8 @@
 Every check looks at the real graph (nodes, topics, parameters, logs, files), waits a
 bounded time for it to become true, prints one deterministic `✓ …` line when it is, and
 otherwise raises CheckError: what was expected, what was seen, what to try. A failing
-check is a failing cell, so nbval fails with it.
+check is a failing cell, so nbval fails with it. Checks return nothing: a check cell's
+output is only its ✓ lines, the same on every run (nbval compares it).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ __all__ = [
     'nodes_running',
     'package_built',
     'param_equals',
+    'param_file_accepted',
     'plot_shows',
     'topic_publishes',
     'topic_rate',
@@ -56,16 +58,15 @@ def _wait(probe: Callable[[], Any], timeout: float, interval: float = 0.1) -> An
 
 
 def eventually(condition: Callable[[], Any], what: str, timeout: float = 5.0,
-               hint: str = 'run the cells above again, in order') -> Any:
-    """`condition()` becomes truthy within `timeout` s; its value."""
+               hint: str = 'run the cells above again, in order') -> None:
+    """`condition()` becomes truthy within `timeout` s."""
     value = _wait(condition, timeout)
     if not value:
         raise CheckError(what, f'still not true after {timeout:g} s', hint)
     _ok(what)
-    return value
 
 
-def nodes_running(names: Iterable[str], timeout: float = 10.0) -> list[str]:
+def nodes_running(names: Iterable[str], timeout: float = 10.0) -> None:
     """These nodes are in the graph (`ros2 node list` shows them)."""
     from robot_lab.graph.api import node_list, wait_for_nodes
 
@@ -81,10 +82,9 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0) -> list[str]:
             'start them (the launch cell above) and look at their output for errors',
         ) from None
     _ok(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
-    return wanted
 
 
-def topics_exist(names: Iterable[str], timeout: float = 10.0) -> list[str]:
+def topics_exist(names: Iterable[str], timeout: float = 10.0) -> None:
     """These topics are in the graph (`ros2 topic list` shows them)."""
     from robot_lab.graph.api import topic_list
 
@@ -100,7 +100,6 @@ def topics_exist(names: Iterable[str], timeout: float = 10.0) -> list[str]:
                           f'the graph has {", ".join(present) or "no topics"}',
                           'start the nodes that publish or subscribe them')
     _ok(f'topics exist: {", ".join(wanted)}')
-    return wanted
 
 
 def topic_publishes(topic: str, msg_type: str | None = None,
@@ -125,7 +124,7 @@ def topic_publishes(topic: str, msg_type: str | None = None,
             if where is None or where(msg):
                 _ok(f'{name} publishes {type_name(msg)}' +
                     (f' {description}' if description else ''))
-                return msg
+                return
     except RobotLabError as err:
         raise CheckError(what, f'none came: {err.message}',
                           f'is the publisher running? `robot-lab topic info -v {name}`') from None
@@ -134,7 +133,7 @@ def topic_publishes(topic: str, msg_type: str | None = None,
                       'look at the node’s parameters and log output')
 
 
-def topic_rate(topic: str, low: float, high: float, duration: float = 2.0) -> float:
+def topic_rate(topic: str, low: float, high: float, duration: float = 2.0) -> None:
     """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average)."""
     from robot_lab.graph.api import topic_hz
 
@@ -148,7 +147,6 @@ def topic_rate(topic: str, low: float, high: float, duration: float = 2.0) -> fl
         raise CheckError(f'{name} at {low:g}–{high:g} Hz', f'it runs at {stats.rate:.1f} Hz',
                           'check the rate parameter of the publishing node')
     _ok(f'{name} publishes at {low:g}–{high:g} Hz')
-    return float(stats.rate)
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -160,7 +158,7 @@ def _same(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
-def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> Any:
+def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> None:
     """`ros2 param get <node> <name>` gives `value` (floats compared with tolerance)."""
     from robot_lab.graph.api import param_get
 
@@ -182,10 +180,27 @@ def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> Any:
                           'set it (param set, a slider, or the parameter file) and check '
                           'the node accepted it')
     _ok(f'{full} {name} = {value!r}')
-    return got[-1]
 
 
-def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> str:
+def param_file_accepted(path: str | Path) -> None:
+    """rcl's rules accept the parameter file (what a node given `--params-file` reads)."""
+    from robot_lab.params import load_param_file
+
+    try:
+        sections = load_param_file(path)
+    except RobotLabError as err:
+        raise CheckError(f'{Path(path).name} accepted by rcl', f'it is refused: {err.message}',
+                         err.fix or 'nest the values under `<node name>: ros__parameters:`') \
+            from None
+    if not sections:
+        raise CheckError(f'{Path(path).name} to set parameters', 'it has no node section',
+                         'add `/**:` (or a node name) with `ros__parameters:` under it')
+    summary = '; '.join(f'{node} sets {", ".join(sorted(values))}'
+                        for node, values in sections.items())
+    _ok(f'rcl accepts {Path(path).name}: {summary}')
+
+
+def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
     """A log line matching `pattern` (regex) shows up in a launch's output or a console."""
     regex = re.compile(pattern)
 
@@ -204,10 +219,9 @@ def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> str:
                           f'within {timeout:g} s the last lines were:\n{tail}\n',
                           'read the output above for errors (a process that died says why)')
     _ok(f'the log shows {regex.pattern!r}')
-    return str(found)
 
 
-def files_exist(root: str | Path, paths: Iterable[str]) -> list[Path]:
+def files_exist(root: str | Path, paths: Iterable[str]) -> None:
     """Each of `paths` exists under `root` (a folder path ends with '/')."""
     base = Path(root)
     wanted = list(paths)
@@ -221,11 +235,10 @@ def files_exist(root: str | Path, paths: Iterable[str]) -> list[Path]:
         raise CheckError(f'{", ".join(wanted)} in {base.name}/', f'missing {", ".join(missing)}',
                           'run the cells that create them, in order')
     _ok(f'{base.name}/ has {", ".join(wanted)}')
-    return [base / rel for rel in wanted]
 
 
 def package_built(workspace: str | Path, package: str,
-                  executables: Iterable[str] = ()) -> Path:
+                  executables: Iterable[str] = ()) -> None:
     """colcon installed `package` (ament index marker, package.xml, its executables)."""
     prefix = Path(workspace) / 'install' / package
     need = [Path('share/ament_index/resource_index/packages') / package,
@@ -238,11 +251,10 @@ def package_built(workspace: str | Path, package: str,
                           'read the build output above; fix the first error and build again')
     exes = list(executables)
     _ok(f'{package} is installed' + (f' with {", ".join(exes)}' if exes else ''))
-    return prefix
 
 
 def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description: str,
-               timeout: float = 5.0, last: float = 1.0) -> list[float]:
+               timeout: float = 5.0, last: float = 1.0) -> None:
     """The plotted values of `path` in its `last` seconds all satisfy `where` (waits)."""
 
     def _probe() -> list[float] | None:
@@ -257,10 +269,9 @@ def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description
         raise CheckError(f'{path} {description}', seen,
                           'check the parameter you changed was accepted (✓ next to the slider)')
     _ok(f'{path} {description}')
-    return list(values)
 
 
-def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> Any:
+def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> None:
     """The bag holds at least `counts[topic]` messages of each topic (`ros2 bag info`)."""
     from robot_lab.bag.info import bag_info
 
@@ -277,4 +288,3 @@ def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> Any:
             'the bag has ' + ', '.join(f'{c} on {t}' for t, c in short.items()),
             'record while the nodes run, for a few seconds')
     _ok('the bag holds ' + ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()))
-    return info

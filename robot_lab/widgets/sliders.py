@@ -15,12 +15,13 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.output import WidgetLog
+from robot_lab.widgets.output import WidgetLog, is_headless
 
 __all__ = ['SetResult', 'Sliders', 'sliders']
 
 # rcl_interfaces/msg/ParameterType
 _BOOL, _INTEGER, _DOUBLE, _STRING = 1, 2, 3, 4
+_TYPE_NAMES = {_BOOL: 'bool', _INTEGER: 'integer', _DOUBLE: 'double', _STRING: 'string'}
 
 
 class SetResult(NamedTuple):
@@ -216,10 +217,39 @@ class Sliders:
             control.status.value = (f'<span style="color:#cf222e">✗ refused: '
                                     f'{html.escape(result.reason)}</span>')
 
-    def _ipython_display_(self) -> None:
-        from IPython.display import display
+    def html_table(self) -> str:
+        """The parameters as a static table (what a page without a live kernel shows)."""
+        rows = []
+        for name, control in self.controls.items():
+            descriptor = self.descriptors[name]
+            span = ''
+            if descriptor.integer_range:
+                rng = descriptor.integer_range[0]
+                span = f'{rng.from_value} … {rng.to_value}'
+            elif descriptor.floating_point_range:
+                frng = descriptor.floating_point_range[0]
+                span = f'{frng.from_value:g} … {frng.to_value:g}'
+            result = self.last_result.get(name)
+            note = '' if result is None else ('✓ set' if result.successful else
+                                              f'✗ refused: {result.reason}')
+            cells = [f'<code>{html.escape(name)}</code>',
+                     html.escape(_TYPE_NAMES.get(control.kind, 'other')), span,
+                     f'<b>{html.escape(repr(self.values.get(name)))}</b>',
+                     html.escape(control.description), html.escape(note)]
+            rows.append('<tr>' + ''.join(f'<td style="text-align:left">{c}</td>'
+                                         for c in cells) + '</tr>')
+        head = ''.join(f'<th style="text-align:left">{h}</th>' for h in
+                       ('parameter', 'type', 'range', 'value', 'description', ''))
+        return (f'<div><b>{html.escape(self.node)}</b> parameters<table><thead><tr>{head}'
+                f'</tr></thead><tbody>{"".join(rows)}</tbody></table></div>')
 
-        display(self.widget)
+    def _ipython_display_(self) -> None:
+        from IPython.display import HTML, display
+
+        if is_headless():
+            display(HTML(self.html_table()))
+        else:
+            display(self.widget)
 
     def __repr__(self) -> str:
         values = ', '.join(f'{k}={v!r}' for k, v in self.values.items())
