@@ -32,7 +32,7 @@ __all__ = [
 T = TypeVar('T')
 
 # One lease announcement period of the kit's profile plus the endpoint exchange after it.
-DISCOVERY_WINDOW = 0.6
+DISCOVERY_WINDOW = 0.75
 # An answer unchanged for this long (after the window) is taken as the settled graph.
 SETTLE = 0.2
 # A session past its first second has seen the graph; only fresh changes need settling.
