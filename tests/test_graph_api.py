@@ -175,7 +175,7 @@ def test_services_and_interfaces(system: dict[str, Proc]) -> None:
 
 def test_waits_time_out_with_a_clear_error(system: dict[str, Proc]) -> None:
     start = time.monotonic()
-    with pytest.raises(GraphError, match='nodes not up within 0.5 s: /ghost'):
+    with pytest.raises(GraphError, match=r'nodes not up within 0\.5 s: /ghost'):
         robot_lab.wait_for_nodes(['/sensor', '/ghost'], timeout=0.5)
     with pytest.raises(GraphError, match="topic '/ghost' did not appear"):
         robot_lab.wait_for_topic('/ghost', timeout=0.5)

@@ -67,7 +67,7 @@ def graph_model(include_hidden: bool = False,
                             (sess.node.get_subscriber_names_and_types_by_node, 'subscribe')):
             try:
                 endpoints = query(base, namespace)
-            except Exception:  # noqa: S112 - the node left between the two queries
+            except Exception:  # the node left between the two queries: skip it
                 continue
             for topic, types in endpoints:
                 if topic in hidden_topics or (is_hidden(topic) and not include_hidden):
