@@ -26,9 +26,9 @@ class YamlEntity(Entity):
     """A YAML map (attributes + `children`) or list (children only)."""
 
     def __init__(self, node: yaml.Node, type_name: str, file: Path,
-                 loader: yaml.SafeLoader) -> None:
+                 loader: yaml.SafeLoader, line: int | None = None) -> None:
         self.node, self.type_name, self.file, self.loader = node, type_name, file, loader
-        self.line = node.start_mark.line + 1
+        self.line = line if line is not None else node.start_mark.line + 1
         self._read: set[str] = set()
         self._children_read = False
 
@@ -94,7 +94,8 @@ class YamlEntity(Entity):
                                   'is the entity type', file=self.file,
                                   line=child.start_mark.line + 1)
             key, value = child.value[0]
-            result.append(YamlEntity(value, str(key.value), self.file, self.loader))
+            result.append(YamlEntity(value, str(key.value), self.file, self.loader,
+                                     key.start_mark.line + 1))
         return result
 
     def assert_parsed(self) -> None:
@@ -117,8 +118,12 @@ def load_yaml_launch_file(path: Path) -> DescriptionStep:
     try:
         root = loader.get_single_node()
     except yaml.MarkedYAMLError as err:
-        mark = err.problem_mark or err.context_mark
-        raise LaunchError(f'malformed YAML: {err.problem or err.context}', file=path,
+        # "while parsing a flow sequence" points at where the construct began: the line to fix
+        mark = err.context_mark or err.problem_mark
+        detail = '; '.join(str(x) for x in (err.context, err.problem) if x)
+        if err.context_mark is not None and err.problem_mark is not None:
+            detail += f' (at line {err.problem_mark.line + 1})'
+        raise LaunchError(f'malformed YAML: {detail}', file=path,
                           line=mark.line + 1 if mark else None,
                           fix='check the indentation and the `- tag:` list items') from None
     if not isinstance(root, yaml.MappingNode) or len(root.value) != 1:
@@ -126,4 +131,4 @@ def load_yaml_launch_file(path: Path) -> DescriptionStep:
                           line=root.start_mark.line + 1 if root is not None else None,
                           fix='start the file with `launch:` followed by a list of actions')
     key, value = root.value[0]
-    return parse_root(YamlEntity(value, str(key.value), path, loader))
+    return parse_root(YamlEntity(value, str(key.value), path, loader, key.start_mark.line + 1))
