@@ -52,6 +52,7 @@ __all__ = [
 Subs = list[Substitution]
 _NODE_NAME = re.compile(r'[A-Za-z_][A-Za-z0-9_]*')
 _NS_TOKEN = re.compile(r'[A-Za-z_][A-Za-z0-9_]*')
+_NOT_SHARE = {'build', 'install', 'log', '__pycache__', 'node_modules'}
 
 
 # ---------------------------------------------------------------------------- context
@@ -1145,14 +1146,26 @@ def find_launch_file(source: str | Path, file: str | None = None) -> Path:
         share = package_share(str(source))
     except RobotLabError as err:
         raise LaunchError(err.message, fix=err.fix) from None
-    direct = share / 'launch' / file
-    if direct.is_file():
-        return direct.resolve()
-    matches = sorted(p for p in share.rglob(file) if p.is_file() and '.git' not in p.parts)
-    if matches:
+    for direct in (share / 'launch' / file, share / file):
+        if direct.is_file():
+            return direct.resolve()
+    matches: list[Path] = []
+    launch_files: set[str] = set()
+    for root, dirs, files in os.walk(share):
+        # an editable kit's share is the checkout: skip .venv, .git, colcon's build/install/log
+        dirs[:] = [d for d in dirs if not d.startswith('.') and d not in _NOT_SHARE]
+        matches += [Path(root, name) for name in files if name == file]
+        launch_files.update(n for n in files if '.launch.' in n or n.endswith('_launch.py'))
+    if len(matches) == 1:
         return matches[0].resolve()
-    have = sorted({p.name for p in share.rglob('*launch*') if p.is_file()
-                   and p.suffix in ('.py', '.xml', '.yaml', '.yml')})
+    if matches:
+        raise LaunchError(
+            f"Found multiple files named '{file}' in the share directory of package "
+            f"'{source}': {', '.join(str(m) for m in sorted(matches))}",
+            fix='give the path of the one you mean instead of package and file')
+    launch_dir = share / 'launch'
+    have = sorted(p.name for p in launch_dir.iterdir() if p.is_file()) if launch_dir.is_dir() \
+        else sorted(launch_files)
     raise LaunchError(
         f"file '{file}' was not found in the share directory of package '{source}' "
         f"which is at '{share}'",
