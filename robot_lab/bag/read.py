@@ -56,6 +56,11 @@ def _check_path(path: Path) -> None:
 def _explain(path: Path, exc: Exception) -> BagError:
     text = str(exc).rstrip('.')
     where = path
+    if text == 'File magic is invalid' or 'seems to be empty' in text:
+        return BagError(
+            f"'{where}' is not an MCAP file ({text})",
+            fix='give a bag folder or a .mcap/.db3 file written by `bag record`',
+        )
     if 'magic' in text.lower() or 'footer' in text.lower() or 'summary' in text.lower():
         folder = path if path.is_dir() else path.parent
         return BagError(

@@ -1,0 +1,313 @@
+"""`robot-lab bag record/info/play` against the real reference nodes (issue 7 acceptance).
+
+One 3 s recording of the running system (mcap and, in parallel, sqlite3) is made once for
+the module; the nodes are stopped before playback so only the bag publishes.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import re
+import statistics
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+from conftest import BIN, Proc, run_cli
+
+TOPICS = ('/sensor/temperature', '/robot/status', '/cmd_vel')
+# An MCAP file's start (magic, header record with profile 'ros2'), as a killed recorder
+# leaves it: no footer after it.
+MCAP_HEAD = b'\x89MCAP0\r\n\x01' + (16).to_bytes(8, 'little') + \
+    (4).to_bytes(4, 'little') + b'ros2' + (4).to_bytes(4, 'little') + b'test'
+
+
+def _robot_lab(*args: str) -> list[str]:
+    return [str(BIN / 'robot-lab'), *args]
+
+
+def rosbags_messages(bag: Path, topic: str) -> list[tuple[int, Any]]:
+    """(timestamp, decoded message) of one topic, read by rosbags (not by robot_lab)."""
+    from rosbags.rosbag2 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_JAZZY)
+    out = []
+    with Reader(bag) as reader:
+        conns = [c for c in reader.connections if c.topic == topic]
+        for conn, stamp, data in reader.messages(connections=conns):
+            out.append((stamp, store.deserialize_cdr(data, conn.msgtype)))
+    return out
+
+
+@pytest.fixture(scope='module')
+def bags(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Path]]:
+    """Record the running reference system for 3 s into an mcap and a sqlite3 bag."""
+    work = tmp_path_factory.mktemp('bags')
+    env = dict(os.environ)
+    nodes = [
+        Proc(_robot_lab('run', 'robot_lab', name, '--ros-args', '-r', f'__node:={short}'),
+             env=env)
+        for name, short in (('sensor_node', 'sensor'), ('controller_node', 'controller'),
+                            ('robot_node', 'robot'))
+    ]
+    recorders: list[Proc] = []
+    try:
+        for node, started in zip(nodes, ('Sensor node started', 'Controller node started',
+                                         'Robot node started'), strict=True):
+            node.wait_for(started)
+        recorders = [
+            Proc(_robot_lab('bag', 'record', '-o', str(work / 'system'), '--duration', '3',
+                            *TOPICS), env=env),
+            Proc(_robot_lab('bag', 'record', '-s', 'sqlite3', '-o', str(work / 'seed'),
+                            '--duration', '3', *TOPICS), env=env),
+        ]
+        for rec in recorders:
+            assert rec.popen.wait(30) == 0, rec.output
+    finally:
+        for proc in recorders + nodes:
+            proc.stop()
+    yield {'mcap': work / 'system', 'sqlite3': work / 'seed', 'log': work}
+
+
+def test_record_writes_an_mcap_bag_in_rosbag2_format(bags: dict[str, Path]) -> None:
+    bag = bags['mcap']
+    assert sorted(p.name for p in bag.iterdir()) == ['metadata.yaml', 'system.mcap']
+    assert (bag / 'system.mcap').read_bytes()[:8] == b'\x89MCAP0\r\n'
+    meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+    assert meta['version'] == 9
+    assert meta['storage_identifier'] == 'mcap'
+    topics = {t['topic_metadata']['name']: t['topic_metadata']
+              for t in meta['topics_with_message_count']}
+    assert set(topics) == set(TOPICS)
+    temp = topics['/sensor/temperature']
+    assert temp['type'] == 'std_msgs/msg/Float32'
+    assert temp['serialization_format'] == 'cdr'
+    assert re.fullmatch(r'RIHS01_[0-9a-f]{64}', temp['type_description_hash'])
+    # The publisher's offered QoS, as rosbag2 Jazzy stores it (v9: names, not numbers).
+    (offer,) = temp['offered_qos_profiles']
+    assert offer['reliability'] == 'reliable'
+    assert offer['durability'] == 'volatile'
+
+
+def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
+    result = run_cli('bag', 'info', str(bags['mcap']))
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    labels = ['Files:', 'Bag size:', 'Storage id:', 'ROS Distro:', 'Duration:', 'Start:',
+              'End:', 'Messages:', 'Topic information:']
+    assert [line[:19].rstrip() for line in lines[1:10]] == labels
+    assert lines[1] == 'Files:             system.mcap'
+    assert lines[3] == 'Storage id:        mcap'
+    assert re.fullmatch(r'Duration:          [23]\.\d{9}s', lines[5])
+    assert re.fullmatch(r'Start:             \w{3} [ \d]\d \d{4} \d\d:\d\d:\d\d\.\d{9} '
+                        r'\(\d+\.\d{9}\)', lines[6])
+    counts = {}
+    for topic, msgtype, count in re.findall(
+        r'Topic: (\S+) \| Type: (\S+) \| Count: (\d+) \| Serialization Format: cdr',
+        result.stdout,
+    ):
+        counts[topic] = int(count)
+        assert msgtype == {'/sensor/temperature': 'std_msgs/msg/Float32',
+                           '/robot/status': 'std_msgs/msg/String',
+                           '/cmd_vel': 'geometry_msgs/msg/Twist'}[topic]
+    assert 25 <= counts['/sensor/temperature'] <= 32  # 10 Hz for 3 s
+    assert 50 <= counts['/robot/status'] <= 63  # 20 Hz for 3 s
+    assert 50 <= counts['/cmd_vel'] <= 63
+    assert int(lines[8].split()[-1]) == sum(counts.values())
+    assert lines[-2:] == ['Service:           0', 'Service information: ']
+
+
+def test_rosbags_reads_what_was_recorded(bags: dict[str, Path]) -> None:
+    temps = rosbags_messages(bags['mcap'], '/sensor/temperature')
+    statuses = rosbags_messages(bags['mcap'], '/robot/status')
+    assert 25 <= len(temps) <= 32
+    assert 50 <= len(statuses) <= 63
+    assert all(15.0 < msg.data < 35.0 for _, msg in temps)  # 22.5 °C plus noise
+    assert all(re.match(r'(OK|HIGH)\b.*°C\)$', msg.data) for _, msg in statuses), statuses[:3]
+    stamps = [t for t, _ in temps]
+    assert stamps == sorted(stamps)
+    gaps = [(b - a) / 1e9 for a, b in itertools.pairwise(stamps)]
+    assert 0.08 < statistics.median(gaps) < 0.12  # recorded at the sensor's 10 Hz
+    # mcap channel metadata carries what rosbag2's mcap reader looks for.
+    from rosbags.rosbag2.storage_mcap import McapReader
+
+    reader = McapReader(bags['mcap'] / 'system.mcap')
+    reader.open()
+    try:
+        metas = [ch.metadata for ch in reader.channels.values()]
+        schemas = {s.name: s for s in reader.schemas.values()}
+    finally:
+        reader.close()
+    assert all(b'offered_qos_profiles' in m and b'topic_type_hash' in m for m in metas)
+    assert schemas['geometry_msgs/msg/Twist'].encoding == 'ros2msg'
+    assert 'Vector3 linear' in schemas['geometry_msgs/msg/Twist'].data
+
+
+class _Listener:
+    """An in-process subscriber (the test's session) collecting what playback sends."""
+
+    def __init__(self, topic: str, msgtype: Any, field: str = 'data') -> None:
+        from robot_lab.context import session
+
+        self.values: list[Any] = []
+        self.times: list[float] = []
+        self.lock = threading.Lock()
+        self.session = session()
+        self.sub = self.session.node.create_subscription(msgtype, topic, self._on, 100)
+        self.field = field
+
+    def _on(self, msg: Any) -> None:
+        with self.lock:
+            self.values.append(getattr(msg, self.field))
+            self.times.append(time.monotonic())
+
+    def close(self) -> None:
+        self.session.node.destroy_subscription(self.sub)
+
+
+def _play(*args: str) -> Proc:
+    proc = Proc(_robot_lab('bag', 'play', *args), env=dict(os.environ))
+    try:
+        assert proc.popen.wait(40) == 0, proc.output
+    finally:
+        proc.stop()
+    return proc
+
+
+def test_play_republishes_the_recorded_messages(bags: dict[str, Path]) -> None:
+    from std_msgs.msg import Float32
+
+    recorded = [msg.data for _, msg in rosbags_messages(bags['mcap'], '/sensor/temperature')]
+    listener = _Listener('/sensor/temperature', Float32)
+    try:
+        _play(str(bags['mcap']))
+        deadline = time.monotonic() + 3
+        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert listener.values == recorded
+    finally:
+        listener.close()
+
+
+def test_play_rate_two_halves_the_gaps(bags: dict[str, Path]) -> None:
+    from std_msgs.msg import String
+
+    from robot_lab.bag.info import bag_info
+
+    start = bag_info(bags['mcap']).start_ns
+    expected = sum(1 for t, _ in rosbags_messages(bags['mcap'], '/robot/status')
+                   if t >= start + 1_500_000_000)
+    gaps = {}
+    for rate in ('1', '2'):
+        listener = _Listener('/robot/status', String)
+        try:
+            _play(str(bags['mcap']), '--topics', '/robot/status', '--rate', rate,
+                  '--start-offset', '1.5')
+            deadline = time.monotonic() + 3
+            while len(listener.times) < expected and time.monotonic() < deadline:
+                time.sleep(0.02)
+            times = list(listener.times)
+        finally:
+            listener.close()
+        assert len(times) == expected
+        # Mean gap over the run: robust to a late retransmission on a busy machine.
+        gaps[rate] = (times[-1] - times[0]) / (len(times) - 1)
+    assert 0.04 < gaps['1'] < 0.06  # 20 Hz as recorded
+    assert 0.4 < gaps['2'] / gaps['1'] < 0.6
+
+
+def test_seed_db3_single_file_info_and_play(bags: dict[str, Path]) -> None:
+    """`ros2 bag info/play my_recording.db3`, as the seed runs it."""
+    from std_msgs.msg import String
+
+    db3 = bags['sqlite3'] / 'seed.db3'
+    assert db3.is_file()
+    info = run_cli('bag', 'info', str(db3))
+    assert info.returncode == 0, info.stderr
+    assert f'Files:             {db3}' in info.stdout
+    assert 'Storage id:        sqlite3' in info.stdout
+    assert 'ROS Distro:        jazzy' in info.stdout
+    match = re.search(r'Topic: /robot/status \| Type: std_msgs/msg/String \| Count: (\d+)',
+                      info.stdout)
+    assert match and 50 <= int(match.group(1)) <= 63
+    recorded = [msg.data for _, msg in rosbags_messages(db3, '/robot/status')]
+    assert len(recorded) == int(match.group(1))
+    listener = _Listener('/robot/status', String)
+    try:
+        _play(str(db3), '--topics', '/robot/status', '--rate', '4')
+        deadline = time.monotonic() + 3
+        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert listener.values == recorded
+    finally:
+        listener.close()
+
+
+def test_existing_output_folder_is_refused(tmp_path: Path) -> None:
+    (tmp_path / 'taken').mkdir()
+    result = run_cli('bag', 'record', '-o', str(tmp_path / 'taken'), '/sensor/temperature')
+    assert result.returncode == 1
+    line = result.stderr.strip()
+    assert f"Output folder '{tmp_path / 'taken'}' already exists." in line
+    assert 'fix:' in line and len(line.splitlines()) == 1
+
+
+def test_unknown_topic_is_waited_for_and_reported(tmp_path: Path) -> None:
+    bag = tmp_path / 'waiting'
+    result = run_cli('bag', 'record', '-o', str(bag), '--duration', '2.5', '/no/such/topic')
+    assert result.returncode == 0, result.stderr
+    assert "Topic '/no/such/topic' not found... waiting" in result.stderr
+    info = run_cli('bag', 'info', str(bag))
+    assert 'Messages:          0' in info.stdout
+
+
+@pytest.mark.parametrize(('name', 'content', 'expected'), [
+    ('notes.txt', b'hello', 'is not a rosbag2 file'),
+    ('broken.mcap', b'not an mcap file at all', 'is not an MCAP file'),
+    ('cut.mcap', MCAP_HEAD + bytes(100), 'is incomplete'),
+    ('junk.db3', b'SQLite format 2 junk' * 10, 'not a rosbag2 sqlite3 database'),
+    ('missing', None, 'does not exist'),
+    ('empty_dir', 'dir', 'is not a rosbag2 bag'),
+])
+def test_unreadable_or_foreign_bags_are_explained(
+    tmp_path: Path, name: str, content: bytes | str | None, expected: str
+) -> None:
+    path = tmp_path / name
+    if content == 'dir':
+        path.mkdir()
+    elif isinstance(content, bytes):
+        path.write_bytes(content)
+    for verb in ('info', 'play'):
+        result = run_cli('bag', verb, str(path))
+        assert result.returncode == 1, result.stdout
+        line = result.stderr.strip()
+        assert expected in line and 'fix:' in line and len(line.splitlines()) == 1, line
+
+
+def test_unknown_message_type_in_a_bag(tmp_path: Path) -> None:
+    """A bag holding a type this environment cannot load: play skips it, read says why."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    import robot_lab
+
+    store = get_typestore(Stores.ROS2_JAZZY)
+    store.register(get_types_from_msg('float64 level', 'tank_msgs/msg/Level'))
+    bag = tmp_path / 'foreign_types'
+    level = store.types['tank_msgs/msg/Level'](level=0.5)
+    with Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        conn = writer.add_connection('/tank/level', 'tank_msgs/msg/Level', typestore=store)
+        writer.write(conn, 1_000_000_000, store.serialize_cdr(level, 'tank_msgs/msg/Level'))
+    info = run_cli('bag', 'info', str(bag))
+    assert 'Type: tank_msgs/msg/Level | Count: 1' in info.stdout
+    with pytest.raises(robot_lab.BagError, match="'tank_msgs/msg/Level', which is not known"):
+        robot_lab.read_topic(bag, '/tank/level', fields=('level',))
+    played = run_cli('bag', 'play', str(bag))
+    assert played.returncode == 0
+    assert "Ignoring a topic '/tank/level', reason:" in played.stderr
