@@ -98,3 +98,34 @@ def test_build_and_launch_with_robot_alpha(
     proc.stop()
     _gone, alive = psutil.wait_procs(nodes, timeout=15)
     assert not alive, alive
+
+
+def test_in_kernel_launch_and_rebuild_without_restart(
+        lab13_ws: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """The notebook path: use_workspace, robot_lab.launch, edit, build(), launch again."""
+    import sys
+
+    import robot_lab
+    from robot_lab.pkg import workspace
+
+    ws = lab13_ws
+    if not (ws / 'install' / 'my_robot_system').is_dir():
+        test_doctor_guides_part_5_and_6(ws)
+        assert robot_lab.build(ws, progress=False).ok
+    for name in ('AMENT_PREFIX_PATH', 'PYTHONPATH'):
+        monkeypatch.setenv(name, os.environ.get(name, ''))
+    monkeypatch.setattr(sys, 'path', list(sys.path))
+    monkeypatch.setattr(workspace, '_used', [])
+    monkeypatch.setenv('ROS_LOG_DIR', str(tmp_path / 'ros_log'))
+
+    robot_lab.use_workspace(ws)
+    with robot_lab.launch('my_robot_system', 'robot.launch.xml', robot_name='robot_alpha') as h:
+        h.wait_for(r'Robot node started: robot_alpha', timeout=30)
+        h.wait_for(r'Status: OK \(temp: 2\d\.\d°C\)', timeout=30)
+
+    node = ws / 'src' / 'my_robot_system' / 'my_robot_system' / 'robot_node.py'
+    node.write_text(node.read_text().replace("f'Robot node started: {", "f'Robot node ready: {"))
+    result = robot_lab.build(ws, progress=False)
+    assert result.ok, str(result)
+    with robot_lab.launch('my_robot_system', 'robot.launch.xml', robot_name='robot_beta') as h:
+        h.wait_for(r'Robot node ready: robot_beta', timeout=30)
