@@ -335,3 +335,68 @@ def test_launcher_imports_no_rclpy() -> None:
             'robot_lab.launch.api; print("rclpy" in sys.modules)')
     out = subprocess.run([PY, '-c', code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == 'False'
+
+
+# --- the kit's own launch files and the demo, through the real CLI ---------------------------
+
+
+@pytest.mark.parametrize('file', ['robot.launch.xml', 'robot.launch.py', 'robot.launch.yaml'])
+def test_kit_launch_file_runs(start, tmp_path: Path, file: str) -> None:  # type: ignore[no-untyped-def]
+    proc: Proc = start('robot-lab', 'launch', 'robot_lab', file, 'robot_name:=robot_gamma',
+                       env={'ROS_LOG_DIR': str(tmp_path)})
+    proc.wait_for(r'^\[sensor_node-1\] .*\[sensor\]: Sensor node started \(rate: 10 Hz\)$', 20)
+    proc.wait_for(r'^\[controller_node-2\] .*\[controller\]: Controller node started$', 10)
+    proc.wait_for(r'^\[robot_node-3\] .*\[robot\]: Robot node started: robot_gamma$', 10)
+    proc.wait_for(r'^\[robot_node-3\] .*\[robot\]: Status: OK \(temp: 2\d\.\d°C\)$', 10)
+    nodes = psutil.Process(proc.popen.pid).children(recursive=True)
+    assert len(nodes) == 3
+    proc.popen.send_signal(signal.SIGINT)
+    assert proc.popen.wait(20) == 0
+    assert_all_ended(proc, nodes)
+
+
+def assert_all_ended(proc: Proc, nodes: list[psutil.Process]) -> None:
+    """Every node got its end line and is gone.
+
+    Exit codes are the nodes' business: the kit's robot_node can still die with an rclpy
+    RuntimeError when SIGINT lands while it takes a message (robot_lab/nodes/base.py).
+    """
+    ended = [ln for ln in proc.lines if re.search(r'process has (finished cleanly|died)', ln)]
+    assert len(ended) == len(nodes), proc.output[-3000:]
+    _gone, alive = psutil.wait_procs(nodes, timeout=5)
+    assert not alive
+
+
+def test_kit_robot_sim_runs_two_robots(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    from robot_lab.graph.api import wait_for_nodes
+
+    proc: Proc = start('robot-lab', 'launch', 'robot_lab', 'robot_sim.launch.xml',
+                       env={'ROS_LOG_DIR': str(tmp_path)})
+    proc.wait_for(r'^\[robot_node-3\] .*\[robot1\.robot\]: Robot node started: robot_one$', 20)
+    proc.wait_for(r'^\[robot_node-6\] .*\[robot2\.robot\]: Robot node started: robot_two$', 20)
+    proc.wait_for(r'^\[robot_node-3\] .*\[robot1\.robot\]: Status: OK', 10)
+    proc.wait_for(r'^\[robot_node-6\] .*\[robot2\.robot\]: Status: OK', 10)
+    wait_for_nodes([f'/robot{n}/{node}' for n in (1, 2)
+                    for node in ('sensor', 'controller', 'robot')], timeout=15)
+    nodes = psutil.Process(proc.popen.pid).children(recursive=True)
+    assert len(nodes) == 6
+    proc.popen.send_signal(signal.SIGINT)
+    assert proc.popen.wait(20) == 0
+    assert_all_ended(proc, nodes)
+
+
+def test_demo_runs_and_summarises(tmp_path: Path) -> None:
+    from conftest import run_cli
+
+    result = run_cli('demo', '--duration', '3', env={'ROS_LOG_DIR': str(tmp_path)}, timeout=60)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    out = result.stdout
+    for pattern in (r'\[sensor\]: Sensor node started \(rate: 10 Hz\)',
+                    r'\[controller\]: Controller node started',
+                    r'\[robot\]: Robot node started: my_robot',
+                    r'\[robot\]: Status: OK \(temp: 2\d\.\d°C\)'):
+        assert re.search(pattern, out), pattern
+    assert 'nodes seen: /controller, /robot, /sensor' in out
+    counts = dict(re.findall(r'^  (/\S+): (\d+) messages', out, re.M))
+    assert int(counts['/sensor/temperature']) > 0 and int(counts['/robot/status']) > 0
+    assert len(re.findall(r'process has (finished cleanly|died)', out)) == 3
