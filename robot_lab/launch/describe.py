@@ -93,6 +93,13 @@ class LaunchContext:
     def pop(self) -> None:
         self.configurations, self.ros, self.environment = self._scopes.pop()
 
+    def where(self) -> str | None:
+        """'file:line' of the action being executed, for ProcessSpec.source and friends."""
+        file, line = self.source
+        if file is None:
+            return None
+        return str(file) if line is None else f'{file}:{line}'
+
     def error(self, message: str, fix: str | None = None) -> LaunchError:
         file, line = self.source
         return LaunchError(message, file=file, line=line, fix=fix)
@@ -452,7 +459,6 @@ class ExecuteStep(LaunchStep):
         output = perform(opts.output, context) if opts.output is not None else 'log'
         respawn = opts.respawn if isinstance(opts.respawn, bool) else coerce(
             perform(opts.respawn, context), 'bool')
-        file, line = context.source
         return ProcessSpec(
             cmd=cmd, label=label, env=env,
             cwd=perform(opts.cwd, context) if opts.cwd is not None else None,
@@ -467,8 +473,7 @@ class ExecuteStep(LaunchStep):
                                   if not isinstance(opts.sigkill_timeout, float | int)
                                   else opts.sigkill_timeout),
             shell=opts.shell,
-            source=f'{file}:{line}' if file is not None and line is not None else
-            (str(file) if file is not None else None),
+            source=context.where(),
             **extra,
         )
 
@@ -534,13 +539,14 @@ def _check_param_file(path: str, context: LaunchContext) -> None:
     try:
         load_param_file(path)
     except ParamFileError as err:
-        file, line = context.source
-        where = f' (used at {file}:{line})' if file is not None else ''
+        used = context.where()
+        where = f' (used at {used})' if used else ''
         raise ParamFileError(err.message + where, file=err.file, line=err.line,
                              fix=err.fix) from None
 
 
 def _params() -> Any:
+    # imported on use: params is robot_lab's one home for parameter files
     from robot_lab import params
 
     return params
@@ -722,8 +728,7 @@ class TimerStep(LaunchStep):
             inner = context.sink
         finally:
             context.sink = outer
-        file, line = context.source
-        outer.append(TimerAction(period, inner, source=f'{file}:{line}' if file else None))
+        outer.append(TimerAction(period, inner, source=context.where()))
 
     def children(self) -> list[LaunchStep]:
         return self.actions
@@ -734,9 +739,8 @@ class LogStep(LaunchStep):
         self.message, self.level = _subs(message), level
 
     def execute(self, context: LaunchContext) -> None:
-        file, line = context.source
         context.sink.append(LogAction(perform(self.message, context), self.level,
-                                      source=f'{file}:{line}' if file else None))
+                                      source=context.where()))
 
 
 class ShutdownStep(LaunchStep):
@@ -744,9 +748,8 @@ class ShutdownStep(LaunchStep):
         self.reason = _subs(reason)
 
     def execute(self, context: LaunchContext) -> None:
-        file, line = context.source
         context.sink.append(ShutdownAction(perform(self.reason, context),
-                                           source=f'{file}:{line}' if file else None))
+                                           source=context.where()))
 
 
 class OpaqueStep(LaunchStep):
@@ -1214,7 +1217,10 @@ def describe_launch(
     context.files.append(path)
     context.run([description])
     _number_labels(context.sink)
-    return LaunchPlan(source=path, actions=context.sink, arguments=context.arguments)
+    arguments: dict[str, LaunchArgument] = {}
+    for argument in context.arguments:  # an included file may declare the same name again
+        arguments.setdefault(argument.name, argument)
+    return LaunchPlan(source=path, actions=context.sink, arguments=list(arguments.values()))
 
 
 def launch_arguments(source: str | Path, file: str | None = None) -> list[LaunchArgument]:
