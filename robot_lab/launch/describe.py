@@ -40,6 +40,7 @@ from robot_lab.launch.substitutions import (
     parse_substitution,
     perform,
 )
+from robot_lab.params import load_param_file, write_param_file
 
 __all__ = [
     'LaunchContext',
@@ -535,7 +536,6 @@ def _node_name_problem(name: str) -> str | None:
 
 def _check_param_file(path: str, context: LaunchContext) -> None:
     """rcl would refuse the file inside the node, after start; refuse it now, located."""
-    load_param_file = _params().load_param_file
     try:
         load_param_file(path)
     except ParamFileError as err:
@@ -543,13 +543,6 @@ def _check_param_file(path: str, context: LaunchContext) -> None:
         where = f' (used at {used})' if used else ''
         raise ParamFileError(err.message + where, file=err.file, line=err.line,
                              fix=err.fix) from None
-
-
-def _params() -> Any:
-    # imported on use: params is robot_lab's one home for parameter files
-    from robot_lab import params
-
-    return params
 
 
 def _param_value(value: Any, context: LaunchContext, name: str) -> Any:
@@ -675,7 +668,6 @@ class NodeStep(ExecuteStep):
             else:
                 cmd += ['--params-file', entry]
                 param_files.append(entry)
-        params = _params()
         for entry in self.parameters:
             if isinstance(entry, ParamFileRef):
                 file = perform(entry.path, context)
@@ -687,14 +679,14 @@ class NodeStep(ExecuteStep):
                     except yaml.YAMLError:
                         raise context.error(
                             'The substituted parameter file is not a valid yaml file') from None
-                    written = params.write_param_file({}, directory=None)
+                    written = write_param_file({}, directory=None)
                     Path(written).write_text(text)
                     file = str(written)
                 cmd += ['--params-file', file]
                 param_files.append(file)
             elif isinstance(entry, Mapping):
                 values = _flatten(entry, context)
-                written = params.write_param_file(values, fqn or '/**')
+                written = write_param_file(values, fqn or '/**')
                 cmd += ['--params-file', str(written)]
                 param_files.append(str(written))
             else:
