@@ -188,9 +188,22 @@ def test_failed_build_shows_the_setup_py_error(tmp_path: Path) -> None:
         f'  File "{setup_py}", line {bad_line}, in <module>',
         '    raise_me()',
         "NameError: name 'raise_me' is not defined",
+        f'hint: robot-lab doctor {pkg} checks the package files',
     ]
     assert f'(full log: {tmp_path / "log" / "latest_build" / "broken_pkg"})' in report
     assert '1 package failed: broken_pkg' in report
+
+
+def test_failed_build_shows_the_setuptools_error(tmp_path: Path) -> None:
+    pkg = create_package('markerless_pkg', tmp_path / 'src')
+    (pkg / 'resource' / 'markerless_pkg').unlink()
+    result = build(tmp_path, progress=False)
+    assert not result.ok
+    assert result.failed == ['markerless_pkg']
+    assert result.errors['markerless_pkg'] == [
+        "error: can't copy 'resource/markerless_pkg': doesn't exist or not a regular file",
+    ]
+    assert f'robot-lab doctor {pkg} checks the package files' in result.hints['markerless_pkg']
 
 
 def test_seed_package_xml_without_build_type_fails_with_the_reason(tmp_path: Path) -> None:

@@ -195,7 +195,7 @@ def package_dirs(root: Path) -> dict[str, Path]:
     return found
 
 
-def _hints(workspace: Path, pkg: str, pkg_type: str, lines: Iterable[str]) -> list[str]:
+def _hints(source: Path | None, pkg: str, pkg_type: str, lines: Iterable[str]) -> list[str]:
     hints: list[str] = []
     text = '\n'.join(lines)
     if pkg_type in ('ros.catkin', 'ros.ament_cmake', 'ros.cmake', 'cmake'):
@@ -208,6 +208,8 @@ def _hints(workspace: Path, pkg: str, pkg_type: str, lines: Iterable[str]) -> li
         hints.append(
             f'check that {pkg}/{pkg}/__init__.py exists and setup.py lists the package'
         )
+    if source is not None:
+        hints.append(f'robot-lab doctor {source} checks the package files')
     return hints
 
 
@@ -320,7 +322,7 @@ def build(
         lines = per_package.get(pkg, [])
         setup_py = sources[pkg] / 'setup.py' if pkg in sources else None
         result.errors[pkg] = error_lines(lines, logged, setup_py)
-        hints = _hints(root, pkg, result.packages.get(pkg, ''), [*lines, *logged])
+        hints = _hints(sources.get(pkg), pkg, result.packages.get(pkg, ''), [*lines, *logged])
         if hints:
             result.hints[pkg] = hints
     unknown = [pkg for pkg in packages_select or () if pkg not in result.packages]
