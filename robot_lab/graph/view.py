@@ -11,11 +11,12 @@ from __future__ import annotations
 import io
 from collections.abc import Iterable
 from dataclasses import dataclass
+from itertools import pairwise
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import GraphError
-from robot_lab.graph.discovery import get_session
+from robot_lab.graph.discovery import get_session, settled
 from robot_lab.graph.nodes import is_hidden, node_list, split_name
 
 if TYPE_CHECKING:
@@ -32,6 +33,8 @@ _FONT = 10
 _CHAR = 0.085
 _PAD = 0.35
 _ROW = 0.75
+_BAND_GAP = 0.4
+_BOW = 0.6  # how far a back edge's bow may reach out of its row
 _GAP = 0.9
 _MARGIN = 0.35
 _NODE_COLOR = '#dbeafe'
@@ -57,29 +60,38 @@ def graph_model(include_hidden: bool = False,
 
     sess = get_session(session)
     hidden_topics = set(hide_topics)
+
+    def probe() -> tuple[list[str], list[tuple[str, str, list[str], str]]]:
+        names = node_list(include_hidden=include_hidden, settle=False, session=sess)
+        links: list[tuple[str, str, list[str], str]] = []
+        for full in names:
+            base, namespace = split_name(full)
+            for query, kind in ((sess.node.get_publisher_names_and_types_by_node, 'publish'),
+                                (sess.node.get_subscriber_names_and_types_by_node,
+                                 'subscribe')):
+                try:
+                    endpoints = query(base, namespace)
+                except Exception:  # the node left between the two queries: skip it
+                    continue
+                links.extend((full, topic, list(types), kind) for topic, types in endpoints
+                             if topic not in hidden_topics
+                             and (include_hidden or not is_hidden(topic)))
+        return names, sorted(links)
+
+    # settle on the whole picture: a fresh session learns nodes before their endpoints
+    names, links = settled(sess, probe)
     graph = nx.DiGraph()
-    names = node_list(include_hidden=include_hidden, session=sess)
     for full in names:
         graph.add_node(full, kind='node', namespace=_namespace(full), types=[])
-    for full in names:
-        base, namespace = split_name(full)
-        for query, kind in ((sess.node.get_publisher_names_and_types_by_node, 'publish'),
-                            (sess.node.get_subscriber_names_and_types_by_node, 'subscribe')):
-            try:
-                endpoints = query(base, namespace)
-            except Exception:  # the node left between the two queries: skip it
-                continue
-            for topic, types in endpoints:
-                if topic in hidden_topics or (is_hidden(topic) and not include_hidden):
-                    continue
-                vertex = topic if topic not in names else f'{topic} [topic]'
-                if vertex not in graph:
-                    graph.add_node(vertex, kind='topic', namespace=_namespace(topic),
-                                   types=list(types), label=topic)
-                if kind == 'publish':
-                    graph.add_edge(full, vertex, kind=kind)
-                else:
-                    graph.add_edge(vertex, full, kind=kind)
+    for full, topic, types, kind in links:
+        vertex = topic if topic not in names else f'{topic} [topic]'
+        if vertex not in graph:
+            graph.add_node(vertex, kind='topic', namespace=_namespace(topic), types=types,
+                           label=topic)
+        if kind == 'publish':
+            graph.add_edge(full, vertex, kind=kind)
+        else:
+            graph.add_edge(vertex, full, kind=kind)
     return graph
 
 
@@ -117,9 +129,12 @@ def _order(graph: nx.DiGraph, layer: dict[str, int]) -> list[list[str]]:
     """Vertices per layer, namespaces kept together, crossings reduced by barycenters."""
     count = max(layer.values(), default=-1) + 1
     rows: list[list[str]] = [sorted(v for v in graph if layer[v] == i) for i in range(count)]
-    for _ in range(4):
-        for i in range(1, count):
-            where = {v: k for k, v in enumerate(rows[i - 1])}
+    for sweep in range(6):
+        # alternate downward and upward sweeps, each ordering a row by its neighbours' places
+        indices = range(1, count) if sweep % 2 == 0 else range(count - 2, -1, -1)
+        for i in indices:
+            ref = rows[i - 1] if sweep % 2 == 0 else rows[i + 1]
+            where = {v: k for k, v in enumerate(ref)}
 
             def center(v: str, where: dict[str, int] = where) -> float:
                 near = [where[u] for u in (*graph.predecessors(v), *graph.successors(v))
@@ -142,54 +157,156 @@ class _Placed:
     height: float
 
 
-def _place(graph: nx.DiGraph) -> tuple[dict[str, _Placed], float, float]:
-    rows = _order(graph, _layers(graph))
+def _framed_namespaces(graph: nx.DiGraph) -> set[str]:
+    """Namespaces (other than the root) with two or more members: they get a frame."""
+    count: dict[str, int] = {}
+    for _, namespace in graph.nodes(data='namespace'):
+        count[namespace] = count.get(namespace, 0) + 1
+    return {ns for ns, n in count.items() if ns != '/' and n >= 2}
+
+
+def _layout_graph(graph: nx.DiGraph) -> tuple[nx.DiGraph, dict[str, int],
+                                                dict[tuple[str, str], list[str]]]:
+    """The graph plus a dummy vertex per layer an edge skips (dot's trick), so long edges
+    get their own lane instead of running through the shapes in between."""
+    import networkx as nx
+
+    layer = _layers(graph)
+    layout = nx.DiGraph()
+    framed = _framed_namespaces(graph)
+    for vertex, data in graph.nodes(data=True):
+        # a namespace of one is drawn with the root: a band and frame of its own is noise
+        layout.add_node(vertex, **{**data, 'namespace': data['namespace']
+                                   if data['namespace'] in framed else '/'})
+    lanes: dict[tuple[str, str], list[str]] = {}
+    for u, v in graph.edges:
+        if layer[v] - layer[u] <= 1:
+            layout.add_edge(u, v)
+            continue
+        chain = [f'\0{u}->{v}#{i}' for i in range(layer[u] + 1, layer[v])]
+        for i, dummy in enumerate(chain):
+            layout.add_node(dummy, kind='lane', namespace=layout.nodes[v]['namespace'])
+            layer[dummy] = layer[u] + 1 + i
+        nx.add_path(layout, [u, *chain, v])
+        lanes[(u, v)] = chain
+    return layout, layer, lanes
+
+
+def _band_order(layout: nx.DiGraph, namespaces: list[str]) -> list[str]:
+    """Root band in the middle, the namespaces most linked to it right beside it (alternating
+    above and below), so few edges have to cross a frame."""
+    links = dict.fromkeys(namespaces, 0)
+    for u, v in layout.edges:
+        a, b = layout.nodes[u]['namespace'], layout.nodes[v]['namespace']
+        if a != b and '/' in (a, b):
+            links[b if a == '/' else a] += 1
+    others = sorted((ns for ns in namespaces if ns != '/'), key=lambda ns: (-links[ns], ns))
+    above, below = others[0::2], others[1::2]
+    return [*reversed(above), *(['/'] if '/' in links else []), *below]
+
+
+def _place(graph: nx.DiGraph) -> tuple[dict[str, _Placed], dict[tuple[str, str], list[str]],
+                                       float, float]:
+    """Columns are layers; each namespace gets a horizontal band of its own, so its frame
+    holds its members only."""
+    layout, layer, lanes = _layout_graph(graph)
+    rows = _order(layout, layer)
+    # band sizes: the most members a namespace has in any one column
+    size: dict[str, int] = {}
+    for row in rows:
+        for namespace in {layout.nodes[v]['namespace'] for v in row}:
+            count = sum(1 for v in row if layout.nodes[v]['namespace'] == namespace)
+            size[namespace] = max(size.get(namespace, 0), count)
+    bands = _band_order(layout, list(size))
+    offset: dict[str, float] = {}
+    y = 0.0
+    for namespace in bands:
+        offset[namespace] = y
+        y += size[namespace] * _ROW + (_BAND_GAP if namespace != '/' else 0.0)
+    height = y + 2 * _MARGIN + 0.2
     placed: dict[str, _Placed] = {}
     x = _MARGIN
-    tallest = max((len(r) for r in rows), default=1)
-    height = tallest * _ROW + 2 * _MARGIN + 0.3
     for row in rows:
-        widths = [len(_label(graph, v)) * _CHAR + _PAD for v in row]
+        widths = [len(_label(layout, v)) * _CHAR + _PAD if layout.nodes[v]['kind'] != 'lane'
+                  else 0.0 for v in row]
         column = max(widths, default=1.0)
-        top = height / 2 + (len(row) - 1) * _ROW / 2
-        for k, (vertex, width) in enumerate(zip(row, widths, strict=True)):
-            placed[vertex] = _Placed(x + column / 2, top - k * _ROW, width, 0.42)
+        for namespace in bands:
+            members = [(v, w) for v, w in zip(row, widths, strict=True)
+                       if layout.nodes[v]['namespace'] == namespace]
+            slack = (size[namespace] - len(members)) * _ROW / 2
+            for k, (vertex, width) in enumerate(members):
+                top = height - _MARGIN - 0.1 - offset[namespace] - slack - _ROW / 2
+                if namespace != '/':
+                    top -= _BAND_GAP / 2
+                placed[vertex] = _Placed(x + column / 2, top - k * _ROW, width, 0.42)
         x += column + _GAP
-    return placed, max(x - _GAP + _MARGIN, 2.0), max(height, 1.5)
+    return placed, lanes, max(x - _GAP + _MARGIN, 2.0), max(height, 1.5)
+
+
+Box = tuple[float, float, float, float]
+
+
+def _box(spots: list[_Placed]) -> Box:
+    return (min(p.x - p.width / 2 for p in spots) - 0.15,
+            min(p.y - p.height / 2 for p in spots) - 0.1,
+            max(p.x + p.width / 2 for p in spots) + 0.15,
+            max(p.y + p.height / 2 for p in spots) + 0.27)
+
+
+def _inside(spot: _Placed, box: Box) -> bool:
+    left, bottom, right, top = box
+    return left < spot.x < right and bottom < spot.y < top
+
+
+def _frames(graph: nx.DiGraph, placed: dict[str, _Placed]) -> list[tuple[str, Box]]:
+    """A frame per namespace with two or more members; where one frame would take in a
+    stranger, one frame per column instead (members are adjacent within a column)."""
+    framed = _framed_namespaces(graph)
+    members: dict[str, list[str]] = {}
+    for vertex, namespace in graph.nodes(data='namespace'):
+        if namespace in framed:
+            members.setdefault(namespace, []).append(vertex)
+    frames: list[tuple[str, Box]] = []
+    for namespace, group in sorted(members.items()):
+        box = _box([placed[v] for v in group])
+        strangers = [v for v in graph if v not in group and _inside(placed[v], box)]
+        if not strangers:
+            frames.append((namespace, box))
+            continue
+        columns: dict[float, list[_Placed]] = {}
+        for v in group:
+            columns.setdefault(round(placed[v].x, 3), []).append(placed[v])
+        frames.extend((namespace, _box(spots)) for _, spots in sorted(columns.items()))
+    return frames
 
 
 def _draw(graph: nx.DiGraph) -> Any:
     from matplotlib.figure import Figure
     from matplotlib.patches import Ellipse, FancyArrowPatch, FancyBboxPatch, Rectangle
 
-    placed, width, height = _place(graph)
-    fig = Figure(figsize=(width, height))
+    placed, lanes, width, height = _place(graph)
+    # room above or below for the bows of back edges (cycles), on the side they bow to
+    back = [placed[u].y for u, v in graph.edges if placed[v].x <= placed[u].x]
+    above = _BOW if any(y >= height / 2 for y in back) else 0.0
+    below = _BOW if any(y < height / 2 for y in back) else 0.0
+    fig = Figure(figsize=(width, height + above + below))
     ax = fig.add_axes((0, 0, 1, 1))
     ax.set_xlim(0, width)
-    ax.set_ylim(0, height)
+    ax.set_ylim(-below, height + above)
     ax.set_axis_off()
-    if not placed:
+    if not graph:
         ax.text(width / 2, height / 2, 'no nodes in the graph', ha='center', va='center',
                 fontsize=_FONT, color='#6b7280')
         return fig
-    # namespace frames first, so they sit behind everything
-    members: dict[str, list[str]] = {}
-    for vertex, data in graph.nodes(data=True):
-        if data['namespace'] != '/':
-            members.setdefault(data['namespace'], []).append(vertex)
-    for namespace, group in sorted(members.items()):
-        if len(group) < 2:
-            continue
-        left = min(placed[v].x - placed[v].width / 2 for v in group) - 0.12
-        right = max(placed[v].x + placed[v].width / 2 for v in group) + 0.12
-        bottom = min(placed[v].y - placed[v].height / 2 for v in group) - 0.12
-        top = max(placed[v].y + placed[v].height / 2 for v in group) + 0.28
+    for namespace, box in _frames(graph, placed):
+        left, bottom, right, top = box
         ax.add_patch(Rectangle((left, bottom), right - left, top - bottom, zorder=0,
                                facecolor=_CLUSTER_COLOR, edgecolor='#9ca3af', linewidth=0.8))
-        ax.text(left + 0.06, top - 0.05, namespace, ha='left', va='top', fontsize=_FONT - 2,
+        ax.text(left + 0.06, top - 0.04, namespace, ha='left', va='top', fontsize=_FONT - 2,
                 color='#4b5563', zorder=0.5)
     shapes: dict[str, Any] = {}
-    for vertex, spot in placed.items():
+    for vertex in graph:
+        spot = placed[vertex]
         if graph.nodes[vertex]['kind'] == 'node':
             shape: Any = Ellipse((spot.x, spot.y), spot.width + 0.2, spot.height + 0.08,
                                  facecolor=_NODE_COLOR, edgecolor=_NODE_EDGE, linewidth=1.2,
@@ -204,13 +321,21 @@ def _draw(graph: nx.DiGraph) -> Any:
         ax.text(spot.x, spot.y, _label(graph, vertex), ha='center', va='center',
                 fontsize=_FONT, zorder=3, family='DejaVu Sans')
     for u, v in graph.edges:
-        a, b = placed[u], placed[v]
-        backwards = b.x <= a.x  # a cycle's back edge: bend it so it does not hide another
-        ax.add_patch(FancyArrowPatch(
-            (a.x, a.y), (b.x, b.y), patchA=shapes[u], patchB=shapes[v],
-            arrowstyle='-|>', mutation_scale=12, linewidth=1.1, color='#374151',
-            connectionstyle=f'arc3,rad={0.35 if backwards else 0.0}', zorder=1,
-        ))
+        points = [u, *lanes.get((u, v), []), v]
+        for a, b in pairwise(points):
+            pa, pb = placed[a], placed[b]
+            # a cycle's back edge: bow it away from the middle, off the forward edges
+            bow = 0.0
+            if pb.x <= pa.x:
+                span = max(abs(pa.x - pb.x), 0.5)
+                bow = min(0.35, 1.6 * _BOW / span) * (1 if pa.y >= height / 2 else -1)
+            ax.add_patch(FancyArrowPatch(
+                (pa.x, pa.y), (pb.x, pb.y), patchA=shapes.get(a), patchB=shapes.get(b),
+                shrinkA=0 if a not in shapes else 2, shrinkB=0 if b not in shapes else 2,
+                arrowstyle='-|>' if b == v else '-',
+                connectionstyle=f'arc3,rad={bow}', mutation_scale=12, linewidth=1.1,
+                color='#374151', zorder=1,
+            ))
     return fig
 
 
