@@ -314,6 +314,7 @@ class Player:
                 self.counts[conn.topic] += 1
                 if self.keep_timing:
                     self.published.append((conn.topic, stamp, time.monotonic()))
+        self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
 
     def _flush_publishers(self) -> None:
