@@ -636,3 +636,55 @@ def test_real_launch_is_never_shadowed(tmp_path: Path, monkeypatch: pytest.Monke
     with pytest.raises(LaunchError) as info:
         describe_launch(path)
     assert 'a real ROS 2 `launch` is installed' in (info.value.fix or '')
+
+
+def test_yaml_param_values_are_typed_as_written(tmp_path: Path) -> None:
+    plan = describe_text(tmp_path, """
+        launch:
+        - let: {name: n, value: '7'}
+        - node:
+            pkg: robot_lab
+            exec: sensor_node
+            name: s
+            param:
+            - {name: quoted, value: '10'}
+            - {name: number, value: 10}
+            - {name: ratio, value: 0.5}
+            - {name: flag, value: true}
+            - {name: list, value: [1, 2]}
+            - {name: subst, value: $(var n)}
+            - {name: typed, value: $(var n), type: str}
+        """, 'test.launch.yaml')
+    values = {}
+    for file in plan.processes()[0].param_files:
+        values.update(temp_params(file)['/**']['ros__parameters'])
+    assert values == {'quoted': '10', 'number': 10, 'ratio': 0.5, 'flag': True, 'list': [1, 2],
+                      'subst': 7, 'typed': '7'}
+    assert type(values['quoted']) is str and type(values['typed']) is str
+
+
+def test_python_param_values_follow_launch_ros(tmp_path: Path) -> None:
+    plan = describe_text(tmp_path, """
+        from launch import LaunchDescription
+        from launch.substitutions import LaunchConfiguration
+        from launch_ros.actions import Node, SetParameter
+        from launch_ros.parameter_descriptions import ParameterValue
+
+        def generate_launch_description():
+            n = LaunchConfiguration('n', default='7')
+            return LaunchDescription([
+                SetParameter(name='use_sim_time', value=True),
+                Node(package='robot_lab', executable='sensor_node', name='s', namespace='ns',
+                     parameters=[{
+                         'plain': '10', 'number': 10, 'subst': n, 'joined': ['a', n],
+                         'typed': ParameterValue(n, value_type=str),
+                         'value_str': ParameterValue('10'), 'floats': [1, 2.5],
+                         'group': {'x': 1, 'inner': {'y': 'z'}},
+                     }]),
+            ])
+        """, 'test.launch.py')
+    (spec,) = plan.processes()
+    assert spec.cmd[6:8] == ['-p', 'use_sim_time:=True']
+    assert temp_params(spec.param_files[0]) == {'/ns/s': {'ros__parameters': {
+        'plain': '10', 'number': 10, 'subst': 7, 'joined': 'a7', 'typed': '7',
+        'value_str': '10', 'floats': [1.0, 2.5], 'group.x': 1, 'group.inner.y': 'z'}}}

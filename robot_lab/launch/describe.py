@@ -545,39 +545,48 @@ def _check_param_file(path: str, context: LaunchContext) -> None:
                              fix=err.fix) from None
 
 
+def _is_subs(value: Any) -> bool:
+    return isinstance(value, list) and bool(value) and \
+        all(isinstance(x, Substitution) for x in value)
+
+
 def _param_value(value: Any, context: LaunchContext, name: str) -> Any:
-    """launch_ros's evaluation of one parameter value (YAML rules unless typed)."""
+    """launch_ros's evaluation of one parameter value.
+
+    Substitutions are performed, then typed by `value_type` (None: YAML rules); literal
+    values are already typed (the XML frontend coerced them, YAML and Python give them).
+    """
     if isinstance(value, ParamValue):
         raw, value_type = value.value, value.value_type
     else:
         raw, value_type = value, None
-    if isinstance(raw, list) and raw and all(isinstance(x, list) for x in raw):
-        texts = [perform(x, context) for x in raw]  # value-sep items, each substitutions
-        if value_type is None:
-            return _uniform([coerce(x, None) for x in texts], name)
-        if value_type.startswith('list_of_'):
-            return _uniform([coerce(x, value_type[len('list_of_'):]) for x in texts], name)
-        raise ValueError(f"parameter {name}: value-sep needs a list type, not '{value_type}'")
-    if isinstance(raw, list) and raw and all(isinstance(x, Substitution) for x in raw):
-        text = perform(raw, context)
-        if value_type is None and not text:
-            return ''
-        try:
-            result = coerce(text, value_type)
-        except ValueError as err:
-            raise ValueError(f'parameter {name}: {err}') from None
-        if isinstance(result, list):
-            return _uniform(result, name)
-        return result
+    item_type = value_type[len('list_of_'):] if value_type and value_type.startswith(
+        'list_of_') else None
     if isinstance(raw, Substitution):
-        return _param_value(ParamValue([raw], value_type), context, name)
-    if isinstance(raw, list | tuple):
-        items = [perform(_subs(x), context) if isinstance(x, Substitution | list) else x
-                 for x in raw]
-        if items and all(isinstance(x, int | float) and not isinstance(x, bool) for x in items) \
-                and any(isinstance(x, float) for x in items):
-            items = [float(x) for x in items]
-        return _uniform(items, name)
+        raw = [raw]
+    try:
+        if _is_subs(raw):
+            text = perform(raw, context)
+            if value_type is None and not text:
+                return ''
+            result = coerce(text, value_type)
+            return _uniform(result, name) if isinstance(result, list) else result
+        if isinstance(raw, list | tuple):
+            items = []
+            for item in raw:
+                if isinstance(item, Substitution) or _is_subs(item):
+                    item = coerce(perform(_subs(item), context), item_type)
+                elif isinstance(item, str) and item_type is not None:
+                    item = coerce(item, item_type)
+                items.append(item)
+            if all(isinstance(x, int | float) and not isinstance(x, bool) for x in items) and \
+                    (item_type == 'float' or any(isinstance(x, float) for x in items)):
+                items = [float(x) for x in items]
+            return _uniform(items, name)
+        if isinstance(raw, str) and value_type not in (None, 'str', 'yaml'):
+            return coerce(raw, value_type)
+    except ValueError as err:
+        raise ValueError(f'parameter {name}: {err}') from None
     if isinstance(raw, bool | int | float | str | bytes):
         return raw
     raise TypeError(f'Unexpected type for parameter value {raw!r}')
@@ -811,6 +820,10 @@ class Entity:
     def assert_parsed(self) -> None:
         raise NotImplementedError
 
+    def typed_value(self, value: Any, type_name: str | None) -> Any:
+        """A `param` value as this frontend types it (YAML: as written, no coercion)."""
+        return value
+
     def fail(self, message: str, fix: str | None = None) -> LaunchError:
         return LaunchError(message, file=self.file, line=self.line, fix=fix)
 
@@ -897,6 +910,15 @@ def _process_options(entity: Entity) -> ProcessOptions:
     return options
 
 
+def _literal_or_subs(value: Any) -> Any:
+    if not isinstance(value, str):
+        return value
+    subs = parse_substitution(value)
+    if all(isinstance(sub, Text) for sub in subs):
+        return ''.join(sub.perform_text() for sub in subs if isinstance(sub, Text))
+    return subs
+
+
 def _param_entities(items: list[Entity]) -> list[Any]:
     """launch_ros's Node.parse_nested_parameters: one entry per top-level `param`."""
 
@@ -910,6 +932,8 @@ def _param_entities(items: list[Entity]) -> list[Any]:
                     'list_of_float', 'list_of_int'):
                 raise ValueError(f"Got invalid type identifier '{type_name}'")
             value = param.attr('value', 'any')
+            if value is not None:
+                value = param.typed_value(value, type_name)
             children = param.entities('param')
             param.assert_parsed()
             if value is not None and children:
@@ -917,10 +941,11 @@ def _param_entities(items: list[Entity]) -> list[Any]:
             if type_name is not None and children:
                 raise RuntimeError('nested parameters and type attributes are mutually exclusive')
             if value is not None:
-                if isinstance(value, str):
-                    value = parse_substitution(value)
-                elif isinstance(value, list) and value and all(isinstance(v, str) for v in value):
-                    value = [parse_substitution(v) for v in value]
+                # parse_if_substitutions: text with substitutions is evaluated at launch
+                if isinstance(value, list):
+                    value = [_literal_or_subs(v) for v in value]
+                else:
+                    value = _literal_or_subs(value)
                 out[name] = ParamValue(value, type_name)
             elif children:
                 out[name] = nested(children)

@@ -88,6 +88,18 @@ class XmlEntity(Entity):
                 f"'{_type_label(kind)}'.'{value}' can not be converted to one of those types"
             ) from None
 
+    def typed_value(self, value: Any, type_name: str | None) -> Any:
+        """launch_xml coerces as it reads (YAML rules untyped); text it cannot coerce stays
+        text, so `$(var n)` can be evaluated and typed at launch."""
+        if isinstance(value, list):
+            item = type_name[len('list_of_'):] if type_name and type_name.startswith(
+                'list_of_') else None
+            return [self.typed_value(v, item) for v in value]
+        try:
+            return coerce(value, type_name)
+        except ValueError:
+            return value
+
     def entities(self, name: str) -> list[Entity] | None:
         found = [XmlEntity(c, self.file) for c in self.element.children if c.tag == name]
         if not found:

@@ -83,6 +83,9 @@ class Text(Substitution):
     def perform(self, context: SubstitutionContext) -> str:
         return self.text
 
+    def perform_text(self) -> str:
+        return self.text
+
     def describe(self) -> str:
         return repr(self.text)
 

@@ -31,8 +31,8 @@ class ParameterValue(ParamValue):
     def __init__(self, value: Any, *, value_type: Any = None) -> None:
         mixed = isinstance(value, list) and any(isinstance(v, Substitution) for v in value) \
             and all(isinstance(v, str | Substitution) for v in value)
-        if isinstance(value, str | Substitution) or mixed:
-            value = subs(value)
+        if isinstance(value, Substitution) or mixed:
+            value = subs(value)  # evaluated at launch; a plain str stays a str, as in launch
         super().__init__(value, _type_name(value_type))
 
 
