@@ -58,7 +58,9 @@ def system_bag(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     yield bag
 
 
-def test_record_context_manager_counts_live_and_keeps_every_message(start, tmp_path: Path) -> None:
+def test_record_context_manager_counts_live_and_keeps_every_message(
+    start, tmp_path: Path
+) -> None:
     start('robot-lab', 'run', 'robot_lab', 'sensor_node', '--ros-args', '-r', '__node:=sensor',
           '-p', 'sensor_rate:=50').wait_for('Sensor node started')
     bag = tmp_path / 'ctx'
@@ -101,7 +103,7 @@ def test_record_handle_with_duration_and_sqlite(start, tmp_path: Path) -> None:
 
 def test_existing_folder_and_missing_topics_are_errors(tmp_path: Path) -> None:
     (tmp_path / 'old').mkdir()
-    with pytest.raises(robot_lab.BagError, match="Output folder '.*old' already exists"):
+    with pytest.raises(robot_lab.BagError, match=r"Output folder '.*old' already exists"):
         robot_lab.record('/x', output=tmp_path / 'old')
     with pytest.raises(robot_lab.BagError, match='at least one option'):
         robot_lab.record(output=tmp_path / 'none')
