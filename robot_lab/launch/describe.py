@@ -761,8 +761,11 @@ class OpaqueStep(LaunchStep):
         self.function, self.args, self.kwargs = function, list(args or []), dict(kwargs or {})
 
     def execute(self, context: LaunchContext) -> None:
+        from robot_lab.launch.frontend_python import compat_api
+
         try:
-            result = self.function(context, *self.args, **self.kwargs)
+            with compat_api():  # the function may import launch modules or look up packages
+                result = self.function(context, *self.args, **self.kwargs)
         except RobotLabError:
             raise
         except Exception as err:
