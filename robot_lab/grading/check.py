@@ -24,6 +24,7 @@ __all__ = [
     'eventually',
     'files_exist',
     'logs_contain',
+    'no_errors',
     'nodes_running',
     'package_built',
     'param_equals',
@@ -219,6 +220,18 @@ def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
                           f'within {timeout:g} s the last lines were:\n{tail}\n',
                           'read the output above for errors (a process that died says why)')
     _ok(f'the log shows {regex.pattern!r}')
+
+
+def no_errors(launch: Any) -> None:
+    """A launch's processes are all running and none logged at ERROR or FATAL."""
+    errors = launch.logs(level='ERROR')
+    dead = [f'{p.label} ({p.state}, exit code {p.exit_code})' for p in launch.processes
+            if p.state != 'running']
+    if errors or dead:
+        seen = '; '.join([*(f'{d} stopped' for d in dead), *errors[-3:]])
+        raise CheckError('every process running and no error messages', seen,
+                         'read the first error line: it names the file and what to fix')
+    _ok(f'{len(launch.processes)} processes running, no error messages')
 
 
 def files_exist(root: str | Path, paths: Iterable[str]) -> None:
