@@ -563,7 +563,7 @@ def test_yaml_frontend() -> None:
      "Attribute 'respawn' of Entity 'node' expected to be of type 'str', got 'bool'"),
     ('launch:\n- log:\n    message: a\n- nodes:\n    pkg: x\n', 4,
      'Unrecognized entity of the type: nodes'),
-    ('launch:\n- log:\n    message: a\n    level: INFO\n    extra: 1\n', 2,
+    ('launch:\n- log:\n    message: a\n    extra: 1\n', 2,
      "Unexpected key(s) found in `log`: {'extra'}"),
     ('launch:\n- log:\n  message: [a\n', 3, 'malformed YAML'),
     ('robot:\n- log:\n    message: a\n', 1, "Expected 'launch' as root tag"),

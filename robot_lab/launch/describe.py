@@ -1035,6 +1035,7 @@ def _tag_timer(e: Entity) -> LaunchStep:
     period = e.attr('period', 'float_or_str', optional=False)
     if isinstance(period, str):
         period = parse_substitution(period)
+    e.attr('cancel_on_shutdown', 'bool_or_str')  # timers never outlive the plan here
     return TimerStep(period, [parse_entity(c) for c in e.children()])
 
 
@@ -1064,7 +1065,7 @@ TAGS: dict[str, Callable[[Entity], LaunchStep]] = {
     'set_parameters_from_file': lambda e: GlobalRosStep('file', _req(e, 'filename')),
     'set_remap': lambda e: GlobalRosStep('remap', _req(e, 'from'), _req(e, 'to')),
     'timer': _tag_timer,
-    'log': lambda e: LogStep(_req(e, 'message'), (e.attr('level') or 'INFO').upper()),
+    'log': lambda e: LogStep(_req(e, 'message')),
     'shutdown': lambda e: ShutdownStep(_sub_attr(e, 'reason') or ''),
 }
 
@@ -1098,11 +1099,8 @@ def parse_root(root: Entity) -> DescriptionStep:
         raise root.fail("Expected 'launch' as root tag",
                         fix='wrap the file in <launch> ... </launch> (YAML: launch: [...])')
     root.attr('deprecated')
+    # like launch's parse_description, other attributes of the root are ignored
     actions = [parse_entity(child) for child in root.children()]
-    try:
-        root.assert_parsed()
-    except (ValueError, RuntimeError) as err:
-        raise root.fail(str(err)) from None
     description = DescriptionStep(actions)
     description.locate(root.file, root.line)
     return description
