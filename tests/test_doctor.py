@@ -141,6 +141,21 @@ def test_rule_fails_on_broken_package(
     assert not others, str(report)
 
 
+def test_folder_named_otherwise_is_only_a_warning(tmp_path: Path) -> None:
+    """A checkout folder (e.g. main/) holding a consistent package: colcon accepts it."""
+    pkg = Path(shutil.copytree(GOOD, tmp_path / 'checkout'))
+    report = doctor(pkg)
+    assert [(f.rule, f.severity) for f in report.findings] == [('package.xml-name', 'warning')]
+    assert "package 'good_pkg' lives in folder 'checkout'" in report.findings[0].message
+    assert report.ok
+
+
+def test_relative_path(pkg: Path) -> None:
+    result = run_cli('doctor', '.', cwd=pkg)
+    assert result.returncode == 0, result.stdout
+    assert 'no problems found' in result.stdout
+
+
 def test_cli_prints_file_line_severity_and_fix(pkg: Path) -> None:
     _edit(pkg / 'setup.py', 'good_pkg.talker:main', 'good_pkg.talker:run')
     result = run_cli('doctor', str(pkg))

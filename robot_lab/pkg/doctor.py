@@ -212,15 +212,24 @@ def _check_package_xml(pkg: _Package) -> None:
                 root.line, fix='use <package format="3">')
     name_el = root.find('name')
     xml_name = name_el.text.strip() if name_el is not None else ''
+    folder = pkg.name  # the folder's name until package.xml says otherwise
     if name_el is None or not xml_name:
         pkg.add('package.xml-name', 'error', 'package.xml has no <name>', file, root.line,
-                fix=f'add <name>{pkg.dir.name}</name>')
-    elif xml_name != pkg.dir.name:
+                fix=f'add <name>{folder}</name>')
+    elif xml_name != folder and _setup_py_name(pkg.dir) == xml_name:
+        # package.xml and setup.py agree: colcon is happy, only the convention is broken.
+        pkg.name = xml_name
+        pkg.add('package.xml-name', 'warning',
+                f"package '{xml_name}' lives in folder '{folder}' (ros2 pkg create names the "
+                'folder after the package)', file, name_el.line,
+                fix=f'rename the folder to {xml_name} if you can')
+    elif xml_name != folder:
+        # setup.py (or nothing) follows the folder: package.xml is the odd one out, and the
+        # other rules keep the folder's name so one mistake gives one finding.
         pkg.add('package.xml-name', 'error',
-                f"package name '{xml_name}' does not match its folder '{pkg.dir.name}'",
+                f"package name '{xml_name}' does not match its folder '{folder}'",
                 file, name_el.line,
-                fix=f'rename the folder to {xml_name} or set <name>{pkg.dir.name}</name>')
-    # The other rules keep using the folder's name: one mismatch, one finding.
+                fix=f'rename the folder to {xml_name} or set <name>{folder}</name>')
     for tag in ('depend', 'exec_depend'):
         pkg.declared |= {e.text.strip() for e in root.findall(tag)}
     export = root.find('export')
@@ -323,6 +332,23 @@ def _module_names(tree: ast.Module, evaluate: _SetupEvaluator) -> None:
                 evaluate.names[node.targets[0].id] = evaluate(node.value)
             except (ValueError, TypeError):
                 continue
+
+
+def _setup_py_name(pkg_dir: Path) -> str | None:
+    """The name setup.py gives the package (`package_name = ...`), if it can be read."""
+    try:
+        tree = ast.parse((pkg_dir / 'setup.py').read_text(errors='replace'))
+    except (OSError, SyntaxError):
+        return None
+    evaluate = _SetupEvaluator(pkg_dir, {})
+    _module_names(tree, evaluate)
+    call = _setup_call(tree)
+    name = evaluate.names.get('package_name')
+    for kw in call.keywords if call is not None else []:
+        if kw.arg == 'name':
+            with contextlib.suppress(ValueError, TypeError):
+                name = evaluate(kw.value)
+    return name if isinstance(name, str) else None
 
 
 def _check_setup_py(pkg: _Package) -> None:
