@@ -679,7 +679,7 @@ class NodeStep(ExecuteStep):
                 param_files.append(entry)
         for entry in self.parameters:
             if isinstance(entry, ParamFileRef):
-                file = perform(entry.path, context)
+                file = str(Path(perform(entry.path, context)))  # as ParameterFile.evaluate
                 _check_param_file(file, context)
                 if entry.allow_substs:
                     text = perform(parse_substitution(Path(file).read_text()), context)
