@@ -688,3 +688,19 @@ def test_python_param_values_follow_launch_ros(tmp_path: Path) -> None:
     assert temp_params(spec.param_files[0]) == {'/ns/s': {'ros__parameters': {
         'plain': '10', 'number': 10, 'subst': 7, 'joined': 'a7', 'typed': '7',
         'value_str': '10', 'floats': [1.0, 2.5], 'group.x': 1, 'group.inner.y': 'z'}}}
+
+
+def test_param_file_with_substitutions(tmp_path: Path) -> None:
+    template = tmp_path / 'template.yaml'
+    template.write_text('/**:\n  ros__parameters:\n    robot_name: $(var who)\n')
+    plan = describe_text(tmp_path, f"""
+        <launch>
+          <let name="who" value="robot_gamma"/>
+          <node pkg="robot_lab" exec="robot_node" name="r">
+            <param from="{template}" allow_substs="true"/>
+            <param from="{template}"/>
+          </node>
+        </launch>""")
+    substituted, as_is = plan.processes()[0].param_files
+    assert temp_params(substituted) == {'/**': {'ros__parameters': {'robot_name': 'robot_gamma'}}}
+    assert as_is == str(template)

@@ -14,6 +14,7 @@ import inspect
 import os
 import re
 import shlex
+import tempfile
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -534,6 +535,21 @@ def _node_name_problem(name: str) -> str | None:
     return None
 
 
+def _substituted_param_file(path: str, context: LaunchContext) -> str:
+    """`allow_substs`: the file with its `$(...)` performed, in a launch_params_ file."""
+    try:
+        text = perform(parse_substitution(Path(path).read_text()), context)
+    except FileNotFoundError:
+        raise context.error(f'parameter file not found: {path}') from None
+    try:
+        yaml.safe_load(text)
+    except yaml.YAMLError:
+        raise context.error('The substituted parameter file is not a valid yaml file') from None
+    with tempfile.NamedTemporaryFile('w', prefix='launch_params_', delete=False) as handle:
+        handle.write(text)
+    return handle.name
+
+
 def _check_param_file(path: str, context: LaunchContext) -> None:
     """rcl would refuse the file inside the node, after start; refuse it now, located."""
     try:
@@ -665,11 +681,9 @@ class NodeStep(ExecuteStep):
             if problem:
                 raise context.error(f"Invalid namespace '{namespace}': {problem}")
             cmd += ['-r', f'__ns:={namespace}']
-        fqn = None
-        if name is not None and namespace is not None:
-            fqn = _prefix_namespace(namespace, name)
-        elif name is not None:
-            fqn = None  # launch_ros: namespace unspecified, so params go to '/**'
+        # launch_ros keys name/value files by the node's full name only when both name and
+        # namespace are known; otherwise ('/**') they reach every node of the process
+        fqn = _prefix_namespace(namespace, name) if name is not None and namespace else None
         param_files: list[str] = []
         for entry in context.ros['global_params'] or []:
             if isinstance(entry, tuple):
@@ -680,17 +694,9 @@ class NodeStep(ExecuteStep):
         for entry in self.parameters:
             if isinstance(entry, ParamFileRef):
                 file = str(Path(perform(entry.path, context)))  # as ParameterFile.evaluate
-                _check_param_file(file, context)
                 if entry.allow_substs:
-                    text = perform(parse_substitution(Path(file).read_text()), context)
-                    try:
-                        yaml.safe_load(text)
-                    except yaml.YAMLError:
-                        raise context.error(
-                            'The substituted parameter file is not a valid yaml file') from None
-                    written = write_param_file({}, directory=None)
-                    Path(written).write_text(text)
-                    file = str(written)
+                    file = _substituted_param_file(file, context)
+                _check_param_file(file, context)
                 cmd += ['--params-file', file]
                 param_files.append(file)
             elif isinstance(entry, Mapping):
