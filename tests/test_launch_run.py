@@ -400,3 +400,38 @@ def test_demo_runs_and_summarises(tmp_path: Path) -> None:
     counts = dict(re.findall(r'^  (/\S+): (\d+) messages', out, re.M))
     assert int(counts['/sensor/temperature']) > 0 and int(counts['/robot/status']) > 0
     assert len(re.findall(r'process has (finished cleanly|died)', out)) == 3
+
+
+def test_show_args_print_and_errors_start_nothing(tmp_path: Path) -> None:
+    from conftest import REPO, run_cli
+
+    env = {'ROS_LOG_DIR': str(tmp_path / 'log')}
+    shown = run_cli('launch', 'robot_lab', 'robot.launch.xml', '--show-args', env=env)
+    assert shown.returncode == 0
+    assert shown.stdout.splitlines()[:5] == [
+        "Arguments (pass arguments as '<name>:=<value>'):",
+        '',
+        "    'robot_name':",
+        '        Name the robot node reports',
+        "        (default: 'my_robot')",
+    ]
+    printed = run_cli('launch', str(REPO / 'launch' / 'robot.launch.xml'),
+                      'robot_name:=zed', '--print', env=env)
+    assert printed.returncode == 0, printed.stderr
+    commands = [ln for ln in printed.stdout.splitlines() if re.match(r'\w+_node-\d: ', ln)]
+    assert [c.split(':', 1)[0] for c in commands] == [
+        'sensor_node-1', 'controller_node-2', 'robot_node-3']
+    assert re.fullmatch(r'sensor_node-1: /\S+/lib/robot_lab/sensor_node --ros-args '
+                        r'-r __node:=sensor --params-file /\S+/share/robot_lab/config/'
+                        r'robot_params\.yaml', commands[0])
+    assert 'process started' not in printed.stdout
+    for bad in (['robot_lab', 'robot.launch.xml', 'robot_name=zed'],
+                ['robot_lab', 'nope.launch.xml'],
+                ['no_such_package', 'robot.launch.xml']):
+        result = run_cli('launch', *bad, env=env)
+        assert result.returncode == 1, bad
+        assert len(result.stderr.strip().splitlines()) == 1, result.stderr
+        assert 'process started' not in result.stdout
+    assert 'malformed launch argument' in run_cli(
+        'launch', 'robot_lab', 'robot.launch.xml', 'robot_name=zed', env=env).stderr
+    assert not (tmp_path / 'log').exists()

@@ -46,6 +46,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         '-s', '--show-args', '--show-arguments', dest='show_args', default=False,
         action='store_true', help='Show arguments that may be given to the launch file.')
     parser.add_argument(
+        '-a', '--show-all-subprocesses-output', dest='show_all', default=False,
+        action='store_true',
+        help="Show all launched subprocesses' output by overriding their output "
+        "configuration (as output='both')")
+    parser.add_argument(
         'package_name', help='Name of the ROS package which contains the launch file')
     parser.add_argument('launch_file_name', nargs='?', help='Name of the launch file')
     parser.add_argument(
@@ -130,6 +135,9 @@ def main(args: argparse.Namespace) -> int:
         print(format_arguments(launch_arguments(source, file)))
         return 0
     plan = describe_launch(source, file, parse_launch_arguments(argv))
+    if args.show_all:
+        for spec in plan.processes():
+            spec.output = 'both'
     if args.print:
         print(format_plan(plan))
         return 0
