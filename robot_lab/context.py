@@ -10,6 +10,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import os
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -24,6 +25,18 @@ T = TypeVar('T')
 
 _LOCK = threading.Lock()
 _SESSIONS: dict[int, Session] = {}
+
+
+def _init_args() -> list[str] | None:
+    """ROS arguments for this process's first init (rcl configures logging only then).
+
+    In a Jupyter kernel, console logs of nodes spun in the background would be printed into
+    whichever cell runs at that moment; there they go to /rosout only, where
+    `robot_lab.console()` shows them.
+    """
+    if 'ipykernel' in sys.modules:
+        return ['robot_lab_kernel', '--ros-args', '--disable-stdout-logs']
+    return None
 
 
 def _domain_from_env() -> int:
@@ -82,12 +95,13 @@ class Session:
         elif not _SESSIONS:
             # First session: the default context, so students' rclpy.create_node() joins it.
             try:
-                rclpy.init(domain_id=domain_id, signal_handler_options=SignalHandlerOptions.NO)
+                rclpy.init(args=_init_args(), domain_id=domain_id,
+                           signal_handler_options=SignalHandlerOptions.NO)
                 return default, True
             except RuntimeError:
                 pass  # a default context that was shut down cannot be initialised again
         context = Context()
-        context.init(domain_id=domain_id)
+        context.init(args=_init_args(), domain_id=domain_id)
         return context, True
 
     def _spin(self) -> None:
