@@ -1,0 +1,170 @@
+"""ROS bag numbers (issue 7): loss-free recording rate and playback timing error.
+
+- Recording: a separate publisher process sends N numbered std_msgs/Int32 reliably at
+  R Hz (2 s) to `robot-lab bag record` (its own process); the bag is read back with
+  rosbags and checked for gaps. Reported per rate: messages lost (median over runs),
+  the rate the publisher actually achieved, and the highest rate with no loss in any run.
+- Playback: a 100 Hz stream is recorded, then `robot-lab bag play` (cold process) sends
+  it to a subscriber in this process; error = median |replayed gap - recorded gap / rate|
+  over all consecutive messages, for --rate 1 and 2 (median over runs).
+
+    .venv/bin/python bench/bench_bag.py [--runs 3] [--rates 1000 2000 5000 10000]
+
+Uses ROS_DOMAIN_ID 79 unless set (keep benchmarks off other people's domains).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import os
+import statistics
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+os.environ.setdefault('ROS_DOMAIN_ID', '79')
+
+from robot_lab.env import ros_environment  # after the domain is chosen
+from robot_lab.process import spawn, stop
+
+BIN = Path(sys.executable).parent
+CLI = str(BIN / 'robot-lab')
+
+PUBLISHER = r"""
+import sys, time
+from rclpy.duration import Duration
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Int32
+from robot_lab.context import session
+count, rate = int(sys.argv[1]), float(sys.argv[2])
+node = session().node
+reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+pub = node.create_publisher(Int32, '/bench', reliable)
+while pub.get_subscription_count() == 0:
+    time.sleep(0.005)
+start = time.monotonic()
+for i in range(count):
+    while time.monotonic() < start + i / rate:
+        pass
+    pub.publish(Int32(data=i))
+took = time.monotonic() - start
+pub.wait_for_all_acked(Duration(seconds=10))
+print(f'achieved {count / took:.1f}', flush=True)
+"""
+
+
+def _wait_line(proc: object, prefix: str, timeout: float) -> str:
+    out = proc.stdout  # type: ignore[attr-defined]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        line = out.readline().decode()
+        if not line:
+            break
+        if line.startswith(prefix) or prefix in line:
+            return line
+    raise RuntimeError(f'no {prefix!r} within {timeout} s')
+
+
+def _bag_numbers(bag: Path) -> list[int]:
+    from rosbags.rosbag2 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_JAZZY)
+    with Reader(bag) as reader:
+        return [store.deserialize_cdr(d, c.msgtype).data for c, _, d in reader.messages()]
+
+
+def record_once(work: Path, rate: float, seconds: float = 2.0) -> tuple[int, float, Path]:
+    """(messages lost, publisher's achieved rate, bag) for one recording at `rate` Hz."""
+    count = int(rate * seconds)
+    bag = work / f'rec_{int(rate)}_{time.monotonic_ns()}'
+    env = ros_environment()
+    recorder = spawn([CLI, 'bag', 'record', '-o', str(bag), '/bench'], env=env)
+    try:
+        publisher = spawn([sys.executable, '-c', PUBLISHER, str(count), str(rate)], env=env,
+                          stderr=None)
+        try:
+            achieved = float(_wait_line(publisher, 'achieved', 60).split()[1])
+            publisher.wait(10)
+        finally:
+            stop(publisher)
+    finally:
+        stop(recorder)
+    numbers = _bag_numbers(bag)
+    lost = count - len(set(numbers))
+    if numbers != sorted(numbers):
+        lost = max(lost, 1)
+    return lost, achieved, bag
+
+
+def playback_error(bag: Path, rate: float) -> float:
+    """Median |replayed gap - recorded gap / rate| in ms, seen by a subscriber here."""
+    from std_msgs.msg import Int32
+
+    from robot_lab.bag.read import open_bag
+    from robot_lab.context import session
+
+    with open_bag(bag) as reader:
+        stamps = [t for _, t, _ in reader.messages()]
+    received: list[float] = []
+    lock = threading.Lock()
+
+    def on_msg(_msg: Int32) -> None:
+        with lock:
+            received.append(time.monotonic())
+
+    node = session().node
+    sub = node.create_subscription(Int32, '/bench', on_msg, 1000)
+    try:
+        player = spawn([CLI, 'bag', 'play', str(bag), '--rate', str(rate)],
+                       env=ros_environment())
+        player.wait(120)
+        deadline = time.monotonic() + 5
+        while len(received) < len(stamps) and time.monotonic() < deadline:
+            time.sleep(0.01)
+    finally:
+        node.destroy_subscription(sub)
+    if len(received) != len(stamps):
+        raise RuntimeError(f'replay delivered {len(received)} of {len(stamps)} messages')
+    recorded = [(b - a) / 1e9 / rate for a, b in itertools.pairwise(stamps)]
+    replayed = [b - a for a, b in itertools.pairwise(received)]
+    return 1000 * statistics.median(abs(x - y) for x, y in zip(recorded, replayed, strict=True))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--runs', type=int, default=3)
+    parser.add_argument('--rates', type=float, nargs='+', default=[1000, 2000, 5000, 10000])
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix='bench_bag_') as tmp:
+        work = Path(tmp)
+        print(f'# bag record: reliable Int32 for 2 s, {args.runs} runs per rate '
+              f'(ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]})')
+        print(f'{"rate Hz":>8} {"lost (median)":>14} {"lost (max)":>11} {"achieved Hz":>12}')
+        best = 0.0
+        for rate in args.rates:
+            results = [record_once(work, rate)[:2] for _ in range(args.runs)]
+            lost = [r[0] for r in results]
+            achieved = statistics.median(r[1] for r in results)
+            print(f'{rate:8.0f} {statistics.median(lost):14.0f} {max(lost):11d} '
+                  f'{achieved:12.1f}')
+            if max(lost) == 0:
+                best = max(best, rate)
+        print(f'highest rate recorded with no loss in any run: {best:.0f} Hz')
+
+        print(f'# bag play timing: 100 Hz stream, 3 s, {args.runs} runs')
+        for rate in (1.0, 2.0):
+            errors = []
+            for _ in range(args.runs):
+                _, _, bag = record_once(work, 100.0, seconds=3.0)
+                errors.append(playback_error(bag, rate))
+            print(f'--rate {rate:g}: median |Δt| = {statistics.median(errors):.3f} ms '
+                  f'(runs: {", ".join(f"{e:.3f}" for e in errors)})')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
