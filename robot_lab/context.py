@@ -105,15 +105,24 @@ class Session:
         return context, True
 
     def _spin(self) -> None:
+        from rclpy.exceptions import InvalidHandle
         from rclpy.executors import ExternalShutdownException
 
-        try:
-            self.executor.spin()
-        except ExternalShutdownException:
-            pass
-        except Exception:
-            if self.context.ok():
-                raise
+        while True:
+            try:
+                self.executor.spin()
+                return
+            except ExternalShutdownException:
+                return
+            except InvalidHandle:
+                # rclpy race: an entity with event handlers was destroyed from another thread
+                # while the executor built its wait set. Waiting again skips it; dying here
+                # would leave the kernel's session without callbacks.
+                continue
+            except Exception:
+                if self.context.ok():
+                    raise
+                return
 
     @property
     def ok(self) -> bool:

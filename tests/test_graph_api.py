@@ -157,6 +157,31 @@ def test_publish_reaches_a_subscriber(system: dict[str, Proc]) -> None:
     assert done.is_set() and got == ['hello']
 
 
+def test_many_short_subscriptions_leave_the_session_alive(system: dict[str, Proc]) -> None:
+    """Subscriptions made and destroyed while the executor spins (every echo does that).
+
+    Plain rclpy subscriptions (with QoS event handlers) race with the executor thread when
+    destroyed; before the session's spin loop survived that, this killed it within ~40.
+    """
+    import queue
+
+    from std_msgs.msg import String
+
+    sess = session()
+    for i in range(120):
+        if i % 2:
+            assert len(robot_lab.echo('/robot/status', count=1, timeout=5)) == 1
+            continue
+        inbox: queue.Queue[String] = queue.Queue()
+        sub = sess.node.create_subscription(String, '/robot/status', inbox.put, 10)
+        try:
+            inbox.get(timeout=5)
+        finally:
+            sess.node.destroy_subscription(sub)
+    assert sess.ok
+    assert len(robot_lab.echo('/sensor/temperature', count=3)) == 3
+
+
 def test_topic_hz_rate(system: dict[str, Proc]) -> None:
     stats = robot_lab.topic_hz('/sensor/temperature', window=20, duration=3)
     assert abs(stats.rate - 10.0) <= 0.2

@@ -47,6 +47,14 @@ __all__ = [
 DEFAULT_WINDOW = 10000
 
 
+def _without_qos_events() -> Any:
+    """No QoS event handlers on our subscriptions: rclpy races when a subscription with
+    handlers is destroyed while the executor thread builds its wait set."""
+    from rclpy.event_handler import SubscriptionEventCallbacks
+
+    return SubscriptionEventCallbacks(use_default_callbacks=False)
+
+
 def topic_list(include_hidden: bool = False, *, settle: bool = True,
                session: Session | None = None) -> list[tuple[str, list[str]]]:
     """(name, types) of every topic, sorted by name (like `ros2 topic list -t`).
@@ -229,7 +237,7 @@ def echo_stream(name: str, msg_type: str | None = None, *, timeout: float | None
     inbox: queue.Queue[Any] = queue.Queue()
     sub = sess.node.create_subscription(
         cls, topic, inbox.put, _echo_qos(sess, topic),
-        callback_group=MutuallyExclusiveCallbackGroup(),
+        callback_group=MutuallyExclusiveCallbackGroup(), event_callbacks=_without_qos_events(),
     )
     deadline = None if timeout is None else time.monotonic() + timeout
     try:
@@ -325,7 +333,7 @@ class RateSubscription:
         self._sess = sess
         self._sub = sess.node.create_subscription(
             cls, topic, self.meter.tick, qos_profile_sensor_data,
-            callback_group=MutuallyExclusiveCallbackGroup(),
+            callback_group=MutuallyExclusiveCallbackGroup(), event_callbacks=_without_qos_events(),
         )
 
     def close(self) -> None:
