@@ -435,3 +435,28 @@ def test_show_args_print_and_errors_start_nothing(tmp_path: Path) -> None:
     assert 'malformed launch argument' in run_cli(
         'launch', 'robot_lab', 'robot.launch.xml', 'robot_name=zed', env=env).stderr
     assert not (tmp_path / 'log').exists()
+
+
+KERNEL = r"""
+import os, signal, sys
+import robot_lab
+handle = robot_lab.launch('robot_lab', 'robot.launch.xml')
+handle.wait_for(r'Status: OK', timeout=30)
+print('pids', *[p.pid for p in handle.processes], flush=True)
+if sys.argv[1] == 'crash':
+    os.kill(os.getpid(), signal.SIGKILL)  # a kernel crash or restart
+print('exiting', flush=True)  # a normal end: atexit stops the launch
+"""
+
+
+@pytest.mark.parametrize('how', ['crash', 'exit'])
+def test_notebook_kernel_end_leaves_no_node(start, tmp_path: Path, how: str) -> None:  # type: ignore[no-untyped-def]
+    kernel: Proc = start(PY, '-c', KERNEL, how, env={'ROS_LOG_DIR': str(tmp_path)})
+    pids = [int(p) for p in kernel.wait_for(r'^pids ([\d ]+)$', 30).group(1).split()]
+    nodes = [psutil.Process(pid) for pid in pids]
+    assert len(nodes) == 3
+    kernel.popen.wait(20)
+    _gone, alive = psutil.wait_procs(nodes, timeout=10)
+    assert not alive, [p.pid for p in alive]
+    if how == 'exit':
+        assert kernel.popen.returncode == 0
