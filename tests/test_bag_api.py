@@ -101,6 +101,15 @@ def test_record_handle_with_duration_and_sqlite(start, tmp_path: Path) -> None:
     assert info.message_count == rec.total >= 8  # 10 Hz for 1.5 s, after discovery
 
 
+def test_max_messages_stops_the_recording_at_exactly_n(start, tmp_path: Path) -> None:
+    start('robot-lab', 'run', 'robot_lab', 'sensor_node', '--ros-args', '-r', '__node:=sensor',
+          '-p', 'sensor_rate:=50').wait_for('Sensor node started')
+    rec = robot_lab.record('/sensor/temperature', output=tmp_path / 'n', max_messages=15)
+    assert rec.wait(15)
+    rec.stop()
+    assert len(_rosbags(tmp_path / 'n', '/sensor/temperature')) == 15
+
+
 def test_existing_folder_and_missing_topics_are_errors(tmp_path: Path) -> None:
     (tmp_path / 'old').mkdir()
     with pytest.raises(robot_lab.BagError, match=r"Output folder '.*old' already exists"):

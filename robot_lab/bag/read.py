@@ -44,7 +44,8 @@ def _check_path(path: Path) -> None:
         return
     if bag_files(path):
         raise BagError(
-            f"'{path}' has no metadata.yaml: the recording did not finish (killed?)",
+            f"'{path}' has no metadata.yaml: its recording is still running, or was killed "
+            'before it finished',
             fix=f'rebuild it from the storage file with `robot-lab bag reindex {path}`',
         )
     raise BagError(

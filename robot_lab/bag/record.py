@@ -11,10 +11,13 @@ offers it; the queue is deep (KEEP_ALL when reliable) so a burst is not dropped.
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import datetime
 import queue
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from types import TracebackType
@@ -30,6 +33,15 @@ POLL_INTERVAL = 0.1  # rosbag2's default --polling-interval (100 ms)
 FLUSH_PERIOD = 0.5  # at most this much recorded data is lost when the recorder is killed
 NOT_FOUND_GRACE = 1.5  # discovery time before a missing topic is reported as missing
 _STOP = object()
+_ACTIVE: weakref.WeakSet[Recorder] = weakref.WeakSet()
+
+
+@atexit.register
+def _finish_recordings() -> None:
+    """A kernel restart or interpreter exit closes running recordings (before ROS stops)."""
+    for rec in list(_ACTIVE):
+        with contextlib.suppress(Exception):  # exiting anyway; the bag can be reindexed
+            rec.stop(timeout=10.0)
 
 
 def default_bag_name(now: datetime.datetime | None = None) -> str:
@@ -158,6 +170,7 @@ class Recorder:
             self._writer.close()
             raise
         self._started_at = time.monotonic()
+        _ACTIVE.add(self)
         self._log('INFO', 'Listening for topics...')
         self._write_thread = threading.Thread(
             target=self._write_loop, name='robot_lab-bag-writer', daemon=True
@@ -299,6 +312,7 @@ class Recorder:
             except BaseException as exc:
                 self.error = self.error or exc
             self._done.set()
+            _ACTIVE.discard(self)
 
     @staticmethod
     def _write_item(writer: BagWriter, item: Any) -> None:
