@@ -73,6 +73,9 @@ class LaunchHandle:
             self.shutdown()
             raise LaunchError(f'the launch did not start within {start_timeout} s',
                               file=plan.source)
+        if self._error is not None:
+            raise LaunchError(f'the launch failed to start: {self._error}',
+                              file=plan.source) from self._error
 
     def _run(self) -> None:
         # This thread forks the children and must live as long as they do.

@@ -275,6 +275,10 @@ class Supervisor:
         if self.is_shutdown:
             return
         spec = record.spec
+        self.output.launcher(
+            'DEBUG', record.label,
+            f"process details: cmd='{' '.join(p for p in spec.cmd if p.strip())}', "
+            f"cwd='{spec.cwd}', custom_env?={'True' if spec.env else 'False'}")
         try:
             popen = spawn(spec.cmd, env=self._environment(spec), cwd=spec.cwd,
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
