@@ -149,6 +149,32 @@ def test_rosbags_reads_what_was_recorded(bags: dict[str, Path]) -> None:
     assert 'Vector3 linear' in schemas['geometry_msgs/msg/Twist'].data
 
 
+def test_mcap_reference_reader_validates_the_file(bags: dict[str, Path]) -> None:
+    """The MCAP maintainers' reader (the spec rosbag2_storage_mcap's C++ library follows)."""
+    from mcap.reader import make_reader
+
+    with (bags['mcap'] / 'system.mcap').open('rb') as f:
+        reader = make_reader(f, validate_crcs=True)
+        assert reader.get_header().profile == 'ros2'
+        summary = reader.get_summary()
+        assert summary is not None and summary.chunk_indexes
+        meta = yaml.safe_load((bags['mcap'] / 'metadata.yaml').read_text())
+        assert summary.statistics.message_count == \
+            meta['rosbag2_bagfile_information']['message_count']
+        schemas = {s.name: s.encoding for s in summary.schemas.values()}
+        assert schemas == {'std_msgs/msg/Float32': 'ros2msg', 'std_msgs/msg/String': 'ros2msg',
+                           'geometry_msgs/msg/Twist': 'ros2msg'}
+        for channel in summary.channels.values():
+            assert channel.message_encoding == 'cdr'
+            assert channel.metadata['topic_type_hash'].startswith('RIHS01_')
+            assert 'reliability: reliable' in channel.metadata['offered_qos_profiles']
+        stamps = [m.log_time for _, _, m in reader.iter_messages(log_time_order=True)]
+        assert len(stamps) == summary.statistics.message_count
+        (record,) = list(reader.iter_metadata())
+        assert record.name == 'rosbag2'
+        assert 'ros_distro: jazzy' in record.metadata['serialized_metadata']
+
+
 class _Listener:
     """An in-process subscriber (the test's session) collecting what playback sends."""
 
