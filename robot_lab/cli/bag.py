@@ -6,10 +6,7 @@ import argparse
 import signal
 import sys
 import time
-from pathlib import Path
 from types import FrameType
-
-from robot_lab.errors import BagError
 
 HELP = 'Various rosbag related sub-commands'
 
@@ -110,11 +107,6 @@ def _record(args: argparse.Namespace) -> int:
         _err('[ERROR] [ros2bag]: Need to specify at least one option out of --all, '
              '--all-topics or topics')
         return 1
-    if args.output and Path(args.output).is_dir():
-        raise BagError(
-            f"Output folder '{args.output}' already exists.",
-            fix='choose another name with -o/--output, or delete the old bag first',
-        )
     _interrupt_on_sigterm()
     rec = Recorder(
         topics, all_topics=args.all, output=args.output, storage=args.storage,
