@@ -17,6 +17,7 @@ import time
 from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import GraphError
@@ -86,18 +87,16 @@ class Plot:
     `resume()`, `clear()`, `snapshot()` and `close()`; the buttons do the same.
     """
 
-    def __init__(self, *paths: str, window: float = 10.0, fps: float = 15.0,
+    def __init__(self, *paths: str, window: float = 10.0, fps: float = 20.0,
                  timeout: float = 5.0, domain_id: int | None = None,
-                 headless_seconds: float | None = None) -> None:
+                 headless_seconds: float | None = None, bag: str | Path | None = None) -> None:
         if not paths:
             raise GraphError('plot() needs at least one field path',
                              fix="e.g. robot_lab.plot('/sensor/temperature')")
-        from robot_lab.context import session
-
         self.window = float(window)
         self.fps = float(fps)
         self.headless_seconds = headless_seconds
-        self.session = session(domain_id)
+        self.bag = Path(bag) if bag is not None else None
         self.t0 = time.monotonic()
         self.redraws = 0
         self.log = WidgetLog(max_lines=20, height='5em')
@@ -109,11 +108,45 @@ class Plot:
         self._widget: Any = None
         self._image: Any = None
         self._figure: Any = None
-        self.series = self._resolve(paths, timeout)
         self._subscriptions: list[Any] = []
+        if self.bag is not None:
+            self.series = self._read_bag(paths)
+            return
+        from robot_lab.context import session
+
+        self.session = session(domain_id)
+        self.series = self._resolve(paths, timeout)
         self._subscribe()
 
     # -- set-up ---------------------------------------------------------------------
+    def _read_bag(self, paths: Iterable[str]) -> list[Series]:
+        """Samples from a recorded bag instead of the graph: time since the bag's start."""
+        from robot_lab.bag.info import bag_info
+        from robot_lab.bag.read import read_topic
+        from robot_lab.messages import message_class
+
+        assert self.bag is not None
+        topics = {t.name: t.type for t in bag_info(self.bag).topics}
+        resolved: list[Series] = []
+        for path in paths:
+            topic, field_path = resolve_field_path(path, topics)
+            if not field_path:
+                field_path = _default_field(message_class(topics[topic]), path)
+            series = Series(path, topic, field_path, topics[topic])
+            columns = read_topic(self.bag, topic, [field_path])
+            for t, value in zip(columns.t, columns[field_path], strict=True):
+                number = _numeric(value)
+                if number is None:
+                    raise GraphError(
+                        f"field '{field_path}' of {topic} ({topics[topic]}) is not a number",
+                        fix='plot a numeric field, e.g. /cmd_vel/linear/x')
+                series.samples.append((t, number))
+            resolved.append(series)
+        last = max((s.samples[-1][0] for s in resolved if s.samples), default=0.0)
+        self.window = max(last, 1e-3)
+        self._paused_at = last  # a recording does not move: its view is fixed
+        return resolved
+
     def _resolve(self, paths: Iterable[str], timeout: float) -> list[Series]:
         """Find each path's topic, waiting (bounded) for discovery to show it."""
         from robot_lab.messages import field_value, message_class
@@ -186,7 +219,8 @@ class Plot:
         """The values of one series, optionally only those of the `last` seconds."""
         samples = self.data[self._key(path)]
         if last is not None:
-            since = time.monotonic() - self.t0 - last
+            now = self._paused_at if self.bag is not None else time.monotonic() - self.t0
+            since = (now or 0.0) - last
             samples = [s for s in samples if s[0] >= since]
         return [v for _, v in samples]
 
@@ -249,15 +283,18 @@ class Plot:
             self._lines[series.path] = line
         for topic, ax in self._axes.items():
             ax.set_title(topic, loc='left', fontsize=10, color='#333333')
-            ax.set_xlim(-self.window, 0.0)
+            ax.set_xlim(*((0.0, self.window) if self.bag else (-self.window, 0.0)))
             ax.grid(True, color='#e5e5e5', linewidth=0.8)
-            ax.legend(loc='upper left', fontsize=8, frameon=False)
+            # Legend on the title's line, right-aligned: it never hides the data.
+            ax.legend(loc='lower right', bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False,
+                      ncol=4, borderaxespad=0.1)
             for side in ('top', 'right'):
                 ax.spines[side].set_visible(False)
             ax.tick_params(labelsize=8)
             if ax is not axes[-1]:
                 ax.tick_params(labelbottom=False)
-        axes[-1].set_xlabel('time relative to now (s)', fontsize=9)
+        axes[-1].set_xlabel('time since the start of the bag (s)' if self.bag
+                            else 'time relative to now (s)', fontsize=9)
         fig.tight_layout(h_pad=0.6)
         return fig
 
@@ -274,6 +311,7 @@ class Plot:
                 self._figure = self._make_figure()
             end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
             start = end - self.window
+            shift = 0.0 if self.bag else end  # live: x is "seconds before now"
             data = self.data
             full = self._background is None
             for topic, ax in self._axes.items():
@@ -282,7 +320,7 @@ class Plot:
                     if series.topic != topic:
                         continue
                     points = [p for p in data[series.path] if start <= p[0] <= end]
-                    self._lines[series.path].set_data([p[0] - end for p in points],
+                    self._lines[series.path].set_data([p[0] - shift for p in points],
                                                       [p[1] for p in points])
                     visible.extend(p[1] for p in points)
                 wanted = _autoscale(visible)
@@ -367,6 +405,8 @@ class Plot:
     def close(self) -> None:
         """Stop drawing and unsubscribe."""
         self._closed.set()
+        if self.bag is not None:
+            return
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         subscriptions, self._subscriptions = self._subscriptions, []
@@ -380,7 +420,9 @@ class Plot:
     def _ipython_display_(self) -> None:
         from IPython.display import display
 
-        if is_headless():
+        if self.bag is not None:
+            display(self.snapshot())
+        elif is_headless():
             seconds = self.headless_seconds
             if seconds is None:
                 seconds = min(self.window, 1.5 if in_ci() else 3.0)
@@ -417,12 +459,14 @@ def _needs_rescale(current: tuple[float, float], wanted: tuple[float, float]) ->
     return (want_high - want_low) < 0.25 * (high - low)
 
 
-def plot(*paths: str, window: float = 10.0, fps: float = 15.0, timeout: float = 5.0,
-         domain_id: int | None = None, headless_seconds: float | None = None) -> Plot:
+def plot(*paths: str, window: float = 10.0, fps: float = 20.0, timeout: float = 5.0,
+         domain_id: int | None = None, headless_seconds: float | None = None,
+         bag: str | Path | None = None) -> Plot:
     """Plot message fields live: `robot_lab.plot('/sensor/temperature', '/cmd_vel/linear/x')`.
 
     `window` is the visible time span in seconds. Shown as a cell's result it draws
-    live in JupyterLab; headless it collects `headless_seconds` and shows a PNG.
+    live in JupyterLab; headless it collects `headless_seconds` and shows a PNG. With
+    `bag=` it plots what a recorded bag holds, from the bag's start to its end.
     """
     return Plot(*paths, window=window, fps=fps, timeout=timeout, domain_id=domain_id,
-                headless_seconds=headless_seconds)
+                headless_seconds=headless_seconds, bag=bag)

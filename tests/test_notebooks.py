@@ -1,0 +1,136 @@
+"""The course notebooks: committed as a real run left them, and their checks really check.
+
+nbval runs the notebooks themselves (`pytest --nbval-lax notebooks/`). Here, notebook 05's
+verification checklist — the cells' own source, read from the notebook — runs against the
+working system (and prints exactly the committed ✓ lines) and against broken systems,
+where it must fail and say what is wrong.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import robot_lab
+from robot_lab.grading import CheckError, check
+
+NOTEBOOKS = Path(__file__).resolve().parents[1] / 'notebooks'
+NAMES = ['00_welcome', '01_create_package', '02_write_nodes', '03_launch_files',
+         '04_parameters', '05_inspect_and_verify', '06_ros_bags']
+MARK = '# NBVAL_CHECK_OUTPUT'
+
+
+def _cells(name: str) -> list[dict[str, Any]]:
+    cells: list[dict[str, Any]] = json.loads((NOTEBOOKS / f'{name}.ipynb').read_text())['cells']
+    return cells
+
+
+def _source(cell: dict[str, Any]) -> str:
+    return ''.join(cell['source'])
+
+
+def _stdout(cell: dict[str, Any]) -> str:
+    return ''.join(''.join(o['text']) for o in cell.get('outputs', [])
+                   if o['output_type'] == 'stream' and o['name'] == 'stdout')
+
+
+def _checklist() -> list[dict[str, Any]]:
+    """Notebook 05's checklist cells: the code cells of section 7."""
+    cells = _cells('05_inspect_and_verify')
+    start = next(i for i, c in enumerate(cells) if _source(c).startswith('## 7.'))
+    stop = next(i for i, c in enumerate(cells) if _source(c).startswith('## 8.'))
+    return [c for c in cells[start:stop] if c['cell_type'] == 'code']
+
+
+@pytest.mark.parametrize('name', NAMES)
+def test_notebook_is_committed_with_a_passing_run(name: str) -> None:
+    notebook = json.loads((NOTEBOOKS / f'{name}.ipynb').read_text())
+    assert notebook['metadata']['kernelspec']['name'] == 'robot_lab'
+    code = [c for c in notebook['cells'] if c['cell_type'] == 'code']
+    assert code[0]['source'] and f"setup('{name}')" in _source(code[0]), \
+        'the first code cell sets the lesson up'
+    for cell in code:
+        assert cell.get('execution_count'), f'{name}: a cell was never run:\n{_source(cell)}'
+        errors = [o for o in cell.get('outputs', []) if o['output_type'] == 'error']
+        assert not errors, f'{name}: committed with an error in:\n{_source(cell)}'
+        if 'check.' in _source(cell):
+            # every check cell is compared by nbval, and shows only ✓ lines
+            assert _source(cell).startswith(MARK), f'{name}: unmarked check cell:\n{_source(cell)}'
+            lines = [ln for ln in _stdout(cell).splitlines() if ln.startswith(('✓', '✗'))]
+            assert lines and all(ln.startswith('✓') for ln in lines), _source(cell)
+
+
+def test_student_work_goes_to_the_scratch_workspace_not_the_repository() -> None:
+    for name in NAMES:
+        for cell in _cells(name):
+            if cell['cell_type'] == 'code':
+                assert 'notebooks/' not in _source(cell), f'{name} writes into the repository'
+                assert not re.search(r'%%writefile (?!\{)', _source(cell)), \
+                    f'{name}: %%writefile to a path not under the lesson workspace'
+
+
+def _launch_file(tmp_path: Path, name: str, sensor: str = '', controller: str = '',
+                 with_controller: bool = True) -> Path:
+    config = Path(robot_lab.package_share('robot_lab')) / 'config' / 'robot_params.yaml'
+    nodes = [f'<node pkg="robot_lab" exec="sensor_node" name="sensor">'
+             f'<param from="{config}"/>{sensor}</node>']
+    if with_controller:
+        nodes.append(f'<node pkg="robot_lab" exec="controller_node" name="controller">'
+                     f'<param from="{config}"/>{controller}</node>')
+    nodes.append('<node pkg="robot_lab" exec="robot_node" name="robot"/>')
+    path = tmp_path / f'{name}.launch.xml'
+    path.write_text('<launch>\n  ' + '\n  '.join(nodes) + '\n</launch>\n')
+    return path
+
+
+@pytest.fixture
+def launched() -> Iterator[list[Any]]:
+    handles: list[Any] = []
+    yield handles
+    for handle in handles:
+        handle.shutdown()
+
+
+def _run_checklist(system: Any) -> None:
+    namespace = {'check': check, 'robot_lab': robot_lab, 'system': system}
+    for cell in _checklist():
+        exec(compile(_source(cell), '05_inspect_and_verify', 'exec'), namespace)
+
+
+def test_checklist_passes_on_the_working_system_with_the_committed_output(
+        tmp_path: Path, launched: list[Any], capsys: pytest.CaptureFixture[str]) -> None:
+    system = robot_lab.launch(_launch_file(tmp_path, 'working'))
+    launched.append(system)
+    _run_checklist(system)
+    expected = ''.join(_stdout(cell) for cell in _checklist())
+    assert capsys.readouterr().out == expected
+
+
+BROKEN = {
+    # the launch forgot a node: the first check names it
+    'no_controller': ({'with_controller': False}, r'missing /controller'),
+    # a wrong rate in the parameter file: the rate check says how fast it really is
+    'slow_sensor': ({'sensor': '<param name="sensor_rate" value="3"/>'},
+                    r'/sensor/temperature at 8–12 Hz; it runs at 3\.\d Hz'),
+    # a controller that is always HIGH: the status check shows what it saw instead
+    'hot_controller': ({'controller': '<param name="temp_threshold" value="20.0"/>'},
+                       r"with status OK; within 5 s the last one was \{'data': 'HIGH"),
+}
+
+
+@pytest.mark.parametrize('broken', list(BROKEN))
+def test_checklist_fails_on_a_broken_system_and_says_why(
+        broken: str, tmp_path: Path, launched: list[Any]) -> None:
+    options, message = BROKEN[broken]
+    system = robot_lab.launch(_launch_file(tmp_path, broken, **options))
+    launched.append(system)
+    system.wait_for(r'Robot node started', timeout=15)
+    with pytest.raises(CheckError, match=message) as failure:
+        _run_checklist(system)
+    assert str(failure.value).startswith('✗ expected ')
+    assert 'Try: ' in str(failure.value)
