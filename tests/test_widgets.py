@@ -7,6 +7,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -210,3 +211,43 @@ def test_headless_is_decided_by_env(monkeypatch: pytest.MonkeyPatch) -> None:
     assert is_headless()
     monkeypatch.delenv('CI')
     assert is_headless()  # pytest is no IPython kernel: no frontend to draw on
+
+
+def test_plot_from_a_recorded_bag(system: None, tmp_path: Path) -> None:
+    from robot_lab.bag.record import record
+
+    rec = record('/sensor/temperature', '/cmd_vel', output=tmp_path / 'run', max_messages=30)
+    assert rec.wait(timeout=15.0), 'the recording did not finish'
+    recorded = Plot('/sensor/temperature', '/cmd_vel/linear/x', bag=tmp_path / 'run')
+    temps = recorded.values('/sensor/temperature')
+    assert temps and all(abs(t - 22.5) < 1e-3 for t in temps)
+    assert set(recorded.values('/cmd_vel/linear/x')) == {0.5}
+    times = [t for t, _ in recorded.data['/sensor/temperature']]
+    assert times == sorted(times) and times[0] < 1.0
+    assert recorded.render_png().startswith(PNG_MAGIC)
+
+
+def test_launch_panel_starts_stops_and_shows_each_process(tmp_path: Path) -> None:
+    from robot_lab.widgets.launch_panel import LaunchPanel
+
+    launch_file = tmp_path / 'panel.launch.xml'
+    launch_file.write_text(
+        '<launch><node pkg="robot_lab" exec="sensor_node" name="panel_sensor"/>'
+        '<node pkg="robot_lab" exec="robot_node" name="panel_robot"/></launch>')
+    panel = LaunchPanel(launch_file)
+    try:
+        view = panel.widget
+        assert view is panel.widget and 'not started' in panel.status_html()
+        handle = panel.start()
+        handle.wait_for(r'\[panel_robot\]: Robot node started', timeout=15.0)
+        assert panel.states == {'sensor_node-1': 'running', 'robot_node-2': 'running'}
+        assert panel.status_html().count('running') >= 2
+        assert panel._start_button.disabled and not panel._stop_button.disabled
+        assert panel.console is not None
+        panel.console.wait_for('Sensor node started', timeout=5.0)
+        panel.stop()
+        assert set(panel.states.values()) == {'finished'}
+        assert not panel._start_button.disabled and panel._stop_button.disabled
+    finally:
+        panel.stop()
+        panel.close()
