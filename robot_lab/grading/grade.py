@@ -1,0 +1,393 @@
+"""Grade a submitted notebook: run it headless, score its check cells, leave nothing behind.
+
+The submission runs top to bottom in a fresh kernel of this venv (nbclient), in a scratch
+folder that is also its ROBOT_LAB_WORKSPACE, so student packages never land in the kit.
+When the exercise's solution is known, its check cells replace the submission's (matched
+by cell id): a student cannot grade themselves by editing a check. A check that raises
+scores 0 with its error; a cell that hangs is interrupted after `cell_timeout` s; a kernel
+that dies or stops answering ends the run with the checks not reached at 0. Every
+process the kernel started carries a token in its environment and is killed at the end
+if it outlived the kernel.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import re
+import signal
+import sys
+import tempfile
+import threading
+import time
+import uuid
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from nbformat import NotebookNode
+
+from robot_lab.errors import RobotLabError
+from robot_lab.grading.exercises import (
+    GRADE_TAG,
+    Check,
+    exercise_name,
+    graded_checks,
+    kit_root,
+    notebook_text,
+    read_notebook,
+)
+
+__all__ = ['CheckResult', 'GradeResult', 'grade', 'leftover_processes', 'submissions']
+
+TOKEN_VAR = 'ROBOT_LAB_GRADE_RUN'
+_KERNEL = 'robot_lab_grade'
+_GRACE = 10.0  # after an interrupt, how long a cell has to stop before the kernel is killed
+_ANSI = re.compile(r'\x1b\[[0-9;]*m')
+
+
+@dataclass
+class CheckResult:
+    """The score of one check cell."""
+
+    check: str  # the cell id
+    points: float
+    max_points: float
+    passed: bool
+    message: str = ''
+
+
+@dataclass
+class GradeResult:
+    """A graded submission: per-check scores, total, and how the run ended."""
+
+    notebook: str
+    exercise: str
+    checks: list[CheckResult] = field(default_factory=list)
+    status: str = 'completed'  # 'completed' | 'timeout' | 'kernel died' | 'error'
+    detail: str = ''
+    elapsed: float = 0.0
+    leftovers: list[str] = field(default_factory=list)  # outlived the kernel, were killed
+
+    @property
+    def score(self) -> float:
+        return sum(c.points for c in self.checks)
+
+    @property
+    def max_score(self) -> float:
+        return sum(c.max_points for c in self.checks)
+
+    def summary(self) -> str:
+        """`ex02_write_nodes: 7/10`, the line a gradebook script greps for."""
+        return f'{self.exercise}: {_number(self.score)}/{_number(self.max_score)}'
+
+    def to_dict(self) -> dict[str, Any]:
+        data = asdict(self)
+        data['score'] = self.score
+        data['max_score'] = self.max_score
+        return data
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2)
+
+    def table(self) -> str:
+        """The per-check table the CLI prints, then the summary line."""
+        width = max([len(c.check) for c in self.checks] + [5])
+        lines = [f'{self.notebook}', f'  {"check":<{width}}  points  result']
+        for c in self.checks:
+            pts = f'{_number(c.points)}/{_number(c.max_points)}'
+            result = 'ok' if c.passed else c.message or 'failed'
+            lines.append(f'  {c.check:<{width}}  {pts:>6}  {result}')
+        if self.status != 'completed':
+            lines.append(f'  run ended early ({self.status}): {self.detail}')
+        if self.leftovers:
+            lines.append(f'  killed {len(self.leftovers)} process(es) left running: '
+                         + ', '.join(self.leftovers))
+        lines.append(self.summary())
+        return '\n'.join(lines)
+
+
+def _number(value: float) -> str:
+    return str(int(value)) if float(value).is_integer() else f'{value:g}'
+
+
+def submissions(paths: list[str | Path]) -> list[Path]:
+    """Notebooks to grade: files as given, folders expanded to their *.ipynb (sorted)."""
+    found: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        if path.is_dir():
+            found.extend(sorted(p for p in path.glob('*.ipynb')
+                                if not p.name.endswith('.graded.ipynb')))
+        elif path.is_file():
+            found.append(path)
+        else:
+            raise RobotLabError('no such submission', file=path,
+                                fix='give a .ipynb file or a folder of them')
+    return found
+
+
+def _canonical(nb: NotebookNode, exercise: str, solutions_dir: Path | None,
+               where: str) -> list[Check]:
+    """The checks that count: the solution's when known, else the submission's own."""
+    solution = (solutions_dir or kit_root() / 'solutions') / f'{exercise}.ipynb'
+    if not solution.is_file():
+        return graded_checks(nb, where)
+    checks = graded_checks(read_notebook(solution), str(solution))
+    by_id = {c.cell_id: c for c in checks}
+    for cell in nb.cells:
+        tags = cell.get('metadata', {}).get('tags', [])
+        if cell.get('id') in by_id and cell.cell_type == 'code':
+            check = by_id[cell['id']]
+            cell.source = check.source
+            cell.metadata['tags'] = sorted({*tags, GRADE_TAG})
+            cell.metadata.setdefault('robot_lab', {})['points'] = check.points
+        elif GRADE_TAG in tags:  # a check the student added: it runs but does not count
+            cell.metadata['tags'] = [t for t in tags if t != GRADE_TAG]
+    return checks
+
+
+def _error_of(cell: NotebookNode) -> str | None:
+    for output in cell.get('outputs', []):
+        if output.get('output_type') == 'error':
+            value = _ANSI.sub('', str(output.get('evalue', ''))).strip()
+            name = str(output.get('ename', 'Error'))
+            return f'{name}: {value}' if value else name
+    return None
+
+
+def _kernel_spec_dir(work: Path) -> Path:
+    """A kernelspec for this venv's Python, so no other installed 'python3' is used."""
+    folder = work / 'kernels' / _KERNEL
+    folder.mkdir(parents=True)
+    spec = {
+        'argv': [sys.executable, '-m', 'ipykernel_launcher', '-f', '{connection_file}'],
+        'display_name': 'robot_lab (grading)',
+        'language': 'python',
+    }
+    (folder / 'kernel.json').write_text(json.dumps(spec))
+    return work / 'kernels'
+
+
+def leftover_processes(token: str) -> list[Any]:
+    """Running processes whose environment carries `token` (psutil.Process objects)."""
+    import psutil
+
+    found = []
+    for proc in psutil.process_iter():
+        with contextlib.suppress(psutil.Error):
+            if proc.environ().get(TOKEN_VAR) == token:
+                found.append(proc)
+    return found
+
+
+def _describe(proc: Any) -> str:
+    import psutil
+
+    try:
+        cmd = proc.cmdline()
+    except psutil.Error:
+        return f'pid {proc.pid}'
+    exe = next((Path(part).name for part in cmd[1:] if not part.startswith('-')), '')
+    return f'{Path(cmd[0]).name if cmd else "?"} {exe} (pid {proc.pid})'.replace('  ', ' ')
+
+
+def _reap(token: str, known: list[Any], grace: float = 3.0) -> list[str]:
+    """Wait for the kernel's processes to die with it; kill and name the ones that do not."""
+    import psutil
+
+    procs = {p.pid: p for p in [*known, *leftover_processes(token)]}
+    _gone, alive = psutil.wait_procs(list(procs.values()), timeout=grace)
+    names = [_describe(p) for p in alive]
+    for proc in alive:
+        with contextlib.suppress(psutil.Error):
+            proc.kill()
+    psutil.wait_procs(alive, timeout=grace)
+    return names
+
+
+@contextlib.contextmanager
+def _scratch(workspace: str | Path | None) -> Iterator[Path]:
+    if workspace is not None:
+        path = Path(workspace)
+        path.mkdir(parents=True, exist_ok=True)
+        yield path
+        return
+    with tempfile.TemporaryDirectory(prefix='robot_lab_grade_') as tmp:
+        yield Path(tmp)
+
+
+def grade(
+    submission: str | Path,
+    *,
+    cell_timeout: float = 60.0,
+    solutions_dir: str | Path | None = None,
+    workspace: str | Path | None = None,
+    executed: str | Path | None = None,
+) -> GradeResult:
+    """Run `submission` headless and score its check cells.
+
+    `workspace` is the scratch folder given to the notebook (default: a new temporary
+    one, removed afterwards); `executed`, if given, receives the notebook with outputs.
+    """
+    from nbclient import NotebookClient
+    from nbclient.exceptions import DeadKernelError
+
+    path = Path(submission)
+    try:
+        nb = read_notebook(path)
+    except (OSError, ValueError) as err:
+        raise RobotLabError(f'cannot read the notebook: {err}', file=path,
+                            fix='submit the .ipynb file as Jupyter saved it') from None
+    exercise = exercise_name(path, nb)
+    checks = _canonical(nb, exercise, Path(solutions_dir) if solutions_dir else None, str(path))
+    result = GradeResult(str(path), exercise)
+    outcome: dict[str, str | None] = {}  # cell id -> None (passed) or the reason it failed
+    token = uuid.uuid4().hex
+    started = time.monotonic()
+    known: list[Any] = []
+    with _scratch(workspace) as work, tempfile.TemporaryDirectory(prefix='robot_lab_kernel_') as k:
+        from jupyter_client.kernelspec import KernelSpecManager
+        from jupyter_client.manager import AsyncKernelManager
+
+        from robot_lab.env import ros_environment
+
+        specs = KernelSpecManager(kernel_dirs=[str(_kernel_spec_dir(Path(k)))])
+        km = AsyncKernelManager(kernel_name=_KERNEL, kernel_spec_manager=specs)
+        client = NotebookClient(
+            nb, km=km, kernel_name=_KERNEL, timeout=None, allow_errors=True,
+            interrupt_on_timeout=False, shutdown_kernel='graceful', record_timing=False,
+            resources={'metadata': {'path': str(work)}},
+        )
+        env = ros_environment({TOKEN_VAR: token, 'ROBOT_LAB_WORKSPACE': str(work),
+                               'MPLBACKEND': 'Agg'})
+        current = -1
+        watchdog: _Watchdog | None = None
+        log_path = Path(k) / 'kernel.log'
+        try:
+            with log_path.open('wb') as log, client.setup_kernel(
+                    env=env, stdout=log, stderr=log, cleanup_kc=True):
+                known = _kernel_tree(km)
+                for current, cell in enumerate(nb.cells):
+                    if cell.cell_type != 'code':
+                        continue
+                    with _Watchdog(km, cell_timeout, min(cell_timeout, _GRACE)) as watchdog:
+                        client.execute_cell(cell, current)
+                    known = _kernel_tree(km, known)
+                    if watchdog.interrupted:
+                        outcome[cell.get('id', '')] = (
+                            f'timed out after {_number(cell_timeout)} s (interrupted)')
+                        continue
+                    outcome[cell.get('id', '')] = _error_of(cell)
+        except DeadKernelError:
+            if watchdog is not None and watchdog.killed:
+                result.status = 'timeout'
+                result.detail = (f'cell {current} ran past {_number(cell_timeout)} s and did not '
+                                 'stop when interrupted; the kernel was killed')
+                why = f'timed out after {_number(cell_timeout)} s (kernel killed)'
+            else:
+                result.status = 'kernel died'
+                result.detail = f'the kernel died while running cell {current}'
+                why = 'the kernel died running this cell'
+            if 0 <= current < len(nb.cells):
+                outcome[nb.cells[current].get('id', '')] = why
+        except RuntimeError as err:  # the kernel did not start
+            result.status = 'error'
+            result.detail = f'the kernel did not start: {err}'
+        finally:
+            result.leftovers = _reap(token, known)
+        if result.status != 'completed':
+            result.detail += _log_tail(log_path)
+        if executed is not None:
+            Path(executed).write_text(notebook_text(nb))
+    for check in checks:
+        if check.cell_id not in outcome:
+            why = 'check cell missing from the submission' if not _has_cell(nb, check) else \
+                f'not run ({result.status})'
+            result.checks.append(CheckResult(check.cell_id, 0, check.points, False, why))
+            continue
+        error = outcome[check.cell_id]
+        passed = error is None
+        result.checks.append(CheckResult(check.cell_id, check.points if passed else 0,
+                                         check.points, passed, error or ''))
+    result.elapsed = round(time.monotonic() - started, 2)
+    return result
+
+
+def _has_cell(nb: NotebookNode, check: Check) -> bool:
+    return any(cell.get('id') == check.cell_id for cell in nb.cells)
+
+
+def _log_tail(path: Path, lines: int = 5) -> str:
+    """The end of the kernel's own stderr (a crash's last words), for the report."""
+    try:
+        text = path.read_text(errors='replace').strip().splitlines()
+    except OSError:
+        return ''
+    text = [line for line in text if 'running over TCP without encryption' not in line]
+    return ('; kernel output: ' + ' | '.join(text[-lines:])) if text else ''
+
+
+def _kernel_tree(km: Any, known: list[Any] | None = None) -> list[Any]:
+    """The kernel and its descendants so far (remembered in case they lose their parent)."""
+    import psutil
+
+    found = {p.pid: p for p in known or []}
+    pid = getattr(km.provisioner, 'pid', None) if km.provisioner is not None else None
+    if pid:
+        with contextlib.suppress(psutil.Error):
+            kernel = psutil.Process(pid)
+            found.setdefault(kernel.pid, kernel)
+            for child in kernel.children(recursive=True):
+                found.setdefault(child.pid, child)
+    return list(found.values())
+
+
+class _Watchdog:
+    """Interrupts a cell that runs past its time, and kills a kernel that ignores that.
+
+    A thread of its own sends the signals, so nbclient's bookkeeping stays intact: the
+    interrupted cell ends with KeyboardInterrupt like Jupyter's stop button, and a killed
+    kernel surfaces as nbclient's DeadKernelError.
+    """
+
+    def __init__(self, km: Any, timeout: float, grace: float) -> None:
+        self.pid: int | None = getattr(km.provisioner, 'pid', None)
+        self.timeout = timeout
+        self.grace = grace
+        self.interrupted = False
+        self.killed = False
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._watch, name='robot_lab-grade-watchdog',
+                                        daemon=True)
+
+    def _signal(self, signum: int) -> None:
+        if self.pid is not None:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self.pid, signum)
+
+    def _watch(self) -> None:
+        if self._done.wait(self.timeout):
+            return
+        self.interrupted = True
+        self._signal(signal.SIGINT)
+        if self._done.wait(self.grace):
+            return
+        self.killed = True
+        self._signal(signal.SIGKILL)
+
+    def __enter__(self) -> _Watchdog:
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._done.set()
+        self._thread.join()
+
+
+def grade_many(paths: list[str | Path], **kwargs: Any) -> list[GradeResult]:
+    """Grade each submission in turn (one kernel at a time: nodes never mix)."""
+    return [grade(p, **kwargs) for p in submissions(paths)]
+
