@@ -136,13 +136,14 @@ def playback_error(bag: Path, rate: float) -> float:
 
 def publish_side_error(bag: Path, rate: float) -> float:
     """The player's own timing (robot_lab.play in this process): median gap error in ms."""
-    import robot_lab
+    from robot_lab.bag.play import Player
     from robot_lab.bag.read import open_bag
 
     with open_bag(bag) as reader:
         stamps = [t for _, t, _ in reader.messages()]
-    player = robot_lab.play(bag, rate=rate)
-    player.keep_timing = True
+    player = Player(bag, rate=rate)
+    player.keep_timing = True  # before start(): every publish time is kept
+    player.start()
     player.wait(120)
     sent = [wall for _, _, wall in player.published]
     recorded = [(b - a) / 1e9 / rate for a, b in itertools.pairwise(stamps)]
