@@ -123,6 +123,19 @@ def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
     assert lines[-2:] == ['Service:           0', 'Service information: ']
 
 
+def test_info_of_the_single_mcap_file_matches_the_folder(bags: dict[str, Path]) -> None:
+    file = bags['mcap'] / 'system.mcap'
+    single = run_cli('bag', 'info', str(file))
+    folder = run_cli('bag', 'info', str(bags['mcap']))
+    assert single.returncode == 0, single.stderr
+    assert f'Files:             {file}' in single.stdout
+    topic_lines = [line[19:] for line in single.stdout.splitlines() if 'Topic: ' in line]
+    assert topic_lines == [line[19:] for line in folder.stdout.splitlines() if 'Topic: ' in line]
+    for label in ('Duration:', 'Start:', 'End:', 'Messages:', 'ROS Distro:'):
+        assert [x for x in single.stdout.splitlines() if x.startswith(label)] == \
+            [x for x in folder.stdout.splitlines() if x.startswith(label)]
+
+
 def test_rosbags_reads_what_was_recorded(bags: dict[str, Path]) -> None:
     temps = rosbags_messages(bags['mcap'], '/sensor/temperature')
     statuses = rosbags_messages(bags['mcap'], '/robot/status')

@@ -121,6 +121,21 @@ def _sqlite_distro(path: Path) -> str:
         return 'unknown'
 
 
+def _mcap_distro(path: Path) -> str:
+    """ros_distro from the file's `rosbag2` metadata record (rosbag2 stores it there)."""
+    try:
+        from mcap.reader import make_reader  # type: ignore[import-untyped]
+
+        with path.open('rb') as f:
+            for record in make_reader(f).iter_metadata():
+                if record.name == 'rosbag2':
+                    meta = yaml.safe_load(record.metadata.get('serialized_metadata', '')) or {}
+                    return str(meta.get('ros_distro') or 'unknown')
+    except Exception:  # no mcap library or no record: rosbag2 says unknown
+        pass
+    return 'unknown'
+
+
 def _from_file(path: Path) -> BagInfo:
     with open_bag(path) as reader:
         count = int(reader.message_count)
@@ -140,7 +155,7 @@ def _from_file(path: Path) -> BagInfo:
         distro = reader.ros_distro
     storage = STORAGE_SUFFIXES[path.suffix]
     if not distro:
-        distro = _sqlite_distro(path) if storage == 'sqlite3' else 'unknown'
+        distro = _sqlite_distro(path) if storage == 'sqlite3' else _mcap_distro(path)
     return BagInfo(
         path=path,
         files=[str(path)],
