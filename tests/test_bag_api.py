@@ -95,7 +95,7 @@ def test_record_handle_with_duration_and_sqlite(start, tmp_path: Path) -> None:
                            storage='sqlite3')
     assert rec.wait(15)
     assert rec.stop() == tmp_path / 'timed'
-    assert 1.5 <= rec.elapsed < 3.0
+    assert 1.5 <= rec.elapsed < 5.0
     info = robot_lab.bag_info(tmp_path / 'timed')
     assert info.storage_id == 'sqlite3' and info.files == ['timed.db3']
     assert info.message_count == rec.total >= 8  # 10 Hz for 1.5 s, after discovery
@@ -121,7 +121,7 @@ def test_existing_folder_and_missing_topics_are_errors(tmp_path: Path) -> None:
 def test_read_topic_gives_columns_for_plots(system_bag: Path) -> None:
     temps = robot_lab.read_topic(system_bag, '/sensor/temperature')
     expected = [m.data for m in _rosbags(system_bag, '/sensor/temperature')]
-    assert 15 <= len(temps) <= 22  # 10 Hz for 2 s
+    assert 12 <= len(temps) <= 22  # 10 Hz for 2 s, less discovery time
     assert temps['data'] == pytest.approx(expected)
     assert temps.t[0] >= 0 and temps.t == sorted(temps.t) and temps.t[-1] < 2.5
     cmd = robot_lab.read_topic(system_bag, 'cmd_vel', fields=('linear.x', 'angular/z'))
