@@ -394,18 +394,42 @@ class Recorder:
         self.counts.setdefault(topic, 0)
         self.types[topic] = msgtype
 
-        def on_message(data: bytes, info: Any, topic: str = topic) -> None:
+        def accept(data: bytes, info: Any) -> bool:
             if self.max_messages is not None and self.received >= self.max_messages:
-                return
+                return False
             stamp = info.get('received_timestamp') if isinstance(info, dict) else None
             self.received += 1
             self.counts[topic] += 1
             self._queue.put((topic, stamp or time.time_ns(), data))
+            return True
+
+        def on_message(data: bytes, info: Any) -> None:
+            if accept(data, info) and self._batch_take:
+                self._take_backlog(self._subs[topic], accept)
 
         self._subs[topic] = self._node.create_subscription(cls, topic, on_message, qos, raw=True)
         self._log('INFO', f"Subscribed to topic '{topic}'")
         if not self.all_topics and len(self._subs) == len(self.topics):
             self._log('INFO', 'All requested topics are subscribed. Stopping discovery...')
+
+
+    _batch_take = True
+
+    def _take_backlog(self, sub: Any, accept: Callable[[bytes, Any], bool]) -> None:
+        """Take what else is already queued for `sub` in one go.
+
+        The executor pays a whole wait-set round trip per message; taking the backlog
+        here (what rclpy's executor does per message: `handle.take_message`) lets a
+        burst be drained at the cost of one round trip.
+        """
+        try:
+            for _ in range(256):
+                with sub.handle:
+                    taken = sub.handle.take_message(sub.msg_type, True)
+                if taken is None or not accept(taken[0], taken[1]):
+                    return
+        except (AttributeError, TypeError):  # another rclpy: per-message callbacks only
+            self._batch_take = False
 
 
 def record(
