@@ -18,6 +18,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Seconds a cell may run before it is interrupted (default: 60)')
     parser.add_argument('--solutions', metavar='DIR',
                         help="Solutions whose check cells are used (default: the kit's)")
+    parser.add_argument('--domain-id', type=int, metavar='N',
+                        help='ROS_DOMAIN_ID for the submissions (default: ROS_DOMAIN_ID)')
     parser.add_argument('--executed', metavar='DIR',
                         help='Also save each executed notebook there as NAME.graded.ipynb')
 
@@ -33,7 +35,7 @@ def main(args: argparse.Namespace) -> int:
     for path in paths:
         executed = out / f'{path.stem}.graded.ipynb' if out is not None else None
         result = grade(path, cell_timeout=args.timeout, solutions_dir=args.solutions,
-                       executed=executed)
+                       executed=executed, domain_id=args.domain_id)
         results.append(result)
         if not args.json:
             print(result.table(), flush=True)

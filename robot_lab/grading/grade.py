@@ -45,6 +45,7 @@ __all__ = ['CheckResult', 'GradeResult', 'grade', 'leftover_processes', 'submiss
 TOKEN_VAR = 'ROBOT_LAB_GRADE_RUN'
 _KERNEL = 'robot_lab_grade'
 _GRACE = 10.0  # after an interrupt, how long a cell has to stop before the kernel is killed
+_DOMAIN_BASES = ('ROBOT_LAB_TEST_DOMAIN_BASE', 'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE')
 _ANSI = re.compile(r'\x1b\[[0-9;]*m')
 
 
@@ -226,11 +227,13 @@ def grade(
     solutions_dir: str | Path | None = None,
     workspace: str | Path | None = None,
     executed: str | Path | None = None,
+    domain_id: int | None = None,
 ) -> GradeResult:
     """Run `submission` headless and score its check cells.
 
     `workspace` is the scratch folder given to the notebook (default: a new temporary
-    one, removed afterwards); `executed`, if given, receives the notebook with outputs.
+    one, removed afterwards); `executed`, if given, receives the notebook with outputs;
+    `domain_id` is the kernel's ROS_DOMAIN_ID (default: this process's).
     """
     from nbclient import NotebookClient
     from nbclient.exceptions import DeadKernelError
@@ -263,6 +266,11 @@ def grade(
         )
         env = ros_environment({TOKEN_VAR: token, 'ROBOT_LAB_WORKSPACE': str(work),
                                'MPLBACKEND': 'Agg'})
+        if domain_id is not None:
+            env['ROS_DOMAIN_ID'] = str(domain_id)
+        # The grader picks the domain: lesson set-up must not move the kernel elsewhere.
+        for name in _DOMAIN_BASES:
+            env.pop(name, None)
         current = -1
         watchdog: _Watchdog | None = None
         log_path = Path(k) / 'kernel.log'
