@@ -130,8 +130,9 @@ def test_sliders_follow_descriptors_set_refuse_and_follow_events(system: None) -
         assert 'refused' in sliders.controls['noise_level'].status.value
         assert sliders.values['noise_level'] == 2.0 and noise.value == 2.0
 
-        # a student moving the slider goes through the same service
-        noise.value = 1.5
+        # a student dragging the slider: the frontend's comm message is applied with
+        # set_state, which runs the same observers, so it goes through the same service
+        noise.set_state({'value': 1.5})
         assert sliders.last_result['noise_level'].successful
         assert sliders.wait_for('noise_level', 1.5)
 
