@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
@@ -48,25 +49,35 @@ def declare(
 def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None) -> None:
     """rclpy.init, spin, and a clean exit (code 0, no traceback) on SIGINT or SIGTERM.
 
-    SIGINT is re-armed first: a process started from a non-interactive shell inherits it
-    ignored, and then Ctrl-C (or a launcher's SIGINT) would do nothing.
+    rclpy's own signal handlers shut the context down from inside the handler, which races
+    with a message being taken (`RuntimeError` at Ctrl-C). Instead the signal only sets a
+    flag; the spin loop returns to Python at least every 0.1 s to see it, then the node and
+    the context are shut down in order. Re-arming SIGINT also undoes the "ignored"
+    disposition a process inherits when started with `&` from a non-interactive shell.
     """
     import rclpy
-    from rclpy.executors import ExternalShutdownException
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.signals import SignalHandlerOptions
 
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    stop = threading.Event()
 
-    def _terminate(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt
+    def _request_stop(signum: int, frame: object) -> None:
+        stop.set()
 
-    signal.signal(signal.SIGTERM, _terminate)
-    rclpy.init(args=list(args) if args is not None else sys.argv)
+    signal.signal(signal.SIGINT, _request_stop)
+    signal.signal(signal.SIGTERM, _request_stop)
+    rclpy.init(
+        args=list(args) if args is not None else sys.argv,
+        signal_handler_options=SignalHandlerOptions.NO,
+    )
     node = None
     try:
         node = factory()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        executor = SingleThreadedExecutor()
+        executor.add_node(node)
+        while not stop.is_set() and rclpy.utilities.ok():
+            executor.spin_once(timeout_sec=0.1)
+        executor.shutdown()
     finally:
         if node is not None:
             node.destroy_node()
