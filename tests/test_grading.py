@@ -8,14 +8,19 @@ clear result, with no process left behind.
 
 from __future__ import annotations
 
+import contextlib
+import json
 import os
 import shutil
+import subprocess
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import nbformat
 import psutil
 import pytest
-from conftest import REPO, run_cli
+from conftest import BIN, REPO, run_cli
 
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.exercises import (
@@ -25,17 +30,19 @@ from robot_lab.grading.exercises import (
     strip_solution,
 )
 from robot_lab.grading.grade import TOKEN_VAR, GradeResult, grade
+from robot_lab.process import spawn, stop
 
 SOLUTIONS = sorted((REPO / 'solutions').glob('*.ipynb'))
 NAMES = [p.stem for p in SOLUTIONS]
 
 
-def _graded_processes() -> list[str]:
-    """Processes still carrying a grading token (started by some graded kernel)."""
+def _graded_processes(workspace: Path) -> list[str]:
+    """Processes still running from a grading that used `workspace` (kernel, nodes, ...)."""
     found = []
     for proc in psutil.process_iter():
         try:
-            if TOKEN_VAR in proc.environ():
+            env = proc.environ()
+            if TOKEN_VAR in env and env.get('ROBOT_LAB_WORKSPACE') == str(workspace):
                 found.append(f'{proc.pid} {" ".join(proc.cmdline())}')
         except psutil.Error:
             continue
@@ -102,18 +109,19 @@ def test_check_reports_drift_and_build_fixes_it(tmp_path: Path) -> None:
     solutions, exercises = tmp_path / 'solutions', tmp_path / 'exercises'
     solutions.mkdir()
     shutil.copy(REPO / 'solutions' / 'ex04_parameters.ipynb', solutions)
-    args = ['--solutions', str(solutions), '--exercises', str(exercises)]
-    assert run_cli('exercises', 'build', '--check', *args).returncode == 1  # nothing built yet
-    assert run_cli('exercises', 'build', *args).returncode == 0
-    assert run_cli('exercises', 'build', '--check', *args).returncode == 0
+    assert [r.up_to_date for r in build_exercises(solutions, exercises, check=True)] == [False]
+    assert not exercises.exists()  # --check writes nothing
+    assert [r.up_to_date for r in build_exercises(solutions, exercises)] == [False]
+    assert [r.up_to_date for r in build_exercises(solutions, exercises, check=True)] == [True]
     # An instructor edits a solution: the exercise is stale until rebuilt.
     nb = read_notebook(solutions / 'ex04_parameters.ipynb')
     nb.cells[0].source += '\n\nA new hint.'
     (solutions / 'ex04_parameters.ipynb').write_text(nbformat.writes(nb) + '\n')
+    args = ['--solutions', str(solutions), '--exercises', str(exercises)]
     stale = run_cli('exercises', 'build', '--check', *args)
     assert stale.returncode == 1
     assert 'ex04_parameters.ipynb is out of date' in stale.stderr
-    assert [r.up_to_date for r in build_exercises(solutions, exercises)] == [False]
+    assert run_cli('exercises', 'build', *args).returncode == 0
     assert 'A new hint.' in read_notebook(exercises / 'ex04_parameters.ipynb').cells[0].source
     # A solution removed: its exercise goes too.
     (solutions / 'ex04_parameters.ipynb').unlink()
@@ -126,27 +134,34 @@ def test_check_reports_drift_and_build_fixes_it(tmp_path: Path) -> None:
 # --- grading real submissions ----------------------------------------------------------
 
 
+@pytest.fixture(scope='module')
+def unanswered() -> Iterator[Any]:
+    """Every generated exercise graded as handed out, in the background, all at once.
+
+    Unanswered checks fail by waiting out their timeouts, so the exercises are graded in
+    parallel (`-j`, one ROS domain each, well away from the test modules' domains) while
+    the solutions are graded in the foreground; the last test collects the results.
+    """
+    base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
+    first = (base + 80) % (101 - len(NAMES)) + 1
+    proc = spawn([str(BIN / 'robot-lab'), 'grade', str(REPO / 'exercises'), '--json',
+                  '-j', str(len(NAMES)), '--domain-id', str(first), '--timeout', '30'],
+                 stderr=subprocess.DEVNULL)
+    yield proc
+    stop(proc)
+
+
 @pytest.mark.parametrize('name', NAMES)
-def test_solution_gets_full_marks(name: str, tmp_path: Path) -> None:
+def test_solution_gets_full_marks(name: str, tmp_path: Path, unanswered: Any) -> None:
     result = grade(REPO / 'solutions' / f'{name}.ipynb', cell_timeout=45,
                    workspace=tmp_path / 'ws')
     assert result.status == 'completed', result.table()
     assert result.max_score > 0 and result.score == result.max_score, result.table()
     assert result.summary() == f'{name}: {result.max_score:g}/{result.max_score:g}'
     assert result.leftovers == [], result.table()
-    assert _graded_processes() == []
+    assert _graded_processes(tmp_path / 'ws') == []
     # Student work went to the scratch workspace given to the kernel.
     assert any((tmp_path / 'ws').iterdir())
-
-
-@pytest.mark.parametrize('name', NAMES)
-def test_unanswered_exercise_scores_zero(name: str, tmp_path: Path) -> None:
-    result = grade(REPO / 'exercises' / f'{name}.ipynb', cell_timeout=30,
-                   workspace=tmp_path / 'ws')
-    assert result.status == 'completed', result.table()
-    assert result.checks and result.score == 0, result.table()
-    assert all(c.message for c in result.checks), result.table()
-    assert result.leftovers == [] and _graded_processes() == []
 
 
 def test_controller_section_under_the_wrong_name_loses_that_check(tmp_path: Path) -> None:
@@ -161,28 +176,48 @@ def test_controller_section_under_the_wrong_name_loses_that_check(tmp_path: Path
     assert _scores(result) == {'check-file-loads': 2, 'check-sensor-values': 3,
                                'check-controller-threshold': 0}, result.table()
     failed = result.checks[-1]
-    assert 'temp_threshold=25.0; expected 22.0' in failed.message
+    assert failed.message.startswith('CheckError: ✗ expected /controller temp_threshold = 22.0')
     assert result.summary() == 'ex04_parameters: 5/8'
 
 
-def test_flat_file_loses_every_check_with_rcls_reason(tmp_path: Path) -> None:
-    flat = '%%writefile {params_file}\nsensor_rate: 5\nnoise_level: 0.0\ntemp_threshold: 22.0\n'
-    result = grade(_submission(tmp_path, 'ex04_parameters', {'write-params': flat}),
+def test_node_publishing_the_wrong_type_loses_the_interface_check(tmp_path: Path) -> None:
+    # The average goes out as a String: only the check of the node's interface catches it
+    # (the value checks read `float(m.data)` of whatever type the node publishes).
+    nb = read_notebook(REPO / 'solutions' / 'ex02_write_nodes.ipynb')
+    source = next(c.source for c in nb.cells if c['id'] == 'write-node')
+    wrong = (source.replace('from std_msgs.msg import Float32',
+                            'from std_msgs.msg import Float32, String')
+             .replace('self.create_publisher(Float32,', 'self.create_publisher(String,')
+             .replace('Float32(data=sum(self.readings) / len(self.readings))',
+                      'String(data=str(sum(self.readings) / len(self.readings)))'))
+    assert wrong.count('String') == 3
+    result = grade(_submission(tmp_path, 'ex02_write_nodes', {'write-node': wrong}),
                    cell_timeout=30, workspace=tmp_path / 'ws')
-    assert result.score == 0, result.table()
-    assert 'Cannot have a value before ros__parameters at line 1' in result.checks[0].message
+    assert _scores(result) == {'check-node-interface': 0, 'check-window-param': 2,
+                               'check-live-average': 3, 'check-running-average': 3}, \
+        result.table()
+    assert 'expected /sensor/temperature_avg as Float32' in result.checks[0].message
+    assert result.summary() == 'ex02_write_nodes: 8/10'
 
 
 def test_edited_check_cell_is_replaced_by_the_solutions(tmp_path: Path) -> None:
-    # Unanswered, but the student "fixed" a check to pass: the solution's check is run.
-    nb = read_notebook(REPO / 'exercises' / 'ex04_parameters.ipynb')
-    for cell in nb.cells:
-        if cell['id'] == 'check-file-loads':
-            cell.source = 'pass'
-    path = tmp_path / 'ex04_parameters.ipynb'
+    # The student "fixed" a failing check to pass: the solution's check cell is what runs.
+    solutions = tmp_path / 'solutions'
+    solutions.mkdir()
+    _notebook(solutions, 'tiny', [('answer', 'x = 42', 0),
+                                  ('check-x', "assert x == 42, f'x is {x}'", 2)])
+    build_exercises(solutions, tmp_path / 'exercises')
+    nb = read_notebook(tmp_path / 'exercises' / 'tiny.ipynb')
+    nb.cells[0].source = 'x = 41'
+    nb.cells[1].source = 'pass'
+    nb.cells.append(nbformat.v4.new_code_cell('pass'))  # a check of their own: not counted
+    nb.cells[-1].metadata.update({'tags': ['grade'], 'robot_lab': {'points': 5}})
+    path = tmp_path / 'submission.ipynb'  # any file name: the exercise is in the metadata
     path.write_text(nbformat.writes(nb) + '\n')
-    result = grade(path, cell_timeout=30, workspace=tmp_path / 'ws')
-    assert _scores(result)['check-file-loads'] == 0, result.table()
+    result = grade(path, cell_timeout=10, solutions_dir=solutions, workspace=tmp_path / 'ws')
+    assert result.exercise == 'tiny'
+    assert [(c.check, c.points, c.max_points) for c in result.checks] == [('check-x', 0, 2)]
+    assert result.checks[0].message == 'AssertionError: x is 41'
 
 
 # --- submissions that hang, crash or leave processes ----------------------------------
@@ -215,15 +250,16 @@ def test_hanging_cells_are_interrupted_and_stray_processes_killed(tmp_path: Path
                  'time.sleep(600)', 0),
         ('never-reached', 'assert True', 3),
     ])
-    result = grade(path, cell_timeout=3, workspace=tmp_path / 'ws')
+    result = grade(path, cell_timeout=2, workspace=tmp_path / 'ws')
     assert _scores(result) == {'first': 1, 'after-interrupt': 2, 'never-reached': 0}
     assert result.status == 'timeout'
-    assert 'cell 4 ran past 3 s and did not stop when interrupted' in result.detail
+    assert 'cell 4 ran past 2 s and did not stop when interrupted' in result.detail
+    assert result.checks[1].passed and 'timed out' not in result.checks[1].message
     assert result.checks[-1].message.startswith('not run (timeout')
     assert result.elapsed < 30
     # The stray process (own session, no parent-death signal) was found and killed.
     assert len(result.leftovers) == 1 and 'python' in result.leftovers[0], result.leftovers
-    assert _graded_processes() == []
+    assert _graded_processes(tmp_path / 'ws') == []
     assert result.summary() == 'hangs: 3/6'
 
 
@@ -234,23 +270,37 @@ def test_kernel_crash_is_reported(tmp_path: Path) -> None:
         ('second', 'assert True', 1),
     ])
     result = grade(path, cell_timeout=20, workspace=tmp_path / 'ws')
-    assert result.status == 'kernel died'
+    assert result.status == 'kernel died', result.table()
     assert result.detail.startswith('the kernel died while running cell 1')
     assert _scores(result) == {'first': 1, 'second': 0}
     assert result.elapsed < 20
 
 
 def test_grade_cli_prints_table_and_json(tmp_path: Path) -> None:
-    path = _notebook(tmp_path, 'tiny', [('ok', 'assert True', 2),
+    _notebook(tmp_path, 'tiny', [('ok', 'assert True', 2),
                                         ('bad', "assert 2 + 2 == 5, 'arithmetic'", 3)])
-    shown = run_cli('grade', str(path))
-    assert shown.returncode == 0, shown.stderr
-    assert shown.stdout.splitlines()[-1] == 'tiny: 2/5'
-    assert 'AssertionError: arithmetic' in shown.stdout
-    as_json = run_cli('grade', str(tmp_path), '--json')
-    import json
-
+    as_json = run_cli('grade', str(tmp_path), '--json')  # a folder of one submission
+    assert as_json.returncode == 0, as_json.stderr
     data = json.loads(as_json.stdout)
     assert data['score'] == 2 and data['max_score'] == 5
     assert [c['passed'] for c in data['checks']] == [True, False]
-    assert os.environ.get(TOKEN_VAR) is None
+    assert data['checks'][1]['message'] == 'AssertionError: arithmetic'
+    table = GradeResult.from_dict(data).table().splitlines()
+    assert table[-1] == 'tiny: 2/5'
+    assert table[-2].split() == ['bad', '0/3', 'AssertionError:', 'arithmetic']
+
+
+def test_unanswered_exercises_score_zero(unanswered: Any) -> None:
+    started: list[Any] = []
+    with contextlib.suppress(psutil.Error):  # graders, kernels and nodes running now
+        started = psutil.Process(unanswered.pid).children(recursive=True)
+    out, _ = unanswered.communicate(timeout=120)
+    assert unanswered.returncode == 0
+    results = {r['exercise']: r for r in json.loads(out)}
+    assert sorted(results) == NAMES
+    for name, result in results.items():
+        assert result['status'] == 'completed', (name, result['detail'])
+        assert result['checks'] and result['score'] == 0, (name, result['checks'])
+        assert all(c['message'] for c in result['checks']), (name, result['checks'])
+        assert result['leftovers'] == [], (name, result['leftovers'])
+    assert [p for p in started if p.is_running() and p.status() != psutil.STATUS_ZOMBIE] == []

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
+import sys
 
 HELP = 'Grade submitted exercise notebooks (runs each headless, scores its check cells)'
 
@@ -16,32 +16,37 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Print JSON for gradebooks (an object, or a list for several)')
     parser.add_argument('--timeout', type=float, default=60.0, metavar='S',
                         help='Seconds a cell may run before it is interrupted (default: 60)')
-    parser.add_argument('--solutions', metavar='DIR',
-                        help="Solutions whose check cells are used (default: the kit's)")
+    parser.add_argument('-j', '--jobs', type=int, default=1, metavar='N',
+                        help='Grade N submissions at a time, each in its own ROS domain '
+                        '(the domain id, then the next N-1)')
     parser.add_argument('--domain-id', type=int, metavar='N',
                         help='ROS_DOMAIN_ID for the submissions (default: ROS_DOMAIN_ID)')
+    parser.add_argument('--solutions', metavar='DIR',
+                        help="Solutions whose check cells are used (default: the kit's)")
     parser.add_argument('--executed', metavar='DIR',
                         help='Also save each executed notebook there as NAME.graded.ipynb')
+    parser.add_argument('--executed-as', metavar='FILE', help=argparse.SUPPRESS)
 
 
 def main(args: argparse.Namespace) -> int:
-    from robot_lab.grading.grade import grade, submissions
+    from robot_lab.grading.grade import GradeResult, grade, grade_many, submissions
 
-    paths = submissions(args.submissions)
-    out = Path(args.executed) if args.executed else None
-    if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-    results = []
-    for path in paths:
-        executed = out / f'{path.stem}.graded.ipynb' if out is not None else None
-        result = grade(path, cell_timeout=args.timeout, solutions_dir=args.solutions,
-                       executed=executed, domain_id=args.domain_id)
-        results.append(result)
+    def show(result: GradeResult) -> None:
         if not args.json:
             print(result.table(), flush=True)
+
+    if args.executed_as:  # one submission, for a parent grader running jobs
+        [path] = submissions(args.submissions)
+        results = [grade(path, cell_timeout=args.timeout, solutions_dir=args.solutions,
+                         domain_id=args.domain_id, executed=args.executed_as)]
+    else:
+        results = grade_many(args.submissions, jobs=args.jobs, domain_id=args.domain_id,
+                             executed_dir=args.executed, on_result=show,
+                             cell_timeout=args.timeout, solutions_dir=args.solutions)
     if args.json:
         data = [r.to_dict() for r in results]
-        print(json.dumps(data[0] if len(data) == 1 else data, indent=2))
+        json.dump(data[0] if len(data) == 1 else data, sys.stdout, indent=2)
+        print()
     elif len(results) > 1:
         print()
         for r in results:

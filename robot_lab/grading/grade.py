@@ -15,14 +15,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import queue
 import re
 import signal
+import subprocess
 import sys
 import tempfile
 import threading
 import time
 import uuid
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -40,7 +43,14 @@ from robot_lab.grading.exercises import (
     read_notebook,
 )
 
-__all__ = ['CheckResult', 'GradeResult', 'grade', 'leftover_processes', 'submissions']
+__all__ = [
+    'CheckResult',
+    'GradeResult',
+    'grade',
+    'grade_many',
+    'leftover_processes',
+    'submissions',
+]
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_RUN'
 _KERNEL = 'robot_lab_grade'
@@ -89,6 +99,12 @@ class GradeResult:
         data['score'] = self.score
         data['max_score'] = self.max_score
         return data
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> GradeResult:
+        """The result back from `to_dict()` (e.g. a child grader's JSON)."""
+        fields = {k: v for k, v in data.items() if k not in ('checks', 'score', 'max_score')}
+        return cls(**fields, checks=[CheckResult(**c) for c in data.get('checks', [])])
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2)
@@ -195,7 +211,7 @@ def _describe(proc: Any) -> str:
     return f'{Path(cmd[0]).name if cmd else "?"} {exe} (pid {proc.pid})'.replace('  ', ' ')
 
 
-def _reap(token: str, known: list[Any], grace: float = 3.0) -> list[str]:
+def _reap(token: str, known: list[Any], grace: float = 2.0) -> list[str]:
     """Wait for the kernel's processes to die with it; kill and name the ones that do not."""
     import psutil
 
@@ -395,7 +411,69 @@ class _Watchdog:
         self._thread.join()
 
 
-def grade_many(paths: list[str | Path], **kwargs: Any) -> list[GradeResult]:
-    """Grade each submission in turn (one kernel at a time: nodes never mix)."""
-    return [grade(p, **kwargs) for p in submissions(paths)]
+def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = None,
+               executed_dir: str | Path | None = None,
+               on_result: Callable[[GradeResult], None] | None = None,
+               **kwargs: Any) -> list[GradeResult]:
+    """Grade several submissions, `jobs` at a time; results in submission order.
 
+    `on_result` is called as each one finishes; `executed_dir` receives each executed
+    notebook as NAME.graded.ipynb.
+
+    Submissions graded at the same time never share a ROS domain: job slot k uses
+    `domain_id` (default: ROS_DOMAIN_ID) + k, so one student's nodes never answer another's
+    checks. With jobs > 1 each submission is graded by a child `robot-lab grade --json`.
+    """
+    found = submissions(paths)
+    out = Path(executed_dir) if executed_dir is not None else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+
+    def executed(path: Path) -> Path | None:
+        return out / f'{path.stem}.graded.ipynb' if out is not None else None
+
+    base = domain_id if domain_id is not None else int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
+    if jobs <= 1 or len(found) <= 1:
+        results = []
+        for path in found:
+            results.append(grade(path, domain_id=domain_id, executed=executed(path), **kwargs))
+            if on_result is not None:
+                on_result(results[-1])
+        return results
+    slots: queue.Queue[int] = queue.Queue()
+    for k in range(min(jobs, len(found))):
+        slots.put(base + k)
+
+    def one(path: Path) -> GradeResult:
+        domain = slots.get()
+        try:
+            result = _grade_in_child(path, domain, executed=executed(path), **kwargs)
+        finally:
+            slots.put(domain)
+        if on_result is not None:
+            on_result(result)
+        return result
+
+    with ThreadPoolExecutor(slots.qsize(), thread_name_prefix='robot_lab-grade') as pool:
+        return list(pool.map(one, found))
+
+
+def _grade_in_child(path: Path, domain: int, cell_timeout: float = 60.0,
+                    solutions_dir: str | Path | None = None,
+                    executed: str | Path | None = None, **_ignored: Any) -> GradeResult:
+    """`robot-lab grade --json` for one submission in a child process (its own kernel)."""
+    from robot_lab.process import spawn
+
+    cmd = [sys.executable, '-c', 'from robot_lab.cli import entry; entry()', 'grade', '--json',
+           '--timeout', str(cell_timeout), '--domain-id', str(domain), str(path)]
+    if solutions_dir is not None:
+        cmd += ['--solutions', str(solutions_dir)]
+    if executed is not None:
+        cmd += ['--executed-as', str(executed)]
+    child = spawn(cmd, stderr=subprocess.DEVNULL)  # this pool thread lives until it ends
+    out, _ = child.communicate()
+    try:
+        return GradeResult.from_dict(json.loads(out))
+    except (ValueError, KeyError, TypeError):
+        return GradeResult(str(path), exercise_name(path), status='error',
+                           detail=f'the grader for this submission exited {child.returncode}')
