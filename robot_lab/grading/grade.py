@@ -436,7 +436,12 @@ def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = N
     if jobs <= 1 or len(found) <= 1:
         results = []
         for path in found:
-            results.append(grade(path, domain_id=domain_id, executed=executed(path), **kwargs))
+            try:
+                results.append(grade(path, domain_id=domain_id, executed=executed(path),
+                                     **kwargs))
+            except RobotLabError as err:  # one unreadable file must not stop the batch
+                results.append(GradeResult(str(path), exercise_name(path), status='error',
+                                           detail=err.message))
             if on_result is not None:
                 on_result(results[-1])
         return results
@@ -470,10 +475,11 @@ def _grade_in_child(path: Path, domain: int, cell_timeout: float = 60.0,
         cmd += ['--solutions', str(solutions_dir)]
     if executed is not None:
         cmd += ['--executed-as', str(executed)]
-    child = spawn(cmd, stderr=subprocess.DEVNULL)  # this pool thread lives until it ends
-    out, _ = child.communicate()
+    child = spawn(cmd, stderr=subprocess.PIPE)  # this pool thread lives until it ends
+    out, err = child.communicate()
     try:
         return GradeResult.from_dict(json.loads(out))
     except (ValueError, KeyError, TypeError):
         return GradeResult(str(path), exercise_name(path), status='error',
-                           detail=f'the grader for this submission exited {child.returncode}')
+                           detail=f'the grader for this submission exited {child.returncode}: '
+                           + err.decode(errors='replace').strip()[-300:])
