@@ -257,7 +257,7 @@ def _hz(args: argparse.Namespace) -> int:
         # ros2cli prints about once a second of message time, starting a second after the
         # first interval was measured.
         first_seen: float | None = None
-        last_print = 0.0
+        last_print, printed_count = 0.0, 0
         while end is None or time.monotonic() < end:
             time.sleep(0.02)
             stats = meter.meter.stats()
@@ -267,9 +267,10 @@ def _hz(args: argparse.Namespace) -> int:
             if first_seen is None:
                 first_seen = last_print = now
                 continue
-            if now - last_print >= 1.0:
+            # like ros2cli: nothing new printed while no new message arrived
+            if now - last_print >= 1.0 and meter.meter.count != printed_count:
                 print(stats, flush=True)
-                last_print = now
+                last_print, printed_count = now, meter.meter.count
     finally:
         meter.close()
     return 0
