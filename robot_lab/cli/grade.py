@@ -16,6 +16,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Print JSON for gradebooks (an object, or a list for several)')
     parser.add_argument('--timeout', type=float, default=60.0, metavar='S',
                         help='Seconds a cell may run before it is interrupted (default: 60)')
+    parser.add_argument('--total-timeout', type=float, default=900.0, metavar='S',
+                        help='Seconds a whole submission may run (default: 900)')
     parser.add_argument('-j', '--jobs', type=int, default=1, metavar='N',
                         help='Grade N submissions at a time, each in its own ROS domain '
                         '(the domain id, then the next N-1)')
@@ -38,11 +40,13 @@ def main(args: argparse.Namespace) -> int:
     if args.executed_as:  # one submission, for a parent grader running jobs
         [path] = submissions(args.submissions)
         results = [grade(path, cell_timeout=args.timeout, solutions_dir=args.solutions,
-                         domain_id=args.domain_id, executed=args.executed_as)]
+                         domain_id=args.domain_id, executed=args.executed_as,
+                         total_timeout=args.total_timeout)]
     else:
         results = grade_many(args.submissions, jobs=args.jobs, domain_id=args.domain_id,
                              executed_dir=args.executed, on_result=show,
-                             cell_timeout=args.timeout, solutions_dir=args.solutions)
+                             cell_timeout=args.timeout, solutions_dir=args.solutions,
+                             total_timeout=args.total_timeout)
     if args.json:
         data = [r.to_dict() for r in results]
         json.dump(data[0] if len(data) == 1 else data, sys.stdout, indent=2)

@@ -211,7 +211,7 @@ def _describe(proc: Any) -> str:
     return f'{Path(cmd[0]).name if cmd else "?"} {exe} (pid {proc.pid})'.replace('  ', ' ')
 
 
-def _reap(token: str, known: list[Any], grace: float = 2.0) -> list[str]:
+def _reap(token: str, known: list[Any], grace: float = 1.0) -> list[str]:
     """Wait for the kernel's processes to die with it; kill and name the ones that do not."""
     import psutil
 
@@ -244,12 +244,14 @@ def grade(
     workspace: str | Path | None = None,
     executed: str | Path | None = None,
     domain_id: int | None = None,
+    total_timeout: float | None = 900.0,
 ) -> GradeResult:
     """Run `submission` headless and score its check cells.
 
     `workspace` is the scratch folder given to the notebook (default: a new temporary
     one, removed afterwards); `executed`, if given, receives the notebook with outputs;
-    `domain_id` is the kernel's ROS_DOMAIN_ID (default: this process's).
+    `domain_id` is the kernel's ROS_DOMAIN_ID (default: this process's). No cell runs
+    longer than `cell_timeout` s, and the whole notebook no longer than `total_timeout` s.
     """
     from nbclient import NotebookClient
     from nbclient.exceptions import DeadKernelError
@@ -294,23 +296,30 @@ def grade(
             with log_path.open('wb') as log, client.setup_kernel(
                     env=env, stdout=log, stderr=log, cleanup_kc=True):
                 known = _kernel_tree(km)
+                deadline = None if total_timeout is None else started + total_timeout
                 for current, cell in enumerate(nb.cells):
                     if cell.cell_type != 'code':
                         continue
-                    with _Watchdog(km, cell_timeout, min(cell_timeout, _GRACE)) as watchdog:
+                    budget = cell_timeout
+                    if deadline is not None:
+                        budget = min(budget, deadline - time.monotonic())
+                        if budget <= 0:
+                            result.status = 'timeout'
+                            result.detail = (f'the notebook ran past {_number(total_timeout or 0)}'
+                                             f' s in total, before cell {current}')
+                            break
+                    with _Watchdog(km, budget, min(cell_timeout, _GRACE)) as watchdog:
                         client.execute_cell(cell, current)
                     known = _kernel_tree(km, known)
-                    if watchdog.interrupted:
-                        outcome[cell.get('id', '')] = (
-                            f'timed out after {_number(cell_timeout)} s (interrupted)')
-                        continue
-                    outcome[cell.get('id', '')] = _error_of(cell)
+                    outcome[cell.get('id', '')] = (
+                        f'timed out after {budget:.3g} s (interrupted)' if watchdog.interrupted
+                        else _error_of(cell))
         except DeadKernelError:
             if watchdog is not None and watchdog.killed:
                 result.status = 'timeout'
-                result.detail = (f'cell {current} ran past {_number(cell_timeout)} s and did not '
+                result.detail = (f'cell {current} ran past {watchdog.timeout:.3g} s and did not '
                                  'stop when interrupted; the kernel was killed')
-                why = f'timed out after {_number(cell_timeout)} s (kernel killed)'
+                why = f'timed out after {watchdog.timeout:.3g} s (kernel killed)'
             else:
                 result.status = 'kernel died'
                 result.detail = f'the kernel died while running cell {current}'
@@ -465,12 +474,15 @@ def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = N
 
 def _grade_in_child(path: Path, domain: int, cell_timeout: float = 60.0,
                     solutions_dir: str | Path | None = None,
-                    executed: str | Path | None = None, **_ignored: Any) -> GradeResult:
+                    executed: str | Path | None = None,
+                    total_timeout: float | None = 900.0, **_ignored: Any) -> GradeResult:
     """`robot-lab grade --json` for one submission in a child process (its own kernel)."""
     from robot_lab.process import spawn
 
     cmd = [sys.executable, '-c', 'from robot_lab.cli import entry; entry()', 'grade', '--json',
            '--timeout', str(cell_timeout), '--domain-id', str(domain), str(path)]
+    if total_timeout is not None:
+        cmd += ['--total-timeout', str(total_timeout)]
     if solutions_dir is not None:
         cmd += ['--solutions', str(solutions_dir)]
     if executed is not None:
