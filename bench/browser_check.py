@@ -237,12 +237,12 @@ def image_updates(nb: Notebook, cell: int, seconds: float) -> int:
     image = nb.output(cell).locator('img').first
     image.scroll_into_view_if_needed()
     return int(image.evaluate(
-        '''(img, ms) => new Promise(done => {
+        """(img, ms) => new Promise(done => {
                let n = 0;
                const seen = new MutationObserver(() => { n += 1; });
                seen.observe(img, {attributes: true, attributeFilter: ['src']});
                setTimeout(() => { seen.disconnect(); done(n); }, ms);
-           })''', seconds * 1000))
+           })""", seconds * 1000))
 
 
 def strays(nb: Notebook, cells: list[int]) -> list[int]:

@@ -252,3 +252,98 @@ def test_launch_panel_starts_stops_and_shows_each_process(tmp_path: Path) -> Non
     finally:
         panel.stop()
         panel.close()
+
+
+def test_widget_logs_take_no_room_until_they_have_lines_and_show_the_newest() -> None:
+    # Seen in JupyterLab: every plot and slider panel ended in a '(nothing yet)' box, and a
+    # full log showed its oldest lines (an HTML widget starts scrolled to the top).
+    log = WidgetLog(max_lines=50, height='5em')
+    view = log.widget
+    assert view.layout.display == 'none'
+    for n in range(30):
+        log.writeline(f'line {n}')
+    log.refresh()
+    assert view.layout.display is None
+    assert 'flex-direction:column-reverse' in view.value  # starts scrolled to the end
+    assert view.value.index('line 28') < view.value.index('line 29')
+    log.clear()
+    assert view.layout.display == 'none'
+    console_log = Console(rosout=False).log
+    assert console_log.widget.layout.display is None  # a console shows its empty state
+    assert '(no log records yet)' in console_log.widget.value
+
+
+class _Kernel:
+    """A real IPython kernel, sent execute requests the way JupyterLab sends them."""
+
+    def __init__(self) -> None:
+        from jupyter_client.manager import start_new_kernel
+
+        self.manager, self.client = start_new_kernel(kernel_name='robot_lab',
+                                                     startup_timeout=60)
+
+    def run(self, code: str, cell_id: str, timeout: float = 30.0) -> str:
+        """Execute `code` as a run of notebook cell `cell_id`; what it printed."""
+        client = self.client
+        msg = client.session.msg('execute_request', {
+            'code': code, 'silent': False, 'store_history': True, 'user_expressions': {},
+            'allow_stdin': False, 'stop_on_error': True}, metadata={'cellId': cell_id})
+        client.shell_channel.send(msg)
+        out: list[str] = []
+        while True:
+            reply = client.get_iopub_msg(timeout=timeout)
+            if reply['parent_header'].get('msg_id') != msg['header']['msg_id']:
+                continue
+            kind, content = reply['msg_type'], reply['content']
+            if kind == 'stream':
+                out.append(content['text'])
+            elif kind == 'error':
+                out.append('\n'.join(content['traceback']))
+            elif kind == 'status' and content['execution_state'] == 'idle':
+                return ''.join(out)
+
+    def close(self) -> None:
+        self.client.stop_channels()
+        self.manager.shutdown_kernel(now=True)
+
+
+def test_a_cell_run_again_closes_the_widgets_its_previous_run_made(system: None) -> None:
+    # Seen in JupyterLab: re-running `live = robot_lab.plot(...)` left the old plot drawing
+    # 20 frames a second, subscribed, with its view gone from the page.
+    kernel = _Kernel()
+    try:
+        setup = ('from robot_lab.widgets.output import current_cell\n'
+                 'from robot_lab.widgets.plot import Plot\n'
+                 'from robot_lab.widgets.sliders import Sliders\n'
+                 'made = []\n'
+                 'print(current_cell()[0])\n')
+        assert kernel.run(setup, 'cell-setup').strip() == 'cell-setup'
+        make = ('live = Plot("/sensor/temperature", window=5.0).start()\n'
+                'knobs = Sliders("/sensor")\n'
+                'made.append((live, knobs))\n')
+        first = kernel.run(make, 'cell-plot')
+        assert first == '', first
+        second = kernel.run(make, 'cell-plot')  # the same cell run again
+        assert second == '', second
+        other = kernel.run('other = Plot("/sensor/temperature", window=5.0).start()\n'
+                           'also = Plot("/sensor/temperature", window=5.0).start()', 'cell-b')
+        assert other == '', other
+        report = kernel.run(
+            'import time\n'
+            '(old, old_knobs), (new, new_knobs) = made\n'
+            'drawn = [p.redraws for p in (old, new, other, also)]\n'
+            'time.sleep(0.5)\n'  # a span to count redraws over, not a wait for an event
+            'print([p.redraws - d for p, d in zip((old, new, other, also), drawn)])\n'
+            'print([p._closed.is_set() for p in (old, new, other, also)])\n'
+            'print(len(old._subscriptions), len(new._subscriptions))\n'
+            'print(old_knobs._events in old_knobs.session.node.subscriptions,\n'
+            '      new_knobs._events in new_knobs.session.node.subscriptions)\n'
+            'print(old._status.value)\n', 'cell-report')
+        moved, closed, subscriptions, events, status = report.strip().split('\n')
+        assert closed == '[True, False, False, False]', report
+        redraws = [int(n) for n in moved.strip('[]').split(',')]
+        assert redraws[0] == 0 and min(redraws[1:]) > 0, report
+        assert subscriptions == '0 1' and events == 'False True', report
+        assert 'closed' in status, report
+    finally:
+        kernel.close()

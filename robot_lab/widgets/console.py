@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.output import WidgetLog, is_headless
+from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell, scroll_box
 
 __all__ = ['LEVELS', 'Console', 'LogRecord', 'console']
 
@@ -66,8 +66,8 @@ def _render(lines: list[str]) -> str:
         colour = _COLOURS.get(found.group(1).replace('WARNING', 'WARN'), '#24292f') \
             if found else '#24292f'
         out.append(f'<span style="color:{colour}">{html.escape(line)}</span>')
-    return ('<pre style="max-height:16em;overflow-y:auto;margin:0;font-size:12px;'
-            f'line-height:1.35">{chr(10).join(out)}</pre>')
+    return scroll_box('<pre style="margin:0;font-size:12px;line-height:1.35">'
+                      f'{chr(10).join(out)}</pre>', '16em')
 
 
 class Console:
@@ -79,7 +79,7 @@ class Console:
         self.level = _level(level)
         self.node = node
         self.records: deque[LogRecord] = deque(maxlen=max_records)
-        self.log = WidgetLog(max_lines=300, render=_render)
+        self.log = WidgetLog(max_lines=300, render=_render, hide_empty=False)
         self._lock = threading.Lock()
         self._closed = threading.Event()
         self._widget: Any = None
@@ -94,6 +94,7 @@ class Console:
             self._thread = threading.Thread(target=self.log.guard(self._follow_launch),
                                             name='robot_lab-console', daemon=True)
             self._thread.start()
+        owned_by_cell(self)
 
     # -- sources -----------------------------------------------------------------------
     def _subscribe(self, domain_id: int | None) -> None:

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.widgets.console import Console
-from robot_lab.widgets.output import WidgetLog, is_headless
+from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell
 
 __all__ = ['LaunchPanel', 'launch_panel']
 
@@ -40,6 +40,7 @@ class LaunchPanel:
         self._widget: Any = None
         self._closed = threading.Event()
         self._poller: threading.Thread | None = None
+        owned_by_cell(self)
 
     @property
     def title(self) -> str:

@@ -18,9 +18,10 @@ import traceback
 from collections import deque
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import IO, Any, ParamSpec, TypeVar
+from typing import IO, Any, ParamSpec, Protocol, TypeVar
 
-__all__ = ['WidgetLog', 'in_ci', 'is_headless', 'routed_to']
+__all__ = ['WidgetLog', 'current_cell', 'in_ci', 'is_headless', 'owned_by_cell', 'routed_to',
+           'scroll_box']
 
 P = ParamSpec('P')
 R = TypeVar('R')
@@ -53,6 +54,54 @@ def is_headless() -> bool:
         return True
     shell = get_ipython()
     return shell is None or not hasattr(shell, 'kernel')
+
+
+def current_cell() -> tuple[str, str] | None:
+    """(cell id, id of this run) of the notebook cell executing now; None outside a frontend.
+
+    JupyterLab names the cell in each execute request's metadata (`cellId`); the request's
+    own message id tells one run of that cell from the next.
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return None
+    kernel = getattr(get_ipython(), 'kernel', None)
+    if kernel is None:
+        return None
+    parent = kernel.get_parent() or {}
+    cell = (parent.get('metadata') or {}).get('cellId')
+    run = (parent.get('header') or {}).get('msg_id')
+    return (str(cell), str(run)) if cell and run else None
+
+
+class Closable(Protocol):
+    def close(self) -> None: ...
+
+
+_CELL_RUNS: dict[str, tuple[str, list[Closable]]] = {}
+_CELL_LOCK = threading.Lock()
+
+
+def owned_by_cell(widget: Closable) -> None:
+    """Re-running a cell replaces what it made before: its previous run's widgets are closed.
+
+    Otherwise each re-run of `live = robot_lab.plot(...)` would leave the old plot drawing
+    20 frames a second, and subscribed, for the rest of the kernel's life (its view is gone
+    from the page, so nobody could press a button to stop it).
+    """
+    where = current_cell()
+    if where is None:
+        return
+    cell, run = where
+    with _CELL_LOCK:
+        last_run, owned = _CELL_RUNS.get(cell, ('', []))
+        if last_run == run:
+            owned.append(widget)
+            return
+        _CELL_RUNS[cell] = (run, [widget])
+    for old in owned:
+        old.close()
 
 
 class _ThreadRouter:
@@ -107,15 +156,27 @@ def routed_to(sink: WidgetLog) -> Iterator[WidgetLog]:
         stack.pop()
 
 
+def scroll_box(body: str, height: str) -> str:
+    """`body` in a box of at most `height` that shows its end, like a terminal.
+
+    An HTML widget runs no script, so it cannot scroll itself; a column-reversed flex box
+    starts scrolled to the bottom, so each refresh shows the newest lines, not the oldest.
+    """
+    return (f'<div style="max-height:{height};overflow-y:auto;display:flex;'
+            f'flex-direction:column-reverse">{body}</div>')
+
+
 class WidgetLog:
     """A bounded text log shown in a widget, safe to write from any thread.
 
     The widget is refreshed at most `refresh_hz` times a second, so a chatty callback
-    costs the kernel one small message per interval, not one per line.
+    costs the kernel one small message per interval, not one per line. With `hide_empty`
+    an empty log takes no room (a plot or sliders with nothing to report show no box).
     """
 
     def __init__(self, max_lines: int = 200, height: str = '12em', refresh_hz: float = 10.0,
-                 render: Callable[[list[str]], str] | None = None) -> None:
+                 render: Callable[[list[str]], str] | None = None,
+                 hide_empty: bool = True) -> None:
         self.lines: deque[str] = deque(maxlen=max_lines)
         self._partial = ''
         self._lock = threading.Lock()
@@ -124,6 +185,7 @@ class WidgetLog:
         self._timer: threading.Timer | None = None
         self._height = height
         self._render = render or self.render_plain
+        self._hide_empty = hide_empty
         self._widget: Any = None
 
     @property
@@ -133,14 +195,18 @@ class WidgetLog:
             import ipywidgets as widgets
 
             self._widget = widgets.HTML(layout=widgets.Layout(width='100%'))
-            self._widget.value = self._render(list(self.lines))
+            self._show(list(self.lines))
         return self._widget
+
+    def _show(self, lines: list[str]) -> None:
+        self._widget.value = self._render(lines)
+        self._widget.layout.display = 'none' if self._hide_empty and not lines else None
 
     def render_plain(self, lines: list[str]) -> str:
         empty = '<span style="color:#888">(nothing yet)</span>'
         body = html.escape('\n'.join(lines)) if lines else empty
-        return (f'<pre style="max-height:{self._height};overflow-y:auto;margin:0;'
-                f'font-size:12px;line-height:1.35">{body}</pre>')
+        return scroll_box(f'<pre style="margin:0;font-size:12px;line-height:1.35">{body}</pre>',
+                          self._height)
 
     def write(self, text: str) -> None:
         with self._lock:
@@ -185,7 +251,7 @@ class WidgetLog:
             self._last = time.monotonic()
             lines = list(self.lines)
         if self._widget is not None:
-            self._widget.value = self._render(lines)
+            self._show(lines)
 
     def guard(self, fn: Callable[P, R]) -> Callable[P, R | None]:
         """Wrap a callback: its prints and its exception go to this log, not a cell."""

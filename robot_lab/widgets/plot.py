@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.output import WidgetLog, in_ci, is_headless
+from robot_lab.widgets.output import WidgetLog, in_ci, is_headless, owned_by_cell
 
 __all__ = ['Plot', 'Series', 'plot', 'resolve_field_path']
 
@@ -117,6 +117,7 @@ class Plot:
         self.session = session(domain_id)
         self.series = self._resolve(paths, timeout)
         self._subscribe()
+        owned_by_cell(self)
 
     # -- set-up ---------------------------------------------------------------------
     def _read_bag(self, paths: Iterable[str]) -> list[Series]:
@@ -403,10 +404,14 @@ class Plot:
             self._closed.wait(delay)
 
     def close(self) -> None:
-        """Stop drawing and unsubscribe."""
+        """Stop drawing and unsubscribe (also done when the cell that made it runs again)."""
         self._closed.set()
         if self.bag is not None:
             return
+        if self._widget is not None:
+            self._pause_button.disabled = True
+            self._status.value = ('<span style="color:#666;font-size:12px">&nbsp;closed: '
+                                  'no longer updated</span>')
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         subscriptions, self._subscriptions = self._subscriptions, []

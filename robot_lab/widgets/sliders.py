@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.output import WidgetLog, is_headless
+from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell
 
 __all__ = ['SetResult', 'Sliders', 'sliders']
 
@@ -88,6 +88,7 @@ class Sliders:
         self._events = self.session.run_in_executor(
             lambda: self.session.node.create_subscription(
                 ParameterEvent, '/parameter_events', self.log.guard(self._on_event), 100))
+        owned_by_cell(self)
 
     def _call(self, future: Any, what: str) -> Any:
         return self.session.wait_future(future, self.call_timeout, f'{self.node} {what}')
@@ -159,7 +160,8 @@ class Sliders:
             for name, control in self.controls.items():
                 control.widget = self._make_control(control, self.values.get(name))
                 control.status = widgets.HTML(layout=widgets.Layout(width='40%'))
-                control.widget.observe(self._user_changed(name), names='value')
+                # a comm handler's exception would only reach the server's log: show it here
+                control.widget.observe(self.log.guard(self._user_changed(name)), names='value')
                 rows.append(widgets.HBox([control.widget, control.status]))
             rows.append(self.log.widget)
             self._widget = widgets.VBox(rows)
