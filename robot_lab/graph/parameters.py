@@ -8,6 +8,8 @@ session and target node (a new client has to be discovered before it can call).
 from __future__ import annotations
 
 import os
+import threading
+import time
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
@@ -68,13 +70,37 @@ def _target(sess: Session, node: str) -> str:
 
 def _call(sess: Session, node: str, service: str, srv_type: Any, request: Any,
           timeout: float = CALL_TIMEOUT) -> Any:
+    """One service call with a deadline, resent while unanswered.
+
+    Right after discovery a request can be lost: the client sees the server's request
+    reader before the server has matched the client's response reader. Parameter
+    requests are idempotent, so resending (after 0.5 s, 1 s, 2 s...) is safe.
+    """
     client = _client(sess, node, service, srv_type)
+    deadline = time.monotonic() + timeout
     if wait_until(lambda: True if client.service_is_ready() else None, timeout) is None:
         raise GraphError(
             f'Wait for service timed out waiting for parameter services for node {node}',
             fix='the node may have died or be busy; check `robot-lab node list`',
         )
-    return sess.wait_future(client.call_async(request), timeout, f'{node}/{service}')
+    patience = 0.5
+    while True:
+        future = client.call_async(request)
+        answered = threading.Event()
+        future.add_done_callback(lambda _f, done=answered: done.set())
+        remaining = deadline - time.monotonic()
+        if answered.wait(max(0.0, min(patience, remaining))):
+            exc = future.exception()
+            if exc is not None:
+                raise GraphError(f'{node}/{service}: {exc}')
+            return future.result()
+        client.remove_pending_request(future)
+        if time.monotonic() >= deadline:
+            raise GraphError(
+                f'{node}/{service}: no answer within {timeout:g} s',
+                fix='the node may be hung or have died mid-call; check `robot-lab node list`',
+            )
+        patience *= 2
 
 
 def param_list(node: str | None = None, prefixes: list[str] | None = None,
