@@ -1,0 +1,25 @@
+"""Issue 4's acceptance, with the real launcher: `robot-lab launch robot_lab robot.launch.xml`
+and the inspect verbs typed right after it, as a student would."""
+
+from __future__ import annotations
+
+import re
+
+from conftest import run_cli
+
+
+def test_inspect_a_launched_system(start) -> None:  # type: ignore[no-untyped-def]
+    launch = start('robot-lab', 'launch', 'robot_lab', 'robot.launch.xml')
+    for started in (r'Sensor node started', r'Controller node started',
+                    r'Robot node started: my_robot'):
+        launch.wait_for(started, timeout=30)
+    # at once, no waiting of our own: the verb must let discovery settle by itself
+    listed = run_cli('node', 'list')
+    assert listed.stdout == '/controller\n/robot\n/sensor\n', listed.stderr
+    assert run_cli('param', 'get', '/sensor', 'sensor_rate').stdout == 'Integer value is: 10\n'
+    refused = run_cli('param', 'set', '/sensor', 'noise_level', 'abc')
+    assert refused.stderr.startswith('Setting parameter failed: ')
+    hz = run_cli('topic', 'hz', '/sensor/temperature', '--window', '20', '--duration', '4')
+    rates = [float(r) for r in re.findall(r'^average rate: (\d+\.\d{3})$', hz.stdout, re.M)]
+    assert rates and abs(rates[-1] - 10.0) <= 0.2, hz.stdout  # still 10 Hz after the refusal
+    assert launch.popen.poll() is None
