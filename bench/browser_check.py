@@ -49,7 +49,7 @@ CHROMIUM_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-
                  '--disable-background-networking', '--disable-component-update',
                  '--disable-sync']
 # JupyterLab's news pop-up would cover the lower right corner of every screenshot.
-LAB_SETTINGS = {'@jupyterlab/apputils-extension:notification': {'fetchNews': 'false'}}
+LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'false'}}
 
 problems: list[str] = []
 
@@ -65,19 +65,20 @@ def note(ok: bool, what: str) -> None:
 def jupyter_lab(folder: Path, port: int, token: str, env: dict[str, str]) -> Iterator[str]:
     """JupyterLab on 127.0.0.1:port over `folder`; stopped with its kernels at the end."""
     settings = folder.parent / 'lab-settings'
-    (settings / 'overrides').mkdir(parents=True, exist_ok=True)
-    (settings / 'overrides' / 'overrides.json').write_text(json.dumps(LAB_SETTINGS))
+    for plugin, values in LAB_SETTINGS.items():
+        file = settings / f'{plugin}.jupyterlab-settings'
+        file.parent.mkdir(parents=True, exist_ok=True)
+        file.write_text(json.dumps(values))
     runtime = folder.parent / 'runtime'
     base = f'http://127.0.0.1:{port}'
     log = (folder.parent / 'lab.log').open('w')
     lab = subprocess.Popen(
         [str(VENV_BIN / 'jupyter'), 'lab', '--allow-root', '--no-browser', '--ip', '127.0.0.1',
          '--port', str(port), '--notebook-dir', str(folder), f'--ServerApp.token={token}',
-         f'--LabApp.user_settings_dir={settings / "user"}',
          '--ServerApp.port_retries=0'],
         env={**env, 'JUPYTER_RUNTIME_DIR': str(runtime),
              'JUPYTERLAB_WORKSPACES_DIR': str(folder.parent / 'lab-workspaces'),
-             'JUPYTERLAB_SETTINGS_DIR': str(settings / 'user')},
+             'JUPYTERLAB_SETTINGS_DIR': str(settings)},
         stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     try:
         deadline = time.monotonic() + 60
@@ -226,6 +227,14 @@ def param_get(node: str, name: str, env: dict[str, str]) -> str:
     return (done.stdout + done.stderr).strip()
 
 
+def subscriptions(topic: str, env: dict[str, str]) -> int:
+    """`Subscription count: N` of `robot-lab topic info` (as `ros2 topic info` prints)."""
+    done = subprocess.run([str(VENV_BIN / 'robot-lab'), 'topic', 'info', topic], env=env,
+                          capture_output=True, text=True, timeout=30)
+    found = re.search(r'Subscription count: (\d+)', done.stdout)
+    return int(found.group(1)) if found else -1
+
+
 def reported(text: str) -> float | None:
     """The number in `Double value is: 2.05` (what `ros2 param get` prints)."""
     found = re.search(r'value is: ([-+0-9.eE]+)', text)
@@ -243,6 +252,42 @@ def image_updates(nb: Notebook, cell: int, seconds: float) -> int:
                seen.observe(img, {attributes: true, attributeFilter: ['src']});
                setTimeout(() => { seen.disconnect(); done(n); }, ms);
            })""", seconds * 1000))
+
+
+def shows_its_end(output: Any) -> bool:
+    """The last log box in `output` overflows and shows its end (the newest lines)."""
+    return bool(output.evaluate("""out => {
+        const boxes = [...out.querySelectorAll('div[style*="column-reverse"]')]
+            .filter(b => b.offsetParent !== null);  // a hidden, empty log is no console
+        const box = boxes[boxes.length - 1];
+        if (!box || box.scrollHeight <= box.clientHeight) return false;
+        const end = box.firstElementChild.getBoundingClientRect().bottom;
+        return Math.abs(end - box.getBoundingClientRect().bottom) < 3;
+    }"""))
+
+
+def kernel_cpu(seconds: float) -> float:
+    """CPU use of the (one) notebook kernel over `seconds`, in % of one core."""
+    pids = [p for p in Path('/proc').iterdir() if p.name.isdigit()
+            and b'ipykernel_launcher' in _read(p / 'cmdline')
+            and b'robot_lab-browser-' in _read(p / 'cmdline')]
+    if len(pids) != 1:
+        return float('nan')
+
+    def used() -> float:
+        fields = _read(pids[0] / 'stat').rsplit(b')', 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+
+    start, begun = used(), time.monotonic()
+    time.sleep(seconds)
+    return 100.0 * (used() - start) / (time.monotonic() - begun)
+
+
+def _read(path: Path) -> bytes:
+    try:
+        return path.read_bytes()
+    except OSError:
+        return b''
 
 
 def strays(nb: Notebook, cells: list[int]) -> list[int]:
@@ -302,6 +347,24 @@ def check_parameters(page: Any, base: str, token: str, out: Path, env: dict[str,
     note(wait_text(nb, sensor, 'refused'), 'a refusal shows next to the slider')
     nb.shot(sensor, out / '04_sliders_refused.png')
 
+    # A student re-running the plot cell: the old plots must not draw (and subscribe) on.
+    # Their subscriptions are visible on the graph: `topic info` counts them.
+    before = subscriptions('/sensor/temperature', env)
+    running = kernel_cpu(5.0)
+    for _ in range(3):
+        nb.run(live)
+    after = subscriptions('/sensor/temperature', env)
+    rerun = kernel_cpu(5.0)
+    print(f'  /sensor/temperature subscriptions: {before} with the plot, {after} after '
+          f're-running its cell 3 times')
+    note(after == before, 'a re-run plot cell replaces its plot (no extra subscriptions)')
+    note(nb.output(live).locator('img').count() == 1, 'the re-run cell shows one plot')
+    nb.output(live).locator('button:has-text("Pause")').click()
+    paused = kernel_cpu(5.0)
+    nb.output(live).locator('button:has-text("Pause")').click()
+    print(f'  kernel CPU (% of a core, 5 s each): {running:.0f} live plot, {rerun:.0f} after '
+          f'the re-runs, {paused:.0f} paused')
+
 
 def check_inspect(page: Any, base: str, token: str, out: Path) -> None:
     print('05_inspect_and_verify')
@@ -342,9 +405,11 @@ def check_launch_panel(page: Any, base: str, token: str, out: Path, folder: Path
     nb.run_range(0, 1)
     panel = nb.output(1)
     panel.locator('button:has-text("Start")').click()
-    note(wait_text(nb, 1, r'robot_node-3 robot — running', timeout=20),
+    note(wait_text(nb, 1, r'robot_node-3 /robot — running', timeout=20),
          'Start launches; the panel shows three running processes')
-    note(wait_text(nb, 1, r'Robot node started', timeout=20), 'the console shows their output')
+    note(wait_text(nb, 1, r'Status: OK', timeout=20), 'the console shows their output')
+    time.sleep(2.0)  # let the console fill past its height
+    note(shows_its_end(panel), 'the console is scrolled to its newest line')
     nb.shot(1, out / 'launch_panel_running.png')
     panel.locator('button:has-text("Stop")').click()
     note(wait_text(nb, 1, r'finished', timeout=20), 'Stop ends them')

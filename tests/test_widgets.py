@@ -347,3 +347,26 @@ def test_a_cell_run_again_closes_the_widgets_its_previous_run_made(system: None)
         assert 'closed' in status, report
     finally:
         kernel.close()
+
+
+def test_slider_rows_fit_a_narrow_notebook(system: None) -> None:
+    # Seen in JupyterLab at 900 px: 'start_type_description_service' cut to
+    # 'start_type_descrip…', slider tracks squeezed to a few pixels, and an empty status
+    # box under each wrapped row.
+    from robot_lab.graph.api import param_set
+
+    sliders = Sliders('/sensor')
+    try:
+        view = sliders.widget
+        rows = [row for row in view.children if hasattr(row, 'children')]
+        assert rows and all(row.layout.flex_flow == 'row wrap' for row in rows)
+        checkbox = sliders.controls['start_type_description_service'].widget
+        assert (checkbox.layout.width, checkbox.layout.flex) == ('auto', '0 0 auto')
+        noise = sliders.controls['noise_level']
+        assert noise.widget.layout.min_width == '26em'
+        assert noise.status.layout.display == 'none'  # no answer yet: takes no line
+        assert sliders.set('noise_level', 0.5).successful
+        assert noise.status.layout.display is None and '✓ set' in noise.status.value
+    finally:
+        param_set('/sensor', 'noise_level', 0.0)
+        sliders.close()

@@ -162,8 +162,9 @@ def scroll_box(body: str, height: str) -> str:
     An HTML widget runs no script, so it cannot scroll itself; a column-reversed flex box
     starts scrolled to the bottom, so each refresh shows the newest lines, not the oldest.
     """
+    # flex:none: a shrinkable child would be squeezed to the box and scroll on its own.
     return (f'<div style="max-height:{height};overflow-y:auto;display:flex;'
-            f'flex-direction:column-reverse">{body}</div>')
+            f'flex-direction:column-reverse"><div style="flex:none">{body}</div></div>')
 
 
 class WidgetLog:

@@ -408,12 +408,12 @@ class Plot:
         self._closed.set()
         if self.bag is not None:
             return
-        if self._widget is not None:
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+        if self._widget is not None:  # after the join: the last frame must not overwrite it
             self._pause_button.disabled = True
             self._status.value = ('<span style="color:#666;font-size:12px">&nbsp;closed: '
                                   'no longer updated</span>')
-        if self._thread is not None:
-            self._thread.join(timeout=2.0)
         subscriptions, self._subscriptions = self._subscriptions, []
 
         def _destroy() -> None:

@@ -159,10 +159,15 @@ class Sliders:
             rows = [widgets.HTML(f'<b>{html.escape(self.node)}</b> parameters')]
             for name, control in self.controls.items():
                 control.widget = self._make_control(control, self.values.get(name))
-                control.status = widgets.HTML(layout=widgets.Layout(width='40%'))
+                # shown once the node has answered: an empty one would take a wrapped line
+                control.status = widgets.HTML(layout=widgets.Layout(
+                    width='40%', min_width='14em', display='none'))
                 # a comm handler's exception would only reach the server's log: show it here
                 control.widget.observe(self.log.guard(self._user_changed(name)), names='value')
-                rows.append(widgets.HBox([control.widget, control.status]))
+                # In a narrow notebook the node's answer wraps below the control rather
+                # than squeezing the slider's track to nothing.
+                rows.append(widgets.HBox([control.widget, control.status],
+                                         layout=widgets.Layout(flex_flow='row wrap')))
             rows.append(self.log.widget)
             self._widget = widgets.VBox(rows)
         return self._widget
@@ -176,9 +181,12 @@ class Sliders:
             'disabled': control.read_only,
             'tooltip': control.description or None,
             'style': {'description_width': '11em'},
-            'layout': widgets.Layout(width='55%'),
+            'layout': widgets.Layout(width='55%', min_width='26em'),
         }
         if control.kind == _BOOL:
+            # A checkbox's name is its label on the right: as wide as it needs, so a long
+            # one (start_type_description_service) is not cut to 'start_type_descr…'.
+            common['layout'] = widgets.Layout(width='auto', min_width='26em', flex='0 0 auto')
             return widgets.Checkbox(value=bool(value), indent=True, **common)
         if control.kind == _INTEGER and descriptor.integer_range:
             rng = descriptor.integer_range[0]
@@ -213,6 +221,7 @@ class Sliders:
         control = self.controls[name]
         if control.status is None:
             return
+        control.status.layout.display = None
         if result.successful:
             control.status.value = '<span style="color:#1a7f37">✓ set</span>'
         else:
