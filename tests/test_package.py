@@ -45,7 +45,8 @@ def test_colcon_build_installs_nodes_launch_and_config(tmp_path: Path) -> None:
     assert (share / 'package.xml').is_file()
     assert (share / 'config' / 'robot_params.yaml').is_file()
     assert (share / 'launch' / 'robot.launch.xml').is_file()
-    assert (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages' / 'robot_lab').is_file()
+    index = prefix / 'share' / 'ament_index' / 'resource_index' / 'packages'
+    assert (index / 'robot_lab').is_file()
     # What `source install/setup.bash` gives: the built package wins over the kit's own.
     out = subprocess.run(
         ['bash', '-c', 'source install/setup.bash && python -c '
