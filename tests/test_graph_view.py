@@ -11,7 +11,7 @@ from conftest import BIN, Proc, run_cli
 
 import robot_lab
 from robot_lab import GraphError
-from robot_lab.graph.view import graph_model
+from robot_lab.graph.view import GraphImage, graph_model
 
 NODES = {
     'sensor': r'Sensor node started',
@@ -69,9 +69,10 @@ def test_hidden_things_only_on_request(system: dict[str, Proc]) -> None:
 
 def test_picture_files_and_notebook_display(system: dict[str, Proc], tmp_path: Path) -> None:
     image = robot_lab.graph_view()
-    png = image._repr_png_()
+    png, shown = image._repr_png_()
     assert png.startswith(b'\x89PNG')
-    svg = image._repr_svg_()
+    assert 0 < shown['width'] <= GraphImage.DISPLAY_WIDTH  # fits a notebook output area
+    svg, _ = image._repr_svg_()
     assert '<svg' in svg and '/robot1/controller' in svg and '/robot1' in svg
     assert image.save(tmp_path / 'g.png').read_bytes().startswith(b'\x89PNG')
     assert '/sensor/temperature' in image.save(tmp_path / 'g.svg').read_text()

@@ -9,6 +9,7 @@ names sharing a namespace are framed together.
 from __future__ import annotations
 
 import io
+import struct
 from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import pairwise
@@ -357,11 +358,22 @@ class GraphImage:
             self._cache[fmt] = buffer.getvalue()
         return self._cache[fmt]
 
-    def _repr_png_(self) -> bytes:
-        return self._render('png')
+    # A notebook output area is about 730 px wide: a wider picture is shown scaled down to
+    # this width instead of needing a sideways scroll.
+    DISPLAY_WIDTH = 720
 
-    def _repr_svg_(self) -> str:
-        return self._render('svg').decode()
+    def _display_metadata(self) -> dict[str, int]:
+        png = self._render('png')
+        width, height = struct.unpack('>II', png[16:24])  # the PNG IHDR chunk
+        if width <= self.DISPLAY_WIDTH:
+            return {'width': width, 'height': height}
+        return {'width': self.DISPLAY_WIDTH, 'height': round(height * self.DISPLAY_WIDTH / width)}
+
+    def _repr_png_(self) -> tuple[bytes, dict[str, int]]:
+        return self._render('png'), self._display_metadata()
+
+    def _repr_svg_(self) -> tuple[str, dict[str, int]]:
+        return self._render('svg').decode(), self._display_metadata()
 
     def save(self, path: str | Path) -> Path:
         """Write the picture; the format comes from the suffix (.svg, .png, .pdf)."""
