@@ -134,18 +134,31 @@ def topic_publishes(topic: str, msg_type: str | None = None,
                       'look at the node’s parameters and log output')
 
 
-def topic_rate(topic: str, low: float, high: float, duration: float = 2.0) -> None:
-    """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average)."""
+def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
+               attempts: int = 2) -> None:
+    """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average).
+
+    On a loaded machine DDS can deliver a burst that skews one short window, so a rate
+    outside the band is measured again (up to `attempts` windows); a publisher that really
+    runs at the wrong rate fails every one of them.
+    """
     from robot_lab.graph.api import topic_hz
 
     name = '/' + topic.lstrip('/')
-    try:
-        stats = topic_hz(name, duration=duration)
-    except RobotLabError as err:
-        raise CheckError(f'{name} at {low:g}–{high:g} Hz', err.message,
-                          f'is the publisher running? `robot-lab topic info -v {name}`') from None
-    if not low <= stats.rate <= high:
-        raise CheckError(f'{name} at {low:g}–{high:g} Hz', f'it runs at {stats.rate:.1f} Hz',
+    rates: list[float] = []
+    for _ in range(max(1, attempts)):
+        try:
+            stats = topic_hz(name, duration=duration)
+        except RobotLabError as err:
+            raise CheckError(f'{name} at {low:g}–{high:g} Hz', err.message,
+                              f'is the publisher running? `robot-lab topic info -v {name}`'
+                              ) from None
+        rates.append(stats.rate)
+        if low <= stats.rate <= high:
+            break
+    else:
+        measured = ', '.join(f'{r:.1f}' for r in rates)
+        raise CheckError(f'{name} at {low:g}–{high:g} Hz', f'it runs at {measured} Hz',
                           'check the rate parameter of the publishing node')
     _ok(f'{name} publishes at {low:g}–{high:g} Hz')
 
