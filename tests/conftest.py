@@ -3,6 +3,7 @@ and real node processes that are always stopped (and die with pytest if it is ki
 
 from __future__ import annotations
 
+import contextlib
 import os
 import queue
 import re
@@ -98,6 +99,36 @@ class Proc:
         code = stop(self.popen)
         self._reader.join(timeout=5)
         return code
+
+
+REFERENCE_NODES = {
+    'sensor': r'Sensor node started',
+    'controller': r'Controller node started',
+    'robot': r'Robot node started',
+}
+
+
+def run_reference_node(name: str, *ros_args: str) -> Proc:
+    """`robot-lab run robot_lab <name>_node` named /<name>, as the launch file names it."""
+    return Proc([str(BIN / 'robot-lab'), 'run', 'robot_lab', f'{name}_node', '--ros-args',
+                 '-r', f'__node:={name}', *ros_args], env=dict(os.environ))
+
+
+@contextlib.contextmanager
+def reference_system(namespaces: dict[str, str] | None = None) -> Iterator[dict[str, Proc]]:
+    """/sensor, /controller, /robot started and logged in (optionally in namespaces);
+    always stopped on exit. For module-scoped fixtures shared by many tests."""
+    started: dict[str, Proc] = {}
+    try:
+        for name in REFERENCE_NODES:
+            ns = (namespaces or {}).get(name)
+            started[name] = run_reference_node(name, *(['-r', f'__ns:={ns}'] if ns else []))
+        for name, line in REFERENCE_NODES.items():
+            started[name].wait_for(line, timeout=20)
+        yield started
+    finally:
+        for proc in started.values():
+            proc.stop()
 
 
 @pytest.fixture

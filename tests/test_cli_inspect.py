@@ -12,34 +12,16 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc, run_cli
+from conftest import BIN, Proc, reference_system, run_cli
 
 from robot_lab.params import load_param_file
-
-NODES = {
-    'sensor': r'Sensor node started',
-    'controller': r'Controller node started',
-    'robot': r'Robot node started',
-}
 
 
 @pytest.fixture(scope='module')
 def system(ros_domain: int) -> Iterator[dict[str, Proc]]:
     """/sensor, /controller, /robot as the launch file names them, for the whole module."""
-    procs: dict[str, Proc] = {}
-    try:
-        for name in NODES:
-            procs[name] = Proc(
-                [str(BIN / 'robot-lab'), 'run', 'robot_lab', f'{name}_node',
-                 '--ros-args', '-r', f'__node:={name}'],
-                env=dict(os.environ),
-            )
-        for name, started in NODES.items():
-            procs[name].wait_for(started, timeout=20)
+    with reference_system() as procs:
         yield procs
-    finally:
-        for proc in procs.values():
-            proc.stop()
 
 
 def ok(*args: str) -> str:

@@ -11,38 +11,19 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc
+from conftest import Proc, reference_system, run_reference_node
 
 import robot_lab
 from robot_lab import GraphError
 from robot_lab.context import session
 from robot_lab.params import load_param_file
 
-NODES = {
-    'sensor': r'Sensor node started',
-    'controller': r'Controller node started',
-    'robot': r'Robot node started',
-}
-
-
-def run_node(name: str, *ros_args: str) -> Proc:
-    return Proc([str(BIN / 'robot-lab'), 'run', 'robot_lab', f'{name}_node', '--ros-args',
-                 '-r', f'__node:={name}', *ros_args], env=dict(os.environ))
-
 
 @pytest.fixture(scope='module')
 def system(ros_domain: int) -> Iterator[dict[str, Proc]]:
-    procs: dict[str, Proc] = {}
-    try:
-        for name in NODES:
-            procs[name] = run_node(name)
-        for name, started in NODES.items():
-            procs[name].wait_for(started, timeout=20)
+    with reference_system() as procs:
         robot_lab.wait_for_nodes(['/sensor', '/controller', '/robot'], timeout=10)
         yield procs
-    finally:
-        for proc in procs.values():
-            proc.stop()
 
 
 def test_node_list_hides_the_session_node(system: dict[str, Proc]) -> None:
@@ -225,7 +206,7 @@ def test_kernel_interrupt_keeps_the_session_working(system: dict[str, Proc]) -> 
 
 
 def test_a_node_that_hangs_or_dies_mid_call_gives_an_error(system: dict[str, Proc]) -> None:
-    victim = run_node('sensor', '-r', '__ns:=/victim')
+    victim = run_reference_node('sensor', '-r', '__ns:=/victim')
     try:
         victim.wait_for(r'Sensor node started')
         robot_lab.wait_for_nodes(['/victim/sensor'], timeout=10)

@@ -2,41 +2,23 @@
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc, run_cli
+from conftest import Proc, reference_system, run_cli
 
 import robot_lab
 from robot_lab import GraphError
 from robot_lab.graph.view import GraphImage, graph_model
 
-NODES = {
-    'sensor': r'Sensor node started',
-    'controller': r'Controller node started',
-    'robot': r'Robot node started',
-}
-
 
 @pytest.fixture(scope='module')
 def system(ros_domain: int) -> Iterator[dict[str, Proc]]:
     """The seed system, with the sensor and controller in namespace /robot1 (a cluster)."""
-    procs: dict[str, Proc] = {}
-    try:
-        for name in NODES:
-            ns = ['-r', '__ns:=/robot1'] if name != 'robot' else []
-            procs[name] = Proc([str(BIN / 'robot-lab'), 'run', 'robot_lab', f'{name}_node',
-                                '--ros-args', '-r', f'__node:={name}', *ns],
-                               env=dict(os.environ))
-        for name, started in NODES.items():
-            procs[name].wait_for(started, timeout=20)
+    with reference_system({'sensor': '/robot1', 'controller': '/robot1'}) as procs:
         robot_lab.wait_for_nodes(['/robot1/sensor', '/robot1/controller', '/robot'], timeout=10)
         yield procs
-    finally:
-        for proc in procs.values():
-            proc.stop()
 
 
 def test_model_has_nodes_topics_and_edges(system: dict[str, Proc]) -> None:
