@@ -402,25 +402,41 @@ class _Reader:
     def error(self, message: str) -> ValueError:
         return ValueError(f'{message} in {self.text!r} at column {self.pos + 1}')
 
-    def template(self) -> Subs:
-        """Top level: anything is text except `$(`."""
+    def scan(self, quote: str | None, stops: str = '') -> tuple[Subs, bool]:
+        """Text (with `\\` escapes) and nested `$(...)` up to a character in `stops`.
+
+        The stop character is not consumed; the flag says whether one was reached (False:
+        the text ended). The top level, unquoted arguments and quoted strings all read
+        with this one loop and differ only in where they stop.
+        """
         parts: Subs = []
         buffer: list[str] = []
+
+        def flush() -> None:
+            if buffer:
+                parts.append(Text(''.join(buffer)))
+                buffer.clear()
+
         while self.pos < len(self.text):
+            char = self.peek()
             if self.peek(2) == '$(':
-                if buffer:
-                    parts.append(Text(''.join(buffer)))
-                    buffer = []
-                parts.append(self.substitution(None))
-            elif self.peek() == '\\' and self.pos + 1 < len(self.text):
+                flush()
+                parts.append(self.substitution(quote))
+            elif char == '\\' and self.pos + 1 < len(self.text):
                 buffer.append(self.text[self.pos + 1])
                 self.pos += 2
+            elif char in stops:
+                flush()
+                return parts, True
             else:
-                buffer.append(self.peek())
+                buffer.append(char)
                 self.pos += 1
-        if buffer:
-            parts.append(Text(''.join(buffer)))
-        return parts
+        flush()
+        return parts, False
+
+    def template(self) -> Subs:
+        """Top level: anything is text except `$(`."""
+        return self.scan(None)[0]
 
     def substitution(self, quote: str | None) -> Substitution:
         self.pos += 2  # '$('
@@ -451,55 +467,18 @@ class _Reader:
     def value(self, quote: str | None) -> Subs:
         if quote is None and self.peek() in ('"', "'"):
             return self.quoted(self.peek())
-        stops = {' ', '(', ')', '"', "'"}
-        parts: Subs = []
-        buffer: list[str] = []
-        while self.pos < len(self.text):
-            char = self.peek()
-            if self.peek(2) == '$(':
-                if buffer:
-                    parts.append(Text(''.join(buffer)))
-                    buffer = []
-                parts.append(self.substitution(quote))
-            elif char == '\\' and self.pos + 1 < len(self.text):
-                buffer.append(self.text[self.pos + 1])
-                self.pos += 2
-            elif char in stops:
-                break
-            else:
-                buffer.append(char)
-                self.pos += 1
-        if buffer:
-            parts.append(Text(''.join(buffer)))
+        parts, _ = self.scan(quote, ' ()"\'')
         if not parts:
             raise self.error('expected a substitution argument')
         return parts
 
     def quoted(self, quote: str) -> Subs:
         self.pos += 1
-        parts: Subs = []
-        buffer: list[str] = []
-        while True:
-            if self.pos >= len(self.text):
-                raise self.error(f'unterminated {quote} quote')
-            char = self.peek()
-            if char == quote:
-                self.pos += 1
-                break
-            if self.peek(2) == '$(':
-                if buffer:
-                    parts.append(Text(''.join(buffer)))
-                    buffer = []
-                parts.append(self.substitution(quote))
-            elif char == '\\' and self.pos + 1 < len(self.text):
-                buffer.append(self.text[self.pos + 1])
-                self.pos += 2
-            else:
-                buffer.append(char)
-                self.pos += 1
-        if buffer or not parts:
-            parts.append(Text(''.join(buffer)))
-        return parts
+        parts, closed = self.scan(quote, quote)
+        if not closed:
+            raise self.error(f'unterminated {quote} quote')
+        self.pos += 1
+        return parts or [Text('')]
 
 
 def parse_substitution(text: str) -> Subs:
