@@ -64,7 +64,8 @@ def _parser(prog: str) -> argparse.ArgumentParser:
             continue
         verb_parser = sub.add_parser(verb, help=module.HELP, description=module.HELP)
         module.add_arguments(verb_parser)
-        verb_parser.set_defaults(_main=module.main)
+        # `args._parser`: a verb with sub-verbs prints its own help when given none.
+        verb_parser.set_defaults(_main=module.main, _parser=verb_parser)
     return parser
 
 

@@ -79,7 +79,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     reindex = sub.add_parser('reindex', help='Reconstruct metadata file for a bag')
     reindex.add_argument('bag_path', help='Bag to open')
-    parser.set_defaults(_bag_parser=parser)
 
 
 def _err(text: str) -> None:
@@ -170,6 +169,6 @@ def main(args: argparse.Namespace) -> int:
     verbs = {'record': _record, 'info': _info, 'play': _play, 'reindex': _reindex}
     verb = verbs.get(args.bag_verb or '')
     if verb is None:
-        args._bag_parser.print_help()
+        args._parser.print_help()
         return 0
     return verb(args)

@@ -18,7 +18,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           help='Show no comments or whitespace')
     show.add_argument('type', help="Show an interface definition (e.g. "
                       "'example_interfaces/msg/String'). Passing '-' reads it from stdin.")
-    parser.set_defaults(_parser=parser)
 
 
 def main(args: argparse.Namespace) -> int:

@@ -19,7 +19,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     info.add_argument('node_name', help='Node name to request information')
     info.add_argument('--include-hidden', action='store_true',
                       help='Display hidden topics, services, and actions as well')
-    parser.set_defaults(_parser=parser)
 
 
 def _print_names_and_types(items: list[tuple[str, list[str]]]) -> None:

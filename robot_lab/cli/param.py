@@ -52,7 +52,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     load.add_argument('parameter_file', help='Parameter file')
     load.add_argument('--no-use-wildcard', action='store_true',
                       help="Do not load parameters in the '/**' namespace into the node")
-    parser.set_defaults(_parser=parser)
 
 
 def main(args: argparse.Namespace) -> int:

@@ -55,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     exe.add_argument('--full-path', action='store_true', default=False,
                      help='Show full path of each executable')
     exe.set_defaults(_pkg=_executables)
-    parser.set_defaults(_pkg=None, _pkg_parser=parser)
+    parser.set_defaults(_pkg=None)
 
 
 def _create(args: argparse.Namespace) -> int:
@@ -112,7 +112,7 @@ def _executables(args: argparse.Namespace) -> int:
 
 def main(args: argparse.Namespace) -> int:
     if args._pkg is None:
-        args._pkg_parser.print_help()
+        args._parser.print_help()
         return 0
     code: int = args._pkg(args)
     return code

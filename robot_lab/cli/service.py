@@ -16,7 +16,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Only display the number of services discovered')
     lister.add_argument('--include-hidden-services', action='store_true',
                         help='Consider hidden services as well')
-    parser.set_defaults(_parser=parser)
 
 
 def main(args: argparse.Namespace) -> int:

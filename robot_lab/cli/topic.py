@@ -119,7 +119,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pub.add_argument('--keep-alive', metavar='N', type=_positive_float, default=0.1,
                      help='Keep publishing node alive for N seconds after the last msg '
                      '(default: 0.1)')
-    parser.set_defaults(_parser=parser)
 
 
 def main(args: argparse.Namespace) -> int:
