@@ -132,6 +132,9 @@ def test_notebook_handle_processes_logs_wait_for_and_html(notebook_env: None) ->
         found = h.wait_for(r'Robot node started: (\w+)', timeout=20)
         assert found.group(1) == 'robot_beta'
         h.wait_for(r'Status: OK', timeout=15)
+        # Status OK needs only the controller (it starts from 22.0 °C); wait for the sensor
+        # too, so the log filter below is checked against a line that has really arrived.
+        h.wait_for(r'Sensor node started \(rate: 10 Hz\)', timeout=15)
         procs = h.processes
         assert [(p.name, p.label, p.state) for p in procs] == [
             ('/sensor', 'sensor_node-1', 'running'),
