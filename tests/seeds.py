@@ -20,6 +20,7 @@ from pathlib import Path
 __all__ = [
     'CH6',
     'LAB13',
+    'LAB13_EXPECTED_LINES',
     'SEEDS',
     'add_build_type',
     'colcon_build',
@@ -32,6 +33,14 @@ SEEDS = Path(__file__).resolve().parent / 'data' / 'seeds'
 LAB13 = SEEDS / 'lab13' / 'my_robot_system'
 CH6 = SEEDS / 'ch6' / 'robot_controller'
 COLCON = Path(sys.executable).parent / 'colcon'
+
+# Lab 1.3 Part 7's expected output with robot_name:=robot_alpha, as `ros2 launch` prints it.
+LAB13_EXPECTED_LINES = [
+    r'^\[sensor_node-1\] \[INFO\] \[[\d.]+\] \[sensor\]: Sensor node started \(rate: 10 Hz\)$',
+    r'^\[controller_node-2\] \[INFO\] \[[\d.]+\] \[controller\]: Controller node started$',
+    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Robot node started: robot_alpha$',
+    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Status: OK \(temp: 22\.\d°C\)$',
+]
 
 _BUILD_TYPE = '  <export>\n    <build_type>ament_python</build_type>\n  </export>\n'
 

@@ -12,14 +12,7 @@ from pathlib import Path
 import psutil
 import pytest
 from conftest import BIN, Proc, run_cli
-from seeds import LAB13, nest_param_file
-
-SEED_LINES = [
-    r'^\[sensor_node-1\] \[INFO\] \[[\d.]+\] \[sensor\]: Sensor node started \(rate: 10 Hz\)$',
-    r'^\[controller_node-2\] \[INFO\] \[[\d.]+\] \[controller\]: Controller node started$',
-    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Robot node started: robot_alpha$',
-    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Status: OK \(temp: 2\d\.\d°C\)$',
-]
+from seeds import LAB13, LAB13_EXPECTED_LINES, nest_param_file
 
 
 def _sourced_env(ws: Path) -> dict[str, str]:
@@ -88,7 +81,7 @@ def test_build_and_launch_with_robot_alpha(
     # Part 7.3: ros2 launch my_robot_system robot.launch.xml robot_name:=robot_alpha
     proc: Proc = start('robot-lab', 'launch', 'my_robot_system', 'robot.launch.xml',
                        'robot_name:=robot_alpha', env=env, cwd=ws)
-    for pattern in SEED_LINES:
+    for pattern in LAB13_EXPECTED_LINES:
         proc.wait_for(pattern, timeout=30)
     assert not [line for line in proc.lines if 'process has died' in line], proc.output
     nodes = psutil.Process(proc.popen.pid).children(recursive=True)

@@ -16,13 +16,7 @@ from pathlib import Path
 import psutil
 import pytest
 from conftest import Proc, SeedWorkspaces, run_cli
-
-PATTERNS_LAB13 = [
-    r'^\[sensor_node-1\] \[INFO\] \[[\d.]+\] \[sensor\]: Sensor node started \(rate: 10 Hz\)$',
-    r'^\[controller_node-2\] \[INFO\] \[[\d.]+\] \[controller\]: Controller node started$',
-    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Robot node started: robot_alpha$',
-    r'^\[robot_node-3\] \[INFO\] \[[\d.]+\] \[robot\]: Status: OK \(temp: 22\.\d°C\)$',
-]
+from seeds import LAB13_EXPECTED_LINES
 
 
 def descendants(pid: int) -> list[psutil.Process]:
@@ -53,7 +47,7 @@ def test_lab13_launch_prints_the_seed_lines_and_ctrl_c_leaves_nothing(
         start, seed_env: dict[str, str]) -> None:  # type: ignore[no-untyped-def]
     proc: Proc = start('robot-lab', 'launch', 'my_robot_system', 'robot.launch.xml',
                        'robot_name:=robot_alpha', env=seed_env)
-    for pattern in PATTERNS_LAB13:
+    for pattern in LAB13_EXPECTED_LINES:
         proc.wait_for(pattern, timeout=20)
     assert proc.lines[0].startswith('[INFO] [launch]: All log files can be found below ')
     nodes = descendants(proc.popen.pid)
