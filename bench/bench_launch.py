@@ -10,7 +10,10 @@ Measured in the same run, median of RUNS runs each:
   started` line) (goal <= 1 s; a real `ros2 launch` takes ~3.6 s here);
 - the same with the kit's Fast DDS profile off (a user profile with no settings), to show
   what the profile buys;
-- total RSS of launcher + three nodes once the system runs (goal <= 230 MB).
+- total RSS of launcher + three nodes once the system runs (goal <= 230 MB);
+- start-up per node: in the launch (its `process started` line -> its `... started` log
+  line), and alone (exec of the kit's lib/robot_lab/<node> script -> that line, with the
+  CPU seconds the node had used by then), next to a bare `python -c 'import rclpy'`.
 
     .venv/bin/python bench/bench_launch.py [--runs 5]
 
@@ -22,6 +25,7 @@ from __future__ import annotations
 import argparse
 import os
 import queue
+import re
 import statistics
 import subprocess
 import sys
@@ -33,10 +37,13 @@ from pathlib import Path
 import psutil
 
 from robot_lab.env import ros_environment
+from robot_lab.nodes import NODE_EXECUTABLES
+from robot_lab.pkg.index import find_executable
 from robot_lab.process import spawn, stop
 
 BIN = Path(sys.executable).parent
 NODES = ['/sensor', '/controller', '/robot']
+LABEL = re.compile(r'\[(\w+)-\d+\]')  # the launcher's `[sensor_node-1]` process label
 
 # A node that reports (wall clock) when it sees every node named on its command line.
 WATCHER = r"""
@@ -107,6 +114,26 @@ def bare_trio(env: dict[str, str]) -> float:
             stop(proc, 2, 2)
 
 
+def python_start(code: str, env: dict[str, str]) -> float:
+    """Seconds for `python -c code` to run and exit, in the environment nodes get."""
+    began = time.perf_counter()
+    subprocess.run([sys.executable, '-c', code], env=env, check=True)
+    return time.perf_counter() - began
+
+
+def node_alone(executable: str, env: dict[str, str]) -> tuple[float, float]:
+    """Seconds from exec of the node's script to its `... started` line, and its CPU then."""
+    script = find_executable('robot_lab', executable, env)
+    began = time.time()
+    proc = spawn([str(script), '--ros-args', '-r', f'__node:=alone_{executable}'], env=env)
+    try:
+        stamp = Lines(proc).until('node started')[0]
+        cpu = psutil.Process(proc.pid).cpu_times()
+        return stamp - began, cpu.user + cpu.system
+    finally:
+        stop(proc, 2, 2)
+
+
 def launch_run(env: dict[str, str]) -> dict[str, float]:
     """One launch with an observer started first; times and the RSS of the system."""
     observer, seen = watcher('observer', NODES, env)
@@ -115,17 +142,20 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
     launcher = spawn([str(BIN / 'robot-lab'), 'launch', 'robot_lab', 'robot.launch.xml'], env=env)
     out = Lines(launcher)
     try:
-        first_start = out.until('process started with pid')[0]
-        up: list[float] = []
+        spawned: dict[str, float] = {}
+        up: dict[str, float] = {}
         status = 0.0
-        while not status:  # the three nodes' "... started" lines, then the first Status:
-            stamp, line = out.until(']: ')
-            if 'node started' in line:
-                up.append(stamp)
-            elif 'Status:' in line:
+        while not status or len(up) < 3:  # spawns, "... started" lines, first Status:
+            stamp, line = out.until('[')
+            found = LABEL.search(line)
+            label = found.group(1) if found else ''
+            if 'process started with pid' in line:
+                spawned[label] = stamp
+            elif 'node started' in line:
+                up[label] = stamp
+            elif 'Status:' in line and not status:
                 status = stamp
-        while len(up) < 3:
-            up.append(out.until('node started')[0])
+        first_start = min(spawned.values())
         all_seen = float(seen.until('seen')[1].split()[1])
         system = [psutil.Process(launcher.pid), *psutil.Process(launcher.pid).children(True)]
         rss = sum(p.memory_info().rss for p in system) / 2**20
@@ -133,9 +163,11 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
             'status': status - began,
             'seen_from_launch': all_seen - began,
             'seen_from_nodes': all_seen - first_start,
-            'seen_from_last_up': all_seen - max(up),
+            'seen_from_last_up': all_seen - max(up.values()),
             'rss': rss,
             'launcher_rss': system[0].memory_info().rss / 2**20,
+            'launcher_to_first_spawn': first_start - began,
+            **{f'up_{name}': up[name] - spawned[name] for name in NODE_EXECUTABLES},
         }
     finally:
         stop(launcher, 5, 5)
@@ -157,11 +189,17 @@ def main() -> None:
         profile.write_text(EMPTY_PROFILE)
         env_off = dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
         bare, launched, bare_off, launched_off = [], [], [], []
+        alone: dict[str, list[tuple[float, float]]] = {n: [] for n in NODE_EXECUTABLES}
+        interpreter: dict[str, list[float]] = {'pass': [], 'import rclpy': []}
         for _ in range(args.runs):
             bare.append(bare_trio(env))
             launched.append(launch_run(env))
             bare_off.append(bare_trio(env_off))
             launched_off.append(launch_run(env_off))
+            for name in NODE_EXECUTABLES:
+                alone[name].append(node_alone(name, env))
+            for code in interpreter:
+                interpreter[code].append(python_start(code, env))
 
     trio = statistics.median(bare)
     rows = [
@@ -176,6 +214,15 @@ def main() -> None:
          f'{median(launched, "seen_from_last_up"):.2f} s', ''),
         ('RSS launcher + 3 nodes', f'{median(launched, "rss"):.0f} MB', '<= 230 MB'),
         ('  of which the launcher', f'{median(launched, "launcher_rss"):.0f} MB', ''),
+        ('launch -> first process started', f'{median(launched, "launcher_to_first_spawn"):.2f} s',
+         ''),
+        *[(f'{name}: process started -> "started" line, in launch',
+           f'{median(launched, "up_" + name):.2f} s', '') for name in NODE_EXECUTABLES],
+        *[(f'{name} alone: exec -> "started" line (CPU s)',
+           f'{statistics.median(t for t, _ in alone[name]):.3f} s',
+           f'({statistics.median(c for _, c in alone[name]):.3f})') for name in NODE_EXECUTABLES],
+        *[(f"python -c '{code}' (kit env)", f'{statistics.median(times):.3f} s', '')
+          for code, times in interpreter.items()],
         ('-- kit Fast DDS profile off --', '', ''),
         ('bare trio', f'{statistics.median(bare_off):.2f} s', ''),
         ('launch -> first Status: line', f'{median(launched_off, "status"):.2f} s', ''),

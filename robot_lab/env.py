@@ -3,11 +3,18 @@
 Two defaults, both overridable by what the user already set:
 - ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST: DDS never sends a packet off loopback.
 - FASTRTPS_DEFAULT_PROFILES_FILE: the kit's fast-discovery profile (see data/).
+
+And the library path the ROS wheels need, so a Python child does not start twice: the
+wheels' bootstrapper (a .pth file) re-executes the interpreter with LD_LIBRARY_PATH set
+unless its marker says that was done.
 """
 
 from __future__ import annotations
 
+import functools
+import importlib.util
 import os
+import sys
 from collections.abc import Mapping, MutableMapping
 from pathlib import Path
 
@@ -22,6 +29,35 @@ _DEFAULTS: dict[str, str] = {
     # rcutils colourises only on a tty; launch output is piped, so keep it plain.
     'RCUTILS_COLORIZED_OUTPUT': os.environ.get('RCUTILS_COLORIZED_OUTPUT', '0'),
 }
+
+
+# Set by ros_wheels_bootstrapper once LD_LIBRARY_PATH holds the wheels' libraries.
+_BOOTSTRAP_MARKER = '_ROS_WHEELS_BOOTSTRAP_COMPLETE'
+
+
+@functools.cache
+def _wheel_library_dirs() -> tuple[str, ...]:
+    """The directories ros_wheels_bootstrapper puts on LD_LIBRARY_PATH (none without it)."""
+    if 'ros_wheels_bootstrapper' not in sys.modules and (
+        importlib.util.find_spec('ros_wheels_bootstrapper') is None
+    ):
+        return ()
+    version = f'python{sys.version_info.major}.{sys.version_info.minor}'
+    site_packages = Path(sys.prefix, 'lib', version, 'site-packages')  # where it looks
+    libs = sorted(str(d.resolve()) for d in site_packages.glob('ros_*.libs') if d.is_dir())
+    return (os.path.join(sys.prefix, 'lib'), *libs)
+
+
+def _add_wheel_libraries(target: MutableMapping[str, str]) -> None:
+    """Put the wheels' libraries on LD_LIBRARY_PATH (first, the user's entries kept after)."""
+    dirs = _wheel_library_dirs()
+    if not dirs:
+        return
+    have = [part for part in target.get('LD_LIBRARY_PATH', '').split(os.pathsep) if part]
+    missing = [d for d in dirs if d not in have]
+    if missing:
+        target['LD_LIBRARY_PATH'] = os.pathsep.join([*missing, *have])
+    target.setdefault(_BOOTSTRAP_MARKER, '1')
 
 
 def _uses_fastdds(env: Mapping[str, str]) -> bool:
@@ -44,6 +80,7 @@ def apply_ros_defaults(env: MutableMapping[str, str] | None = None) -> MutableMa
     from robot_lab.pkg.index import ament_prefixes
 
     target['AMENT_PREFIX_PATH'] = os.pathsep.join(str(p) for p in ament_prefixes(target))
+    _add_wheel_libraries(target)
     return target
 
 

@@ -81,6 +81,10 @@ def kit_prefix() -> Path | None:
         script = (
             f'#!{sys.executable}\n'
             f'"""Entry point of robot_lab\'s {node} (what colcon would install)."""\n'
+            'import os\n'
+            '# rclpy loads numpy; its OpenBLAS pool would spin a thread through start-up\n'
+            '# in a node that does no linear algebra (~50 ms CPU per node).\n'
+            "os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')\n"
             f'from robot_lab.nodes.{node} import main\n'
             "if __name__ == '__main__':\n"
             '    main()\n'

@@ -1,0 +1,85 @@
+"""The environment robot_lab gives children: ROS wheels' libraries found without a restart.
+
+The wheels' bootstrapper (.pth) re-executes any Python started without its marker. A
+re-exec is seen without timing: /proc/<pid>/environ is the environment of the last
+execve, so it differs from what the parent passed exactly when the child restarted.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from robot_lab.env import apply_ros_defaults, ros_environment
+
+USER_LIB = '/opt/user/lib'
+
+# Reports the environment the kernel holds for this process, and a real rclpy node's RMW.
+CHILD = r"""
+import json, rclpy
+from rclpy.utilities import get_rmw_implementation_identifier
+raw = open('/proc/self/environ', 'rb').read().split(b'\0')
+environ = dict(item.decode().split('=', 1) for item in raw if item)
+context = rclpy.Context()
+rclpy.init(context=context)
+node = rclpy.create_node('env_probe', context=context)
+print(json.dumps({'environ': environ, 'rmw': get_rmw_implementation_identifier(),
+                  'node': node.get_fully_qualified_name()}))
+node.destroy_node()
+rclpy.shutdown(context=context)
+"""
+
+
+def shell_environment() -> dict[str, str]:
+    """What a user's shell has: no bootstrap marker, a library path of its own."""
+    env = {k: v for k, v in os.environ.items() if k != '_ROS_WHEELS_BOOTSTRAP_COMPLETE'}
+    env['LD_LIBRARY_PATH'] = USER_LIB
+    return env
+
+
+def probe(env: dict[str, str]) -> dict[str, object]:
+    done = subprocess.run([sys.executable, '-c', CHILD], env=env, capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    result: dict[str, object] = json.loads(done.stdout.strip().splitlines()[-1])
+    return result
+
+
+def test_child_with_kit_environment_starts_once_with_same_rmw() -> None:
+    shell = shell_environment()
+    restarted = probe(shell)
+    assert restarted['environ'] != shell  # the observation works: this child re-executed
+
+    kit = dict(apply_ros_defaults(dict(shell)))
+    child = probe(kit)
+    assert child['environ'] == kit  # no re-exec
+    assert child['rmw'] == restarted['rmw'] == 'rmw_fastrtps_cpp'
+    assert child['node'] == '/env_probe'
+
+
+def test_user_library_path_is_kept_after_the_wheels() -> None:
+    kit = apply_ros_defaults(shell_environment())
+    parts = kit['LD_LIBRARY_PATH'].split(os.pathsep)
+    assert parts[-1] == USER_LIB
+    assert os.path.join(sys.prefix, 'lib') in parts
+    assert any(p.endswith('ros_rclpy.libs') for p in parts)
+    assert len(parts) == len(set(parts))
+    assert dict(apply_ros_defaults(dict(kit))) == dict(kit)  # idempotent
+
+
+def test_bootstrapped_library_path_is_left_alone() -> None:
+    if not os.environ.get('_ROS_WHEELS_BOOTSTRAP_COMPLETE'):
+        pytest.skip('this interpreter was not started through the ROS wheels bootstrapper')
+    assert ros_environment()['LD_LIBRARY_PATH'] == os.environ['LD_LIBRARY_PATH']
+
+
+def test_non_python_child_runs_with_kit_environment() -> None:
+    kit = ros_environment()
+    done = subprocess.run(['/bin/sh', '-c', 'ls / >/dev/null && echo "$LD_LIBRARY_PATH"'],
+                          env=kit, capture_output=True, text=True, timeout=30)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == kit['LD_LIBRARY_PATH']
