@@ -45,6 +45,7 @@ def spawn(
     stdout: int | IO[Any] | None = subprocess.PIPE,
     stderr: int | IO[Any] | None = subprocess.STDOUT,
     shell: bool = False,
+    pass_fds: Sequence[int] = (),
 ) -> subprocess.Popen[bytes]:
     """Start `cmd`; it dies with this process (SIGKILL) if this process dies first.
 
@@ -59,6 +60,7 @@ def spawn(
         stdout=stdout,
         stderr=stderr,
         shell=shell,
+        pass_fds=tuple(pass_fds),
         preexec_fn=_child_setup,
     )
 

@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
+import psutil
 import pytest
 
 from robot_lab.env import apply_ros_defaults
@@ -156,6 +157,12 @@ def start(procs: list[Proc]):  # type: ignore[no-untyped-def]
         return proc
 
     return _start
+
+
+def launched_nodes(launcher_pid: int) -> list[psutil.Process]:
+    """The processes a launcher started, without the graph daemon it runs beside them."""
+    return [p for p in psutil.Process(launcher_pid).children(recursive=True)
+            if '--robot-lab-graph-daemon' not in p.cmdline()]
 
 
 def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,

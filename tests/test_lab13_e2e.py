@@ -11,7 +11,7 @@ from pathlib import Path
 
 import psutil
 import pytest
-from conftest import BIN, Proc, run_cli
+from conftest import BIN, Proc, launched_nodes, run_cli
 from seeds import LAB13, LAB13_EXPECTED_LINES, nest_param_file
 
 
@@ -84,7 +84,7 @@ def test_build_and_launch_with_robot_alpha(
     for pattern in LAB13_EXPECTED_LINES:
         proc.wait_for(pattern, timeout=30)
     assert not [line for line in proc.lines if 'process has died' in line], proc.output
-    nodes = psutil.Process(proc.popen.pid).children(recursive=True)
+    nodes = launched_nodes(proc.popen.pid)
     assert len(nodes) == 3
     # Ctrl-C: the seed's main() does not catch KeyboardInterrupt, so (as under the real
     # ros2 launch) the nodes end with a traceback; what matters is that none is left.

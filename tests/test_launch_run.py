@@ -21,7 +21,7 @@ from pathlib import Path
 
 import psutil
 import pytest
-from conftest import Proc
+from conftest import Proc, launched_nodes
 
 from robot_lab.errors import ParamFileError
 from robot_lab.launch.description import (
@@ -300,7 +300,7 @@ def three_nodes_json() -> str:
 
 
 def node_pids(launcher: psutil.Process) -> list[int]:
-    return [p.pid for p in launcher.children(recursive=True)]
+    return [p.pid for p in launched_nodes(launcher.pid)]
 
 
 def test_ctrl_c_stops_everything_exit_zero(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
@@ -354,7 +354,7 @@ def test_kit_launch_file_runs(start, tmp_path: Path, file: str) -> None:  # type
     proc.wait_for(r'^\[controller_node-2\] .*\[controller\]: Controller node started$', 10)
     proc.wait_for(r'^\[robot_node-3\] .*\[robot\]: Robot node started: robot_gamma$', 10)
     proc.wait_for(r'^\[robot_node-3\] .*\[robot\]: Status: OK \(temp: 2\d\.\d°C\)$', 10)
-    nodes = psutil.Process(proc.popen.pid).children(recursive=True)
+    nodes = launched_nodes(proc.popen.pid)
     assert len(nodes) == 3
     proc.popen.send_signal(signal.SIGINT)
     assert proc.popen.wait(20) == 0
@@ -384,7 +384,7 @@ def test_kit_robot_sim_runs_two_robots(start, tmp_path: Path) -> None:  # type: 
     proc.wait_for(r'^\[robot_node-6\] .*\[robot2\.robot\]: Status: OK', 10)
     wait_for_nodes([f'/robot{n}/{node}' for n in (1, 2)
                     for node in ('sensor', 'controller', 'robot')], timeout=15)
-    nodes = psutil.Process(proc.popen.pid).children(recursive=True)
+    nodes = launched_nodes(proc.popen.pid)
     assert len(nodes) == 6
     proc.popen.send_signal(signal.SIGINT)
     assert proc.popen.wait(20) == 0

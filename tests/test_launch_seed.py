@@ -15,12 +15,12 @@ from pathlib import Path
 
 import psutil
 import pytest
-from conftest import Proc, SeedWorkspaces, run_cli
+from conftest import Proc, SeedWorkspaces, launched_nodes, run_cli
 from seeds import LAB13_EXPECTED_LINES
 
 
 def descendants(pid: int) -> list[psutil.Process]:
-    return psutil.Process(pid).children(recursive=True)
+    return launched_nodes(pid)
 
 
 @pytest.fixture

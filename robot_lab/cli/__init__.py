@@ -32,6 +32,7 @@ VERBS: dict[str, str] = {
     'build': 'build',
     'doctor': 'doctor',
     'bag': 'bag',
+    'daemon': 'daemon',
     'demo': 'demo',
     'exercises': 'exercises',
     'grade': 'grade',

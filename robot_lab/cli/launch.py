@@ -14,6 +14,7 @@ import signal
 import sys
 from collections.abc import Callable
 from types import FrameType
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.description import (
     Action,
@@ -26,6 +27,9 @@ from robot_lab.launch.description import (
 )
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.supervisor import Supervisor, check_param_files
+
+if TYPE_CHECKING:
+    from robot_lab.graph.daemon import Listener
 
 HELP = 'Run a launch file'
 
@@ -134,22 +138,48 @@ def main(args: argparse.Namespace) -> int:
     if args.show_args:
         print(format_arguments(launch_arguments(source, file)))
         return 0
-    plan = describe_launch(source, file, parse_launch_arguments(argv))
-    if args.show_all:
-        for spec in plan.processes():
-            spec.output = 'both'
     if args.print:
+        plan = describe_launch(source, file, parse_launch_arguments(argv))
         print(format_plan(plan))
         return 0
-    return run(plan, noninteractive=args.noninteractive, debug=args.debug)
+    # The graph daemon's socket first thing: a `node list` typed from now on waits for
+    # the daemon's warm answer (see robot_lab/graph/daemon.py).
+    listener = _graph_listener()
+    try:
+        plan = describe_launch(source, file, parse_launch_arguments(argv))
+        if args.show_all:
+            for spec in plan.processes():
+                spec.output = 'both'
+        return run(plan, noninteractive=args.noninteractive, debug=args.debug,
+                   graph_listener=listener)
+    finally:
+        if listener is not None:
+            listener.close()  # a no-op once handed to the daemon
+
+
+def _graph_listener() -> Listener | None:
+    from robot_lab.graph import daemon
+
+    if daemon.disabled() or daemon.is_running():
+        return None
+    return daemon.Listener.bind()
 
 
 def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
-        on_start: Callable[[Supervisor], None] | None = None) -> int:
-    """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order."""
+        on_start: Callable[[Supervisor], None] | None = None,
+        graph_listener: Listener | None = None) -> int:
+    """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order.
+
+    A graph daemon runs beside the nodes, so `robot-lab node list` in another terminal
+    answers from a warm graph at once (ROBOT_LAB_NO_DAEMON=1 does without).
+    """
+    from robot_lab.graph import daemon
+
     check_param_files(plan)
     output = LaunchOutput(sys.stdout, debug=debug)
-    supervisor = Supervisor(plan, output, noninteractive=noninteractive)
+    supervisor = Supervisor(plan, output, noninteractive=noninteractive,
+                            graph_daemon=not daemon.disabled(),
+                            graph_listener=graph_listener)
 
     def on_sigint(signum: int, frame: FrameType | None) -> None:
         supervisor.interrupt()

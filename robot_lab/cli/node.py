@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from robot_lab.cli.daemon import add_no_daemon, ask_daemon
+
 HELP = 'Various node related sub-commands'
 
 
@@ -15,6 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Display all nodes even hidden ones')
     lister.add_argument('-c', '--count-nodes', action='store_true',
                         help='Only display the number of nodes discovered')
+    add_no_daemon(lister)
     info = sub.add_parser('info', help='Output information about a node')
     info.add_argument('node_name', help='Node name to request information')
     info.add_argument('--include-hidden', action='store_true',
@@ -30,7 +33,9 @@ def main(args: argparse.Namespace) -> int:
     from robot_lab.graph import api
 
     if args.node_verb == 'list':
-        names = api.node_list(include_hidden=args.all)
+        names = ask_daemon(args, 'node_list', include_hidden=args.all)
+        if names is None:
+            names = api.node_list(include_hidden=args.all)
         if args.count_nodes:
             print(len(names))
         elif names:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from robot_lab.cli.daemon import add_no_daemon, ask_daemon
+
 HELP = 'Various service related sub-commands'
 
 
@@ -16,18 +18,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Only display the number of services discovered')
     lister.add_argument('--include-hidden-services', action='store_true',
                         help='Consider hidden services as well')
+    add_no_daemon(lister)
 
 
 def main(args: argparse.Namespace) -> int:
-    from robot_lab.graph.discovery import get_session, settled
     from robot_lab.graph.services import service_list_typed
 
     if args.service_verb != 'list':
         args._parser.print_help()
         return 0
-    sess = get_session(None)
-    found = settled(sess, lambda: service_list_typed(
-        include_hidden=args.include_hidden_services, session=sess))
+    hidden = args.include_hidden_services
+    found = ask_daemon(args, 'service_list', include_hidden=hidden)
+    if found is None:
+        found = service_list_typed(include_hidden=hidden)
     if args.count_services:
         print(len(found))
         return 0

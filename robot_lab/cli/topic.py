@@ -11,6 +11,8 @@ import sys
 import time
 from typing import Any
 
+from robot_lab.cli.daemon import add_no_daemon, ask_daemon
+
 HELP = 'Various topic related sub-commands'
 
 DEFAULT_TRUNCATE_LENGTH = 128
@@ -57,6 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Consider hidden topics as well')
     lister.add_argument('-v', '--verbose', action='store_true',
                         help='List full details about each topic')
+    add_no_daemon(lister)
 
     info = sub.add_parser('info', help='Print information about a topic')
     info.add_argument('topic_name', help="Name of the ROS topic to get info (e.g. '/chatter')")
@@ -135,6 +138,11 @@ def _list(args: argparse.Namespace) -> int:
     from robot_lab.graph.discovery import get_session
 
     hidden = args.include_hidden_topics or args.list_hidden
+    if not args.verbose:  # -v counts endpoints per topic: that needs a session here
+        answer = ask_daemon(args, 'topic_list', include_hidden=hidden)
+        if answer is not None:
+            _print_topics(args, [(name, list(types)) for name, types in answer])
+            return 0
     sess = get_session(None)
     topics = api.topic_list(include_hidden=hidden, session=sess)
     if args.count_topics:
@@ -151,9 +159,16 @@ def _list(args: argparse.Namespace) -> int:
                                  + ('s' if count > 1 else ''))
             print('\n'.join(lines) + '\n')
     else:
-        for name, types in topics:
-            print(f'{name} [{", ".join(types)}]' if args.show_types else name)
+        _print_topics(args, topics)
     return 0
+
+
+def _print_topics(args: argparse.Namespace, topics: list[tuple[str, list[str]]]) -> None:
+    if args.count_topics:
+        print(len(topics))
+        return
+    for name, types in topics:
+        print(f'{name} [{", ".join(types)}]' if args.show_types else name)
 
 
 def _info(args: argparse.Namespace) -> int:

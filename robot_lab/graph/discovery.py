@@ -6,10 +6,15 @@ kit's Fast DDS profile, see robot_lab/data/fastdds_profile.xml). So a query that
 complete (`node list`) waits until the session is older than one announcement period and
 the answer has stopped changing; a query for one thing (`param get /sensor …`) polls
 until it appears, bounded by a deadline, before calling it unknown.
+
+When robot_lab launches are running, their launchers say which nodes they have up
+(robot_lab/graph/expected.py); once all of those are seen, a complete answer is ready
+without waiting out the window.
 """
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeVar
@@ -19,6 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     'DISCOVERY_WINDOW',
+    'EXPECTED_TIMEOUT',
     'LOOKUP_TIMEOUT',
     'POLL',
     'SETTLE',
@@ -42,6 +48,9 @@ SETTLE = 0.25
 # A session past its first second has seen the graph; only fresh changes need settling.
 WARM_AGE = 1.5
 WARM_SETTLE = 0.05
+# How long a query waits for nodes a running launch has started but discovery has not yet
+# shown (they are on their way: their processes are alive).
+EXPECTED_TIMEOUT = 5.0
 # How long a lookup of a named node/topic waits for discovery before calling it unknown.
 LOOKUP_TIMEOUT = 2.5
 POLL = 0.02
@@ -74,20 +83,52 @@ def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
         time.sleep(POLL)
 
 
+def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
+    """A probe for `settled`: None when no launch announces nodes on this graph, else
+    whether every node the running launches have up is in the session's graph."""
+    from robot_lab.graph.expected import expected_nodes, graph_dir
+
+    directory = graph_dir({**os.environ, 'ROS_DOMAIN_ID': str(session.domain_id)})
+
+    def seen() -> bool | None:
+        expected = expected_nodes(directory)
+        if not expected:
+            return None
+        present = {
+            namespace.rstrip('/') + '/' + name
+            for name, namespace in session.node.get_node_names_and_namespaces()
+        }
+        return expected <= present
+
+    return seen
+
+
 def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
-            window: float = DISCOVERY_WINDOW, settle: float = SETTLE) -> T:
+            window: float = DISCOVERY_WINDOW, settle: float = SETTLE,
+            ready: Callable[[], bool | None] | None = None) -> T:
     """`probe()` once discovery has had its window and the answer stopped changing.
 
-    Bounded by `timeout`: on a graph that keeps changing it returns the latest answer.
+    `ready` (default: `launched_nodes_seen(session)`) can end the window early: True
+    means everything known to be coming has been seen; False means more is coming, so the
+    wait may extend to EXPECTED_TIMEOUT. Bounded: on a graph that keeps changing it
+    returns the latest answer.
     """
-    deadline = time.monotonic() + timeout
-    if time.monotonic() - session.created >= WARM_AGE:
+    if ready is None:
+        ready = launched_nodes_seen(session)
+    start = time.monotonic()
+    if start - session.created >= WARM_AGE:
         settle = min(settle, WARM_SETTLE)
     value = probe()
     changed = time.monotonic()
     while True:
         now = time.monotonic()
         old_enough = now - session.created >= window
+        deadline = start + timeout
+        expectation = ready()
+        if expectation is True:
+            old_enough, settle = True, min(settle, WARM_SETTLE)
+        elif expectation is False:
+            deadline = start + max(timeout, EXPECTED_TIMEOUT)
         if (old_enough and now - changed >= settle) or now >= deadline:
             return value
         time.sleep(POLL)

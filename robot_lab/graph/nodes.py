@@ -48,7 +48,8 @@ def node_list(include_hidden: bool = False, *, settle: bool = True,
     """Full names of the nodes in the graph, sorted (like `ros2 node list`).
 
     With `settle` (default) it returns once discovery has had its first window and the
-    list has stopped changing, so a list taken right after a launch is not partial.
+    list has stopped changing, or once every node that running robot_lab launches have
+    started is in it, so a list taken right after a launch is not partial.
     """
     sess = get_session(session)
     if not settle:

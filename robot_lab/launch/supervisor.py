@@ -5,7 +5,9 @@ calls `Supervisor.run()`. Children are started with `robot_lab.process.spawn`, w
 parent-death signal is tied to that thread, so run() must be called from a thread that
 lives as long as the launch (the CLI's main thread, or the notebook's supervisor thread).
 The launcher has no DDS participant of its own: it never imports rclpy, so the nodes it
-starts find each other as fast as bare processes do.
+starts find each other as fast as bare processes do. It tells graph queries which nodes
+it has up (robot_lab/graph/expected.py) and, when asked, starts a graph daemon beside
+them (robot_lab/graph/daemon.py) so one-shot CLI queries answer at once.
 """
 
 from __future__ import annotations
@@ -21,9 +23,12 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.errors import ParamFileError
+from robot_lab.graph.expected import LaunchAnnouncement, graph_dir
 from robot_lab.launch.description import (
     Action,
     LaunchPlan,
@@ -35,9 +40,14 @@ from robot_lab.launch.description import (
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.process import spawn
 
+if TYPE_CHECKING:
+    from robot_lab.graph.daemon import Listener
+
 __all__ = ['ProcessRecord', 'Supervisor', 'check_param_files', 'run_plan']
 
 _LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
+# How often a launch checks that its nodes' graph still has a daemon (seconds).
+DAEMON_CHECK = 1.0
 
 
 def check_param_files(plan: LaunchPlan) -> None:
@@ -85,6 +95,7 @@ class ProcessRecord:
     partial: dict[str, bytes] = field(default_factory=dict, repr=False)
     open_streams: int = 0
     pidfd: int | None = None
+    graph: Path | None = None  # the graph_dir() of the node's environment
 
     @property
     def label(self) -> str:
@@ -109,10 +120,17 @@ class Supervisor:
     """Executes one LaunchPlan; `run()` blocks until every process has ended."""
 
     def __init__(self, plan: LaunchPlan, output: LaunchOutput, *,
-                 noninteractive: bool = True) -> None:
+                 noninteractive: bool = True, graph_daemon: bool = False,
+                 graph_listener: Listener | None = None) -> None:
         self.plan = plan
         self.output = output
         self.noninteractive = noninteractive
+        self.graph_daemon = graph_daemon
+        self._announcements: dict[Path, LaunchAnnouncement] = {}
+        self._daemons: list[subprocess.Popen[bytes]] = []
+        self._daemon_graphs: set[Path] = set()
+        self._listener = graph_listener
+        self._graph_envs: dict[Path, dict[str, str]] = {}  # an environment of each graph
         self.records: list[ProcessRecord] = [ProcessRecord(spec) for spec in plan.processes()]
         self._by_spec = {id(r.spec): r for r in self.records}
         self.started = threading.Event()  # the plan's first actions have been executed
@@ -176,6 +194,9 @@ class Supervisor:
         try:
             self._execute(self.plan.actions)
             self.started.set()
+            if self.graph_daemon:
+                self._start_graph_daemons()
+                self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
             while True:
                 self._drain_requests()
                 self._run_due()
@@ -185,6 +206,7 @@ class Supervisor:
         finally:
             self.started.set()
             self._kill_leftovers()
+            self._end_graph_companions()
             self._selector.close()
             with self._requests_lock:
                 self._closed = True
@@ -279,8 +301,9 @@ class Supervisor:
             'DEBUG', record.label,
             f"process details: cmd='{' '.join(p for p in spec.cmd if p.strip())}', "
             f"cwd='{spec.cwd}', custom_env?={'True' if spec.env else 'False'}")
+        env = self._environment(spec)
         try:
-            popen = spawn(spec.cmd, env=self._environment(spec), cwd=spec.cwd,
+            popen = spawn(spec.cmd, env=env, cwd=spec.cwd,
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
         except OSError as exc:
             record.state, record.returncode = 'died', None
@@ -289,6 +312,9 @@ class Supervisor:
             return
         record.popen, record.pid = popen, popen.pid
         record.state, record.returncode, record.stopping = 'running', None, False
+        if spec.node_name:
+            record.graph = graph_dir(env)
+            self._graph_envs.setdefault(record.graph, env)
         record.generation += 1
         record.partial = {'stdout': b'', 'stderr': b''}
         record.open_streams = 0
@@ -306,6 +332,9 @@ class Supervisor:
             except OSError:
                 record.pidfd = None
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
+        self._announce()
+        if self.graph_daemon and self.started.is_set():
+            self._start_graph_daemons()  # a node started by a timer, maybe in a new graph
 
     # --- output -------------------------------------------------------------------------
 
@@ -373,6 +402,7 @@ class Supervisor:
             record.pidfd = None
         self._drain(record)
         record.returncode = code
+        self._announce()
         cmd = ' '.join(part for part in record.spec.cmd if part.strip())
         if code == 0:
             record.state = 'finished'
@@ -410,6 +440,7 @@ class Supervisor:
         self.is_shutdown = True
         if reason:
             self.output.launcher('DEBUG', 'launch', f'shutting down: {reason}')
+        self._stop_graph_daemons()  # it exits while the nodes do
         for item in self._schedule:
             if item.keeps_alive:
                 item.cancelled = True  # timers and pending respawns never start now
@@ -454,6 +485,81 @@ class Supervisor:
                              f"sending signal '{sig.name}' to process[{record.label}]")
         with contextlib.suppress(ProcessLookupError):
             popen.send_signal(sig)
+
+    # --- graph companions: expected nodes, the graph daemon -----------------------------
+
+    def _announce(self) -> None:
+        """Tell graph queries which nodes this launch has up (per graph they are in)."""
+        running: dict[Path, list[tuple[str, int]]] = {d: [] for d in self._announcements}
+        for record in self.records:
+            if record.graph is not None and record.state == 'running' and record.pid:
+                running.setdefault(record.graph, []).append(
+                    (record.spec.node_name or '', record.pid))
+        for directory, nodes in running.items():
+            if directory not in self._announcements:
+                self._announcements[directory] = LaunchAnnouncement(directory)
+            self._announcements[directory].update(nodes)
+
+    def _start_graph_daemons(self) -> None:
+        """One daemon per graph this launch's nodes are in, unless one already serves it.
+
+        Started after the nodes (they matter more) from this thread, so it dies with the
+        launcher like they do.
+        """
+        from robot_lab.graph import daemon
+
+        if self._listener is not None:
+            listener, self._listener = self._listener, None
+            self._daemon_graphs.add(listener.path.parent)
+            self._graph_envs.setdefault(listener.path.parent, dict(os.environ))
+            try:
+                self._daemons.append(daemon.start(detached=False, listener=listener))
+            except OSError as exc:
+                self.output.launcher('WARNING', 'launch', f'no graph daemon: {exc}')
+            listener.close(unlink=not self._daemons)  # the daemon has its own copy now
+        running = {r.graph for r in self.records if r.graph is not None and r.state == 'running'}
+        for directory in running - self._daemon_graphs:
+            self._daemon_graphs.add(directory)
+            env = self._graph_envs[directory]
+            if daemon.is_running(env):
+                continue
+            try:
+                self._daemons.append(daemon.start(detached=False, env=env))
+            except OSError as exc:
+                self.output.launcher('WARNING', 'launch', f'no graph daemon: {exc}')
+
+    def _check_graph_daemons(self) -> None:
+        """A daemon of another launch serving our graph may end with that launch: then we
+        start our own, so the CLI stays fast for as long as our nodes run."""
+        if self.is_shutdown:
+            return
+        from robot_lab.graph import daemon
+
+        self._daemons = [p for p in self._daemons if p.poll() is None]
+        for directory in list(self._daemon_graphs):
+            if not daemon.is_running(self._graph_envs[directory]):
+                self._daemon_graphs.discard(directory)
+        self._start_graph_daemons()
+        self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
+
+    def _stop_graph_daemons(self) -> None:
+        for proc in self._daemons:
+            if proc.poll() is None:
+                with contextlib.suppress(ProcessLookupError):
+                    proc.terminate()
+
+    def _end_graph_companions(self) -> None:
+        if self._listener is not None:  # never handed to a daemon
+            self._listener.close()
+        for announcement in self._announcements.values():
+            announcement.close()
+        self._stop_graph_daemons()
+        for proc in self._daemons:
+            try:
+                proc.wait(2.0)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
 
     def _kill_leftovers(self) -> None:
         """Only reached on an error inside the loop: never leave a child behind."""

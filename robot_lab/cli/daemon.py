@@ -1,0 +1,58 @@
+"""`robot-lab daemon start|stop|status`, and the `--no-daemon` the graph verbs share.
+
+Prints what `ros2 daemon …` prints. `robot-lab launch` starts a daemon by itself; see
+robot_lab/graph/daemon.py for what it is and why.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+HELP = 'Various daemon related sub-commands'
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest='daemon_verb', metavar='VERB')
+    start = sub.add_parser('start', help="Start the daemon if it isn't running")
+    start.add_argument('--idle-timeout', type=float, default=None, metavar='SECONDS',
+                       help='Exit after this long without a request (default: 7200)')
+    sub.add_parser('stop', help='Stop the daemon if it is running')
+    sub.add_parser('status', help='Output the status of the daemon')
+
+
+def add_no_daemon(parser: argparse.ArgumentParser) -> None:
+    """The `--no-daemon` option of ros2cli's graph verbs."""
+    parser.add_argument('--no-daemon', action='store_true',
+                        help='Do not spawn nor use an already running daemon')
+
+
+def ask_daemon(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
+    """The daemon's answer for a graph verb, or None: then the verb asks the graph itself."""
+    if getattr(args, 'no_daemon', False):
+        return None
+    from robot_lab.graph.daemon import query
+
+    return query(op, **params)
+
+
+def main(args: argparse.Namespace) -> int:
+    from robot_lab.graph import daemon
+
+    if args.daemon_verb == 'status':
+        print('The daemon is running' if daemon.is_running() else 'The daemon is not running')
+    elif args.daemon_verb == 'start':
+        if daemon.is_running():
+            print('The daemon is already running')
+            return 0
+        timeout = daemon.IDLE_TIMEOUT if args.idle_timeout is None else args.idle_timeout
+        proc = daemon.start(detached=True, idle_timeout=timeout)
+        if not daemon.wait_until_running(proc=proc):
+            print('The daemon could not be started')
+            return 1
+        print('The daemon has been started')
+    elif args.daemon_verb == 'stop':
+        print('The daemon has been stopped' if daemon.stop() else 'The daemon is not running')
+    else:
+        args._parser.print_help()
+    return 0

@@ -1,0 +1,322 @@
+"""A warm graph for one-shot commands: robot_lab's counterpart of the ros2 daemon.
+
+A fresh `robot-lab node list` must start Python and rclpy and then wait for DDS discovery
+before it can answer (≈ 1.7 s). ros2cli avoids that with a daemon: a long-lived process
+whose participant already knows the graph, asked over a local socket. robot_lab does the
+same. `robot-lab launch` starts one beside its nodes (it dies with the launcher, even after
+`kill -9`), `robot-lab daemon start` starts one that exits after an idle timeout, and the
+CLI's graph verbs ask it first and fall back to their own session when there is none.
+
+One daemon per graph (user, ROS_DOMAIN_ID, discovery settings): its Unix socket lives in
+`graph_dir()`, a per-user 0700 directory, and a lock file keeps it single. The client side
+below imports neither rclpy nor the graph modules, so asking costs a few milliseconds.
+The protocol is one JSON line each way.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import fcntl
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import IO, Any
+
+from robot_lab.errors import GraphError, RobotLabError
+from robot_lab.graph.expected import graph_dir
+
+__all__ = [
+    'IDLE_TIMEOUT',
+    'NO_DAEMON_VARIABLE',
+    'Listener',
+    'disabled',
+    'is_running',
+    'query',
+    'serve',
+    'socket_path',
+    'start',
+    'stop',
+    'wait_until_running',
+]
+
+# `ros2 daemon start`'s daemon also exits after two hours without a request.
+IDLE_TIMEOUT = 2 * 60 * 60.0
+# Set (to anything but 0) to make every command use its own session, like --no-daemon.
+NO_DAEMON_VARIABLE = 'ROBOT_LAB_NO_DAEMON'
+# In the daemon's command line, so `pgrep -f robot-lab` finds it like the kit's other
+# processes.
+_FLAG = '--robot-lab-graph-daemon'
+_SOCKET = 'daemon.sock'
+_LOCK = 'daemon.lock'
+
+
+def socket_path(env: Mapping[str, str] | None = None) -> Path:
+    return graph_dir(env) / _SOCKET
+
+
+def disabled() -> bool:
+    """True when the user asked for no daemon (ROBOT_LAB_NO_DAEMON=1)."""
+    return os.environ.get(NO_DAEMON_VARIABLE, '0') not in ('', '0')
+
+
+def _connect(path: Path, timeout: float) -> socket.socket | None:
+    if not path.exists():
+        return None
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    sock.settimeout(timeout)
+    try:
+        sock.connect(str(path))
+    except OSError:  # a stale socket file: its daemon is gone
+        sock.close()
+        return None
+    return sock
+
+
+def query(op: str, *, timeout: float = 8.0, env: Mapping[str, str] | None = None,
+          **params: Any) -> Any | None:
+    """The daemon's answer to `op`, or None when no daemon serves this graph.
+
+    None (rather than an error) also when the daemon does not answer within `timeout`:
+    the caller then asks the graph itself, which is slower but still right.
+    """
+    if disabled():
+        return None
+    sock = _connect(socket_path(env), timeout)
+    if sock is None:
+        return None
+    with sock:
+        try:
+            sock.sendall(json.dumps({'op': op, **params}).encode() + b'\n')
+            chunks = []
+            while chunk := sock.recv(65536):
+                chunks.append(chunk)
+        except OSError:
+            return None
+    try:
+        reply = json.loads(b''.join(chunks))
+    except ValueError:
+        return None
+    if 'error' in reply:
+        raise GraphError(reply['error'], fix=reply.get('fix'))
+    return reply.get('result')
+
+
+def is_running(env: Mapping[str, str] | None = None) -> bool:
+    """True when a daemon answers on this graph's socket."""
+    sock = _connect(socket_path(env), 2.0)
+    if sock is None:
+        return False
+    sock.close()
+    return True
+
+
+class Listener:
+    """The daemon's bound socket and lock, made before the daemon process exists.
+
+    A launcher binds it first thing (socket activation, as systemd does it): a
+    `node list` typed while the daemon is still starting queues on the socket and gets a
+    warm answer, instead of finding nothing and starting a cold session of its own.
+    """
+
+    def __init__(self, sock: socket.socket, lock: IO[str], path: Path) -> None:
+        self.socket, self.lock, self.path = sock, lock, path
+        self.closed = False
+
+    @classmethod
+    def bind(cls, env: Mapping[str, str] | None = None) -> Listener | None:
+        """Bind this graph's socket; None if another daemon (or launcher) holds it."""
+        directory = graph_dir(env, create=True)
+        lock = open(directory / _LOCK, 'a')  # noqa: SIM115 - lives as long as the daemon
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            lock.close()
+            return None
+        path = directory / _SOCKET
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()  # left by a daemon that was killed
+        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        try:
+            sock.bind(str(path))
+            sock.listen(64)
+        except OSError:
+            sock.close()
+            lock.close()
+            return None
+        return cls(sock, lock, path)
+
+    def fds(self) -> tuple[int, int]:
+        return self.socket.fileno(), self.lock.fileno()
+
+    def close(self, unlink: bool = True) -> None:
+        """Close this process's copies (a daemon that inherited them keeps serving)."""
+        if self.closed:
+            return
+        self.closed = True
+        if unlink:
+            with contextlib.suppress(OSError):
+                self.path.unlink()
+        self.socket.close()
+        self.lock.close()
+
+
+def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
+          env: Mapping[str, str] | None = None,
+          listener: Listener | None = None) -> subprocess.Popen[bytes]:
+    """Start a daemon for the graph of `env` (default: this process's environment).
+
+    `detached`: its own session, outliving the caller until its idle timeout (what
+    `robot-lab daemon start` wants). Otherwise it is the caller's child and dies with it
+    (what a launcher wants). `listener`: a socket the caller bound already (the daemon
+    inherits it; the caller should then close its copy with `unlink=False`). A second
+    daemon for a graph that has one exits at once.
+    """
+    from robot_lab.env import ros_environment
+    from robot_lab.process import spawn
+
+    child_env = ros_environment(env)
+    cmd = [sys.executable, '-m', 'robot_lab.graph.daemon', _FLAG,
+           '--idle-timeout', f'{idle_timeout:g}']
+    fds: tuple[int, ...] = ()
+    if listener is not None:
+        fds = listener.fds()
+        cmd += ['--listen-fd', str(fds[0]), '--lock-fd', str(fds[1])]
+    if detached:
+        return subprocess.Popen(cmd, env=child_env, stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                start_new_session=True, pass_fds=fds)
+    return spawn(cmd, env=child_env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                 pass_fds=fds)
+
+
+def wait_until_running(timeout: float = 10.0, env: Mapping[str, str] | None = None,
+                       proc: subprocess.Popen[bytes] | None = None) -> bool:
+    """Poll until the daemon answers (or `proc`, the one being started, has exited)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if is_running(env):
+            return True
+        if proc is not None and proc.poll() is not None:
+            return is_running(env)
+        time.sleep(0.02)
+    return False
+
+
+def stop(timeout: float = 10.0, env: Mapping[str, str] | None = None) -> bool:
+    """Ask the daemon to exit and wait until its socket is gone; False if none was running."""
+    if not is_running(env):
+        return False
+    with contextlib.suppress(GraphError):
+        query('stop', timeout=timeout, env=env)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and is_running(env):
+        time.sleep(0.02)
+    return True
+
+
+# --- the daemon process ------------------------------------------------------------------
+
+
+class _Server:
+    """Answers graph queries from a session that stays warm between them."""
+
+    def __init__(self, idle_timeout: float) -> None:
+        self.idle_timeout = idle_timeout
+        self.last_request = time.monotonic()
+        self.stopping = threading.Event()
+        self.session: Any = None
+
+    def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
+        from robot_lab.graph import nodes, services, topics
+
+        def hidden(request: dict[str, Any]) -> bool:
+            return bool(request.get('include_hidden', False))
+
+        return {
+            'ping': lambda r: {'pid': os.getpid(),
+                               'age': time.monotonic() - self.session.created},
+            'node_list': lambda r: nodes.node_list(hidden(r), session=self.session),
+            'topic_list': lambda r: topics.topic_list(hidden(r), session=self.session),
+            'service_list': lambda r: services.service_list_typed(hidden(r),
+                                                                  session=self.session),
+            'stop': lambda r: self.stopping.set(),
+        }
+
+    def handle(self, conn: socket.socket) -> None:
+        with conn:
+            try:
+                conn.settimeout(5.0)
+                line = conn.makefile('rb').readline()
+                request = json.loads(line)
+                handler = self.handlers().get(str(request.get('op')))
+                if handler is None:
+                    reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}"}
+                else:
+                    reply = {'result': handler(request)}
+            except RobotLabError as err:
+                reply = {'error': err.message, 'fix': err.fix}
+            except Exception as exc:  # a bad request must not take the daemon down
+                reply = {'error': f'graph daemon: {type(exc).__name__}: {exc}'}
+            self.last_request = time.monotonic()
+            with contextlib.suppress(OSError):
+                conn.sendall(json.dumps(reply).encode())
+
+    def run(self, listener: Listener) -> int:
+        listener.socket.settimeout(0.5)
+        # The launcher's shutdown (SIGTERM) and a terminal's Ctrl-C (SIGINT, sent to the
+        # whole foreground group) end the daemon the orderly way: socket removed.
+        for sig in (signal.SIGTERM, signal.SIGINT):
+            signal.signal(sig, lambda _s, _f: self.stopping.set())
+        try:
+            from robot_lab.context import session
+
+            self.session = session()
+            while not self.stopping.is_set():
+                if time.monotonic() - self.last_request > self.idle_timeout:
+                    break
+                try:
+                    conn, _ = listener.socket.accept()
+                except TimeoutError:
+                    continue
+                threading.Thread(target=self.handle, args=(conn,), daemon=True).start()
+        finally:
+            listener.close()
+        return 0
+
+
+def serve(idle_timeout: float = IDLE_TIMEOUT, listener: Listener | None = None) -> int:
+    """Run a daemon for this process's graph in this process until idle or stopped."""
+    from robot_lab.env import apply_ros_defaults
+
+    apply_ros_defaults()
+    if listener is None:
+        listener = Listener.bind()
+        if listener is None:
+            return 0  # another daemon serves this graph
+    return _Server(idle_timeout).run(listener)
+
+
+def _main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog='python -m robot_lab.graph.daemon')
+    parser.add_argument(_FLAG, dest='flag', action='store_true')
+    parser.add_argument('--idle-timeout', type=float, default=IDLE_TIMEOUT)
+    parser.add_argument('--listen-fd', type=int, default=None)
+    parser.add_argument('--lock-fd', type=int, default=None)
+    args = parser.parse_args(argv)
+    listener = None
+    if args.listen_fd is not None and args.lock_fd is not None:
+        listener = Listener(socket.socket(fileno=args.listen_fd),
+                            os.fdopen(args.lock_fd, 'a'), socket_path())
+    return serve(args.idle_timeout, listener)
+
+
+if __name__ == '__main__':
+    sys.exit(_main())

@@ -1,0 +1,135 @@
+"""What the graph should contain: the nodes that running launches have started.
+
+DDS cannot say when discovery is complete, so a `node list` right after a launch either
+waits a fixed window or risks a partial answer. The launcher knows better: it writes the
+names of the node processes it has running to a small file per launch (in the graph's
+runtime directory, one per ROS_DOMAIN_ID and discovery setting). A query that sees all of
+those names can answer at once; names of processes that died no longer count, and files
+of launchers that were killed are removed by the next reader.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import hashlib
+import json
+import os
+import tempfile
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+__all__ = ['LaunchAnnouncement', 'expected_nodes', 'graph_dir', 'graph_key']
+
+# What decides whether two processes share a graph (and so a daemon and these files).
+_GRAPH_VARIABLES = (
+    'ROS_AUTOMATIC_DISCOVERY_RANGE',
+    'ROS_STATIC_PEERS',
+    'ROS_LOCALHOST_ONLY',
+    'RMW_IMPLEMENTATION',
+    'FASTRTPS_DEFAULT_PROFILES_FILE',
+    'FASTDDS_DEFAULT_PROFILES_FILE',
+)
+
+
+def graph_key(env: Mapping[str, str] | None = None) -> str:
+    """`d<domain>-<range>-<hash>`: equal for processes that see the same DDS graph."""
+    source = os.environ if env is None else env
+    return _key(tuple(source.get(k) for k in ('ROS_DOMAIN_ID', *_GRAPH_VARIABLES)))
+
+
+@functools.lru_cache(maxsize=16)
+def _key(values: tuple[str | None, ...]) -> str:
+    from robot_lab.env import apply_ros_defaults
+
+    # The kit's defaults (discovery range, Fast DDS profile) apply to every process it
+    # starts, so a shell without them and a node with them share one graph.
+    resolved = {k: v for k, v in zip(('ROS_DOMAIN_ID', *_GRAPH_VARIABLES), values, strict=True)
+                if v is not None}
+    apply_ros_defaults(resolved)
+    domain = resolved.get('ROS_DOMAIN_ID', '').strip() or '0'
+    discovery = resolved.get('ROS_AUTOMATIC_DISCOVERY_RANGE', '').strip().lower() or 'default'
+    digest = hashlib.sha1(
+        '\0'.join(resolved.get(k, '') for k in _GRAPH_VARIABLES).encode()
+    ).hexdigest()[:8]
+    return f'd{domain}-{discovery}-{digest}'
+
+
+def graph_dir(env: Mapping[str, str] | None = None, create: bool = False) -> Path:
+    """The runtime directory of one graph: the daemon's socket and the launches' files.
+
+    Under $XDG_RUNTIME_DIR when there is one, else a per-user directory in /tmp (mode 0700,
+    so other users can neither read nor plant files).
+    """
+    runtime = os.environ.get('XDG_RUNTIME_DIR', '')
+    if runtime and os.path.isdir(runtime):
+        base = Path(runtime) / 'robot_lab'
+    else:
+        base = Path(tempfile.gettempdir()) / f'robot_lab-{os.getuid()}'
+    path = base / 'graph' / graph_key(env)
+    if create:
+        path.mkdir(mode=0o700, parents=True, exist_ok=True)
+        base.chmod(0o700)
+    return path
+
+
+def _alive(pid: int) -> bool:
+    """True for a running process (a zombie, dead but not yet reaped, is not running)."""
+    try:
+        with open(f'/proc/{pid}/stat', encoding='ascii', errors='replace') as stat:
+            state = stat.read().rpartition(')')[2].split()[0]
+    except (OSError, IndexError):
+        return False
+    return state not in ('Z', 'X')
+
+
+class LaunchAnnouncement:
+    """The launcher's side: keeps `launch-<pid>.json` equal to its running nodes."""
+
+    def __init__(self, directory: Path) -> None:
+        self._dir = directory
+        self._path = directory / f'launch-{os.getpid()}.json'
+        self._last: list[tuple[str, int]] | None = None
+
+    def update(self, nodes: Iterable[tuple[str, int]]) -> None:
+        """Announce (full name, pid) of every node process that is running now."""
+        current = sorted(nodes)
+        if current == self._last:
+            return
+        self._last = current
+        with contextlib.suppress(OSError):  # a read-only /tmp only costs the hint
+            self._dir.mkdir(mode=0o700, parents=True, exist_ok=True)
+            text = json.dumps({'launcher': os.getpid(),
+                               'nodes': [{'name': n, 'pid': p} for n, p in current]})
+            partial = self._path.with_suffix('.tmp')
+            partial.write_text(text, encoding='utf-8')
+            partial.replace(self._path)  # readers never see half a file
+
+    def close(self) -> None:
+        with contextlib.suppress(OSError):
+            self._path.unlink()
+
+
+def expected_nodes(directory: Path) -> set[str]:
+    """Full names of the nodes that running launches of this graph have up right now.
+
+    `directory` is the graph's `graph_dir()`.
+    """
+    names: set[str] = set()
+    try:
+        files = list(directory.glob('launch-*.json'))
+    except OSError:
+        return names
+    for path in files:
+        try:
+            data = json.loads(path.read_text(encoding='utf-8'))
+            launcher = int(data['launcher'])
+            nodes = [(str(n['name']), int(n['pid'])) for n in data['nodes']]
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+        if not _alive(launcher):
+            with contextlib.suppress(OSError):
+                path.unlink()  # the launcher was killed; its children died with it
+            continue
+        names.update(name for name, pid in nodes if _alive(pid))
+    return names

@@ -1,0 +1,165 @@
+"""The graph daemon (`robot-lab daemon`, and the one `robot-lab launch` starts) and the
+launchers' expected-node files: warm answers, the same text as without a daemon, and no
+daemon outliving what started it."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Iterator
+
+import psutil
+import pytest
+from conftest import reference_system, run_cli
+
+from robot_lab.errors import GraphError
+from robot_lab.graph import daemon
+from robot_lab.graph.expected import expected_nodes, graph_dir
+
+THREE = '/controller\n/robot\n/sensor\n'
+
+
+def _daemon_children(pid: int) -> list[psutil.Process]:
+    return [p for p in psutil.Process(pid).children(recursive=True)
+            if '--robot-lab-graph-daemon' in p.cmdline()]
+
+
+def _gone(pid: int, timeout: float = 10.0) -> bool:
+    try:
+        psutil.Process(pid).wait(timeout)
+    except psutil.NoSuchProcess:
+        return True
+    except psutil.TimeoutExpired:
+        return False
+    return True
+
+
+def _wait(condition, timeout: float = 10.0) -> bool:  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(0.02)
+    return False
+
+
+@pytest.fixture
+def no_daemon() -> Iterator[None]:
+    """Each test starts without a daemon on its domain and leaves none behind."""
+    daemon.stop()
+    yield
+    daemon.stop()
+
+
+def test_daemon_verbs_print_what_ros2_daemon_prints(no_daemon: None) -> None:
+    assert run_cli('daemon', 'status').stdout == 'The daemon is not running\n'
+    assert run_cli('daemon', 'stop').stdout == 'The daemon is not running\n'
+    started = run_cli('daemon', 'start')
+    assert started.stdout == 'The daemon has been started\n', started.stderr
+    assert run_cli('daemon', 'status').stdout == 'The daemon is running\n'
+    assert run_cli('daemon', 'start').stdout == 'The daemon is already running\n'
+    pid = daemon.query('ping')['pid']
+    # `ros2 daemon start` detaches it: its own session, not a child of the command
+    assert os.getsid(pid) == pid
+    assert run_cli('daemon', 'stop').stdout == 'The daemon has been stopped\n'
+    assert _gone(pid)
+    assert run_cli('daemon', 'status').stdout == 'The daemon is not running\n'
+    assert not daemon.socket_path().exists()
+
+
+def test_daemon_answers_like_a_session_and_survives_bad_requests(no_daemon: None) -> None:
+    assert run_cli('daemon', 'start').returncode == 0
+    with reference_system():
+        # Nodes started with `robot-lab run` announce nothing: like ros2's daemon, this one
+        # answers with what it has discovered so far, so wait until that is all three.
+        assert _wait(lambda: daemon.query('node_list') == ['/controller', '/robot', '/sensor'])
+        assert run_cli('node', 'list').stdout == THREE
+        assert run_cli('node', 'list', '--no-daemon').stdout == THREE
+        assert run_cli('node', 'list', '-c').stdout == '3\n'
+        typed = run_cli('topic', 'list', '-t').stdout
+        for line in ('/cmd_vel [geometry_msgs/msg/Twist]',
+                     '/robot/status [std_msgs/msg/String]',
+                     '/sensor/temperature [std_msgs/msg/Float32]'):
+            assert line in typed.splitlines()
+        assert typed == run_cli('topic', 'list', '-t', '--no-daemon').stdout
+        services = run_cli('service', 'list').stdout.splitlines()
+        assert '/sensor/set_parameters' in services
+        hidden = daemon.query('node_list', include_hidden=True)
+        assert any(name.startswith('/_robot_lab_') for name in hidden)  # its own node
+        with pytest.raises(GraphError, match="unknown request 'bogus'"):
+            daemon.query('bogus')
+        assert daemon.query('ping')['pid'] > 0  # still serving
+
+
+def test_daemon_is_per_domain(no_daemon: None, ros_domain: int) -> None:
+    assert run_cli('daemon', 'start').returncode == 0
+    other = {'ROS_DOMAIN_ID': str((ros_domain + 50) % 100 + 1)}
+    assert run_cli('daemon', 'status', env=other).stdout == 'The daemon is not running\n'
+    assert graph_dir() != graph_dir({**os.environ, **other})
+
+
+def test_idle_daemon_exits_by_itself(no_daemon: None) -> None:
+    assert run_cli('daemon', 'start', '--idle-timeout', '1').returncode == 0
+    pid = daemon.query('ping')['pid']
+    assert _gone(pid, timeout=10)
+    assert not daemon.is_running()
+
+
+def test_launch_starts_a_daemon_that_dies_with_it(no_daemon: None, start) -> None:  # type: ignore[no-untyped-def]
+    launch = start('robot-lab', 'launch', 'robot_lab', 'robot.launch.xml')
+    # typed right away: the launcher's socket holds the question until the answer is whole
+    listed = run_cli('node', 'list')
+    assert listed.stdout == THREE, (listed.stdout, listed.stderr)
+    children = _daemon_children(launch.popen.pid)
+    assert len(children) == 1
+    assert daemon.query('ping')['pid'] == children[0].pid
+    assert expected_nodes(graph_dir()) == {'/controller', '/robot', '/sensor'}
+    # a second launch on the same graph uses that daemon instead of starting its own
+    second = start('robot-lab', 'launch', 'robot_lab', 'robot_sim.launch.xml')
+    second.wait_for(r'\[robot1\.robot\]: Robot node started', timeout=30)
+    assert _daemon_children(second.popen.pid) == []
+    launch.popen.send_signal(signal.SIGINT)
+    assert launch.popen.wait(30) == 0
+    assert _gone(children[0].pid)
+    sim = {f'/robot{i}/{n}' for i in (1, 2) for n in ('controller', 'robot', 'sensor')}
+    assert expected_nodes(graph_dir()) == sim
+    # the daemon went with the first launch; the second starts its own within a second
+    assert _wait(lambda: len(_daemon_children(second.popen.pid)) == 1)
+    assert _wait(daemon.is_running)
+    assert daemon.query('node_list') == sorted(sim)
+
+
+def test_kill_9_of_the_launcher_takes_the_daemon_and_its_file(no_daemon: None, start) -> None:  # type: ignore[no-untyped-def]
+    launch = start('robot-lab', 'launch', 'robot_lab', 'robot.launch.xml')
+    launch.wait_for(r'Robot node started', timeout=30)
+    assert _wait(lambda: _daemon_children(launch.popen.pid))
+    (child,) = _daemon_children(launch.popen.pid)
+    assert _wait(lambda: len(expected_nodes(graph_dir())) == 3)
+    launch.popen.kill()
+    launch.popen.wait()
+    assert _gone(child.pid)
+    assert not daemon.is_running()  # the socket file may be left; nobody answers on it
+    assert expected_nodes(graph_dir()) == set()
+    assert not list(graph_dir().glob('launch-*.json'))  # removed by that reader
+
+
+def test_a_dead_node_is_no_longer_expected(start) -> None:  # type: ignore[no-untyped-def]
+    launch = start('robot-lab', 'launch', 'robot_lab', 'robot.launch.xml',
+                   env={daemon.NO_DAEMON_VARIABLE: '1'})
+    launch.wait_for(r'Robot node started', timeout=30)
+    assert _wait(lambda: len(expected_nodes(graph_dir())) == 3)
+    assert _daemon_children(launch.popen.pid) == []  # ROBOT_LAB_NO_DAEMON=1
+    sensor = next(p for p in psutil.Process(launch.popen.pid).children()
+                  if '__node:=sensor' in p.cmdline())
+    sensor.kill()
+    launch.wait_for(r'\[sensor_node-1\]: process has died', timeout=10)
+    assert expected_nodes(graph_dir()) == {'/controller', '/robot'}
+    # and node list, without a daemon, is not held up waiting for it
+    began = time.monotonic()
+    assert run_cli('node', 'list').stdout == '/controller\n/robot\n'
+    assert time.monotonic() - began < 4.5  # EXPECTED_TIMEOUT (5 s) would be a wait for /sensor
+
+
+def test_query_without_a_daemon_is_none(no_daemon: None) -> None:
+    assert daemon.query('node_list') is None
