@@ -133,8 +133,11 @@ class Listener:
     @classmethod
     def bind(cls, env: Mapping[str, str] | None = None) -> Listener | None:
         """Bind this graph's socket; None if another daemon (or launcher) holds it."""
-        directory = graph_dir(env, create=True)
-        lock = open(directory / _LOCK, 'a')  # noqa: SIM115 - lives as long as the daemon
+        try:
+            directory = graph_dir(env, create=True)
+            lock = open(directory / _LOCK, 'a')  # noqa: SIM115 - lives as long as the daemon
+        except OSError:
+            return None  # no runtime directory: commands use their own sessions
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
