@@ -56,12 +56,19 @@ class Session:
 
     `node` is a hidden node (its name starts with `_`, so `node list` never shows it);
     use it for subscriptions, clients and graph queries. `executor` spins it in a daemon
-    thread; add your own nodes with `add_node`.
+    thread; add your own nodes with `add_node` (they get a thread of their own).
+
+    Why single-threaded executors: rclpy's MultiThreadedExecutor rebuilds its wait set
+    for every callback it hands to its pool, and loops without waiting while a ready
+    callback's group is busy; a kernel with a plot and sliders spent 8-100 % of a core
+    in it (bench/bench_session.py). Nothing of the kit waits, inside a callback of
+    `node`, for an answer `node` itself must deliver, so one thread is enough there.
+    Your nodes' callbacks may (a timer calling `robot_lab.param_get`), so they spin on a
+    second thread and the hidden node stays free to answer them.
     """
 
     def __init__(self, domain_id: int) -> None:
         import rclpy
-        from rclpy.executors import MultiThreadedExecutor
 
         apply_ros_defaults()
         self.domain_id = domain_id
@@ -74,12 +81,24 @@ class Session:
         )
         # When discovery began: graph queries wait out the first announcements after it.
         self.created = time.monotonic()
-        self.executor = MultiThreadedExecutor(num_threads=4, context=self.context)
+        self.executor = self._new_executor()
         self.executor.add_node(self.node)
-        self._thread = threading.Thread(
-            target=self._spin, name=f'robot_lab-executor-{domain_id}', daemon=True
-        )
-        self._thread.start()
+        # Users' nodes (add_node): made on first use.
+        self._nodes_lock = threading.Lock()
+        self._nodes_executor: Any = None
+        self._nodes_thread: threading.Thread | None = None
+        self._thread = self._start_spinning(self.executor, 'executor')
+
+    def _new_executor(self) -> Any:
+        from rclpy.executors import SingleThreadedExecutor
+
+        return SingleThreadedExecutor(context=self.context)
+
+    def _start_spinning(self, executor: Any, role: str) -> threading.Thread:
+        thread = threading.Thread(target=self._spin, args=(executor,),
+                                  name=f'robot_lab-{role}-{self.domain_id}', daemon=True)
+        thread.start()
+        return thread
 
     @staticmethod
     def _context_for(domain_id: int) -> tuple[Any, bool]:
@@ -104,13 +123,13 @@ class Session:
         context.init(args=_init_args(), domain_id=domain_id)
         return context, True
 
-    def _spin(self) -> None:
+    def _spin(self, executor: Any) -> None:
         from rclpy.exceptions import InvalidHandle
         from rclpy.executors import ExternalShutdownException
 
         while True:
             try:
-                self.executor.spin()
+                executor.spin()
                 return
             except ExternalShutdownException:
                 return
@@ -129,11 +148,25 @@ class Session:
         return bool(self.context.ok()) and self._thread.is_alive()
 
     def add_node(self, node: Any) -> Any:
-        """Spin `node` (created with this session's context) in the background too."""
-        self.executor.add_node(node)
+        """Spin `node` (created with this session's context) in the background too.
+
+        A callback of `node` that raises stops its thread, as `rclpy.spin(node)` would
+        (the traceback is printed); the hidden node and the widgets keep working, and the
+        next `add_node` spins the nodes again.
+        """
+        with self._nodes_lock:
+            if self._nodes_executor is None:
+                self._nodes_executor = self._new_executor()
+            self._nodes_executor.add_node(node)
+            if self._nodes_thread is None or not self._nodes_thread.is_alive():
+                self._nodes_thread = self._start_spinning(self._nodes_executor, 'nodes')
         return node
 
     def remove_node(self, node: Any) -> None:
+        with self._nodes_lock:
+            if self._nodes_executor is not None and node in self._nodes_executor.get_nodes():
+                self._nodes_executor.remove_node(node)
+                return
         self.executor.remove_node(node)
 
     def wait_future(self, future: Any, timeout: float, what: str) -> Any:
@@ -142,6 +175,12 @@ class Session:
         future.add_done_callback(lambda _f: done.set())
         if not done.wait(timeout):
             future.cancel()
+            if threading.current_thread() is self._thread:
+                raise GraphError(
+                    f'{what}: no answer within {timeout:g} s, waited for inside a callback '
+                    'of the session node, which cannot answer until that callback returns',
+                    fix='make the call from a cell or a thread of your own, or from a node '
+                    'added with session.add_node()')
             raise GraphError(f'{what}: no answer within {timeout:g} s')
         exc = future.exception()
         if exc is not None:
@@ -151,6 +190,9 @@ class Session:
     def run_in_executor(self, fn: Callable[[], T], timeout: float = 5.0) -> T:
         """Run `fn` once on the executor thread (for rclpy calls that must not race)."""
         from rclpy.task import Future
+
+        if threading.current_thread() is self._thread:
+            return fn()  # already there (a callback): waiting for itself would hang
 
         future: Future = Future()
 
@@ -171,13 +213,18 @@ class Session:
     def close(self) -> None:
         """Stop the executor and, if this session created it, the context."""
         # Best effort: at interpreter exit rclpy may already be half torn down.
-        with contextlib.suppress(Exception):
-            self.executor.shutdown(timeout_sec=2.0)
+        executors = [self.executor, self._nodes_executor]
+        for executor in executors:
+            if executor is not None:
+                with contextlib.suppress(Exception):
+                    executor.shutdown(timeout_sec=2.0)
         with contextlib.suppress(Exception):
             self.node.destroy_node()
         if self._owns_context:
             self.context.try_shutdown()
-        self._thread.join(timeout=2.0)
+        for thread in (self._thread, self._nodes_thread):
+            if thread is not None:
+                thread.join(timeout=2.0)
 
 
 def session(domain_id: int | None = None) -> Session:

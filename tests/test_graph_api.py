@@ -225,3 +225,36 @@ def test_a_node_that_hangs_or_dies_mid_call_gives_an_error(system: dict[str, Pro
             os.kill(victim.popen.pid, signal.SIGCONT)
         victim.stop()
     assert robot_lab.param_get('/sensor', 'sensor_rate') == 10
+
+
+def test_a_node_callback_may_call_the_graph_api(system: dict[str, Proc]) -> None:
+    """A node spun by the session (`session.add_node`, notebook 02) asks for a parameter
+    from its subscription callback: the session's hidden node must still be free to answer
+    (with one executor thread for both, this waits out its timeout)."""
+    import rclpy
+    from std_msgs.msg import Float32
+
+    sess = session()
+    answers: list[object] = []
+    answered = threading.Event()
+
+    def on_temperature(_msg: Float32) -> None:
+        if answers:
+            return
+        try:
+            answers.append(robot_lab.param_get('/sensor', 'sensor_rate'))
+        except GraphError as err:
+            answers.append(err)
+        answered.set()
+
+    node = rclpy.create_node('_param_asker', context=sess.context,
+                             start_parameter_services=False, enable_rosout=False)
+    node.create_subscription(Float32, '/sensor/temperature', on_temperature, 10)
+    sess.add_node(node)
+    try:
+        assert answered.wait(15)
+        assert answers == [10]
+    finally:
+        sess.remove_node(node)
+        node.destroy_node()
+    assert sess.ok and robot_lab.param_get('/sensor', 'sensor_rate') == 10
