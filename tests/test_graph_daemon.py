@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
 import time
 from collections.abc import Iterator
 
@@ -104,6 +105,21 @@ def test_idle_daemon_exits_by_itself(no_daemon: None) -> None:
     pid = daemon.query('ping')['pid']
     assert _gone(pid, timeout=10)
     assert not daemon.is_running()
+
+
+def test_daemon_ends_with_its_owner_even_after_kill_9(no_daemon: None) -> None:
+    owner = subprocess.Popen(['sleep', '600'])
+    try:
+        started = run_cli('daemon', 'start', '--owner', str(owner.pid))
+        assert started.stdout == 'The daemon has been started\n', started.stderr
+        pid = daemon.query('ping')['pid']
+        owner.kill()
+        owner.wait()
+        assert _gone(pid)
+        assert not daemon.is_running()
+    finally:
+        owner.kill()
+        owner.wait()
 
 
 def test_launch_starts_a_daemon_that_dies_with_it(no_daemon: None, start) -> None:  # type: ignore[no-untyped-def]

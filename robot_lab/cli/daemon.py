@@ -17,6 +17,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     start = sub.add_parser('start', help="Start the daemon if it isn't running")
     start.add_argument('--idle-timeout', type=float, default=None, metavar='SECONDS',
                        help='Exit after this long without a request (default: 7200)')
+    start.add_argument('--owner', type=int, default=None, metavar='PID',
+                       help='Exit when this process ends (./kit start passes JupyterLab)')
     sub.add_parser('stop', help='Stop the daemon if it is running')
     sub.add_parser('status', help='Output the status of the daemon')
 
@@ -46,7 +48,7 @@ def main(args: argparse.Namespace) -> int:
             print('The daemon is already running')
             return 0
         timeout = daemon.IDLE_TIMEOUT if args.idle_timeout is None else args.idle_timeout
-        proc = daemon.start(detached=True, idle_timeout=timeout)
+        proc = daemon.start(detached=True, idle_timeout=timeout, owner=args.owner)
         if not daemon.wait_until_running(proc=proc):
             print('The daemon could not be started')
             return 1

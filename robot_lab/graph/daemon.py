@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from robot_lab.errors import GraphError, RobotLabError
-from robot_lab.graph.expected import graph_dir
+from robot_lab.graph.expected import graph_dir, process_alive
 
 __all__ = [
     'IDLE_TIMEOUT',
@@ -172,15 +172,16 @@ class Listener:
 
 
 def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
-          env: Mapping[str, str] | None = None,
-          listener: Listener | None = None) -> subprocess.Popen[bytes]:
+          env: Mapping[str, str] | None = None, listener: Listener | None = None,
+          owner: int | None = None) -> subprocess.Popen[bytes]:
     """Start a daemon for the graph of `env` (default: this process's environment).
 
     `detached`: its own session, outliving the caller until its idle timeout (what
     `robot-lab daemon start` wants). Otherwise it is the caller's child and dies with it
     (what a launcher wants). `listener`: a socket the caller bound already (the daemon
-    inherits it; the caller should then close its copy with `unlink=False`). A second
-    daemon for a graph that has one exits at once.
+    inherits it; the caller should then close its copy with `unlink=False`). `owner`: a
+    process whose end (even by `kill -9`) ends the daemon too, e.g. the JupyterLab that
+    `./kit start` runs. A second daemon for a graph that has one exits at once.
     """
     from robot_lab.env import ros_environment
     from robot_lab.process import spawn
@@ -188,6 +189,8 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
     child_env = ros_environment(env)
     cmd = [sys.executable, '-m', 'robot_lab.graph.daemon', _FLAG,
            '--idle-timeout', f'{idle_timeout:g}']
+    if owner is not None:
+        cmd += ['--owner', str(owner)]
     fds: tuple[int, ...] = ()
     if listener is not None:
         fds = listener.fds()
@@ -231,8 +234,9 @@ def stop(timeout: float = 10.0, env: Mapping[str, str] | None = None) -> bool:
 class _Server:
     """Answers graph queries from a session that stays warm between them."""
 
-    def __init__(self, idle_timeout: float) -> None:
+    def __init__(self, idle_timeout: float, owner: int | None = None) -> None:
         self.idle_timeout = idle_timeout
+        self.owner = owner
         self.last_request = time.monotonic()
         self.stopping = threading.Event()
         self.session: Any = None
@@ -285,6 +289,8 @@ class _Server:
             while not self.stopping.is_set():
                 if time.monotonic() - self.last_request > self.idle_timeout:
                     break
+                if self.owner is not None and not process_alive(self.owner):
+                    break
                 try:
                     conn, _ = listener.socket.accept()
                 except TimeoutError:
@@ -295,7 +301,8 @@ class _Server:
         return 0
 
 
-def serve(idle_timeout: float = IDLE_TIMEOUT, listener: Listener | None = None) -> int:
+def serve(idle_timeout: float = IDLE_TIMEOUT, listener: Listener | None = None,
+          owner: int | None = None) -> int:
     """Run a daemon for this process's graph in this process until idle or stopped."""
     from robot_lab.env import apply_ros_defaults
 
@@ -304,7 +311,7 @@ def serve(idle_timeout: float = IDLE_TIMEOUT, listener: Listener | None = None) 
         listener = Listener.bind()
         if listener is None:
             return 0  # another daemon serves this graph
-    return _Server(idle_timeout).run(listener)
+    return _Server(idle_timeout, owner).run(listener)
 
 
 def _main(argv: list[str] | None = None) -> int:
@@ -313,12 +320,13 @@ def _main(argv: list[str] | None = None) -> int:
     parser.add_argument('--idle-timeout', type=float, default=IDLE_TIMEOUT)
     parser.add_argument('--listen-fd', type=int, default=None)
     parser.add_argument('--lock-fd', type=int, default=None)
+    parser.add_argument('--owner', type=int, default=None)
     args = parser.parse_args(argv)
     listener = None
     if args.listen_fd is not None and args.lock_fd is not None:
         listener = Listener(socket.socket(fileno=args.listen_fd),
                             os.fdopen(args.lock_fd, 'a'), socket_path())
-    return serve(args.idle_timeout, listener)
+    return serve(args.idle_timeout, listener, args.owner)
 
 
 if __name__ == '__main__':

@@ -19,7 +19,7 @@ import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-__all__ = ['LaunchAnnouncement', 'expected_nodes', 'graph_dir', 'graph_key']
+__all__ = ['LaunchAnnouncement', 'expected_nodes', 'graph_dir', 'graph_key', 'process_alive']
 
 # What decides whether two processes share a graph (and so a daemon and these files).
 _GRAPH_VARIABLES = (
@@ -73,7 +73,7 @@ def graph_dir(env: Mapping[str, str] | None = None, create: bool = False) -> Pat
     return path
 
 
-def _alive(pid: int) -> bool:
+def process_alive(pid: int) -> bool:
     """True for a running process (a zombie, dead but not yet reaped, is not running)."""
     try:
         with open(f'/proc/{pid}/stat', encoding='ascii', errors='replace') as stat:
@@ -127,9 +127,9 @@ def expected_nodes(directory: Path) -> set[str]:
             nodes = [(str(n['name']), int(n['pid'])) for n in data['nodes']]
         except (OSError, ValueError, KeyError, TypeError):
             continue
-        if not _alive(launcher):
+        if not process_alive(launcher):
             with contextlib.suppress(OSError):
                 path.unlink()  # the launcher was killed; its children died with it
             continue
-        names.update(name for name, pid in nodes if _alive(pid))
+        names.update(name for name, pid in nodes if process_alive(pid))
     return names
