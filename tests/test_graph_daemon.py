@@ -171,10 +171,7 @@ def test_a_dead_node_is_no_longer_expected(start) -> None:  # type: ignore[no-un
     sensor.kill()
     launch.wait_for(r'\[sensor_node-1\]: process has died', timeout=10)
     assert expected_nodes(graph_dir()) == {'/controller', '/robot'}
-    # and node list, without a daemon, is not held up waiting for it
-    began = time.monotonic()
     assert run_cli('node', 'list').stdout == '/controller\n/robot\n'
-    assert time.monotonic() - began < 4.5  # EXPECTED_TIMEOUT (5 s) would be a wait for /sensor
 
 
 def test_query_without_a_daemon_is_none(no_daemon: None) -> None:

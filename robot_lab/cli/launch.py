@@ -30,6 +30,7 @@ from robot_lab.launch.supervisor import Supervisor, check_param_files
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
+    from robot_lab.graph.expected import LaunchAnnouncement
 
 HELP = 'Run a launch file'
 
@@ -142,17 +143,23 @@ def main(args: argparse.Namespace) -> int:
         plan = describe_launch(source, file, parse_launch_arguments(argv))
         print(format_plan(plan))
         return 0
-    # The graph daemon's socket first thing: a `node list` typed from now on waits for
-    # the daemon's warm answer (see robot_lab/graph/daemon.py).
+    # First thing, before the launch file is read: the graph daemon's socket, and word that
+    # a launch is starting, so a `node list` typed from now on waits for its nodes and a
+    # warm answer (see robot_lab/graph/daemon.py and expected.py).
+    from robot_lab.graph.expected import LaunchAnnouncement, graph_dir
+
     listener = _graph_listener()
+    announcement = LaunchAnnouncement(graph_dir())
+    announcement.starting()
     try:
         plan = describe_launch(source, file, parse_launch_arguments(argv))
         if args.show_all:
             for spec in plan.processes():
                 spec.output = 'both'
         return run(plan, noninteractive=args.noninteractive, debug=args.debug,
-                   graph_listener=listener)
+                   graph_listener=listener, announcement=announcement)
     finally:
+        announcement.close()
         if listener is not None:
             listener.close()  # a no-op once handed to the daemon
 
@@ -167,7 +174,8 @@ def _graph_listener() -> Listener | None:
 
 def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
         on_start: Callable[[Supervisor], None] | None = None,
-        graph_listener: Listener | None = None) -> int:
+        graph_listener: Listener | None = None,
+        announcement: LaunchAnnouncement | None = None) -> int:
     """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order.
 
     A graph daemon runs beside the nodes, so `robot-lab node list` in another terminal
@@ -179,7 +187,7 @@ def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
     output = LaunchOutput(sys.stdout, debug=debug)
     supervisor = Supervisor(plan, output, noninteractive=noninteractive,
                             graph_daemon=not daemon.disabled(),
-                            graph_listener=graph_listener)
+                            graph_listener=graph_listener, announcement=announcement)
 
     def on_sigint(signum: int, frame: FrameType | None) -> None:
         supervisor.interrupt()

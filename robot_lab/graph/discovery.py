@@ -92,6 +92,8 @@ def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
 
     def seen() -> bool | None:
         expected = expected_nodes(directory)
+        if expected is None:
+            return False  # a launch is starting: its nodes are coming
         if not expected:
             return None
         present = {
@@ -128,7 +130,8 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         if expectation is True:
             old_enough, settle = True, min(settle, WARM_SETTLE)
         elif expectation is False:
-            deadline = start + max(timeout, EXPECTED_TIMEOUT)
+            # Nodes are on their way: a quiet graph is not a complete one yet.
+            old_enough, deadline = False, start + max(timeout, EXPECTED_TIMEOUT)
         if (old_enough and now - changed >= settle) or now >= deadline:
             return value
         time.sleep(POLL)

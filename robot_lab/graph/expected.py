@@ -87,20 +87,27 @@ class LaunchAnnouncement:
     """The launcher's side: keeps `launch-<pid>.json` equal to its running nodes."""
 
     def __init__(self, directory: Path) -> None:
-        self._dir = directory
+        self.directory = directory
         self._path = directory / f'launch-{os.getpid()}.json'
         self._last: list[tuple[str, int]] | None = None
+
+    def starting(self) -> None:
+        """Announce a launch whose nodes are not known yet (its file is being read): a
+        query that arrives now waits for the list instead of answering without them."""
+        self._write(None)
 
     def update(self, nodes: Iterable[tuple[str, int]]) -> None:
         """Announce (full name, pid) of every node process that is running now."""
         current = sorted(nodes)
-        if current == self._last:
-            return
-        self._last = current
+        if current != self._last:
+            self._write(current)
+
+    def _write(self, nodes: list[tuple[str, int]] | None) -> None:
+        self._last = nodes
         with contextlib.suppress(OSError):  # a read-only /tmp only costs the hint
-            self._dir.mkdir(mode=0o700, parents=True, exist_ok=True)
-            text = json.dumps({'launcher': os.getpid(),
-                               'nodes': [{'name': n, 'pid': p} for n, p in current]})
+            self.directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+            listed = None if nodes is None else [{'name': n, 'pid': p} for n, p in nodes]
+            text = json.dumps({'launcher': os.getpid(), 'nodes': listed})
             partial = self._path.with_suffix('.tmp')
             partial.write_text(text, encoding='utf-8')
             partial.replace(self._path)  # readers never see half a file
@@ -110,26 +117,32 @@ class LaunchAnnouncement:
             self._path.unlink()
 
 
-def expected_nodes(directory: Path) -> set[str]:
+def expected_nodes(directory: Path) -> set[str] | None:
     """Full names of the nodes that running launches of this graph have up right now.
 
-    `directory` is the graph's `graph_dir()`.
+    `directory` is the graph's `graph_dir()`. None while a launch is still reading its
+    launch file (its nodes are coming, which ones is not known yet).
     """
     names: set[str] = set()
     try:
         files = list(directory.glob('launch-*.json'))
     except OSError:
         return names
+    starting = False
     for path in files:
         try:
             data = json.loads(path.read_text(encoding='utf-8'))
             launcher = int(data['launcher'])
-            nodes = [(str(n['name']), int(n['pid'])) for n in data['nodes']]
+            listed = data['nodes']
+            nodes = None if listed is None else [(str(n['name']), int(n['pid'])) for n in listed]
         except (OSError, ValueError, KeyError, TypeError):
             continue
         if not process_alive(launcher):
             with contextlib.suppress(OSError):
                 path.unlink()  # the launcher was killed; its children died with it
             continue
-        names.update(name for name, pid in nodes if process_alive(pid))
-    return names
+        if nodes is None:
+            starting = True
+        else:
+            names.update(name for name, pid in nodes if process_alive(pid))
+    return None if starting else names

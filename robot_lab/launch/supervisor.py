@@ -121,12 +121,16 @@ class Supervisor:
 
     def __init__(self, plan: LaunchPlan, output: LaunchOutput, *,
                  noninteractive: bool = True, graph_daemon: bool = False,
-                 graph_listener: Listener | None = None) -> None:
+                 graph_listener: Listener | None = None,
+                 announcement: LaunchAnnouncement | None = None) -> None:
         self.plan = plan
         self.output = output
         self.noninteractive = noninteractive
         self.graph_daemon = graph_daemon
-        self._announcements: dict[Path, LaunchAnnouncement] = {}
+        # One file per graph the nodes are in; `announcement` is the one the CLI wrote
+        # before the launch file was read (it said "starting").
+        self._announcements: dict[Path, LaunchAnnouncement] = (
+            {} if announcement is None else {announcement.directory: announcement})
         self._daemons: list[subprocess.Popen[bytes]] = []
         self._daemon_graphs: set[Path] = set()
         self._listener = graph_listener
@@ -192,6 +196,7 @@ class Supervisor:
         """Execute the plan until all processes are gone; returns the launch's exit code."""
         self._selector.register(self._wake_r, selectors.EVENT_READ, ('wake', None, ''))
         try:
+            self._announce_planned()
             self._execute(self.plan.actions)
             self.started.set()
             if self.graph_daemon:
@@ -488,13 +493,28 @@ class Supervisor:
 
     # --- graph companions: expected nodes, the graph daemon -----------------------------
 
+    def _announce_planned(self) -> None:
+        """Before the first spawn: the nodes about to start are expected already, so a
+        `node list` that reaches a warm daemon first waits for them."""
+        for action in self.plan.actions:
+            if isinstance(action, ProcessSpec) and action.node_name:
+                self._by_spec[id(action)].graph = graph_dir(self._environment(action))
+        self._announce()
+
     def _announce(self) -> None:
-        """Tell graph queries which nodes this launch has up (per graph they are in)."""
+        """Tell graph queries which nodes this launch has up or is starting (per graph).
+
+        A node not spawned yet is announced with the launcher's own pid: it is expected
+        for as long as the launcher lives.
+        """
         running: dict[Path, list[tuple[str, int]]] = {d: [] for d in self._announcements}
         for record in self.records:
-            if record.graph is not None and record.state == 'running' and record.pid:
-                running.setdefault(record.graph, []).append(
-                    (record.spec.node_name or '', record.pid))
+            if record.graph is None or not record.spec.node_name:
+                continue
+            if record.state == 'running' and record.pid:
+                running.setdefault(record.graph, []).append((record.spec.node_name, record.pid))
+            elif record.state == 'pending' and not self.is_shutdown:
+                running.setdefault(record.graph, []).append((record.spec.node_name, os.getpid()))
         for directory, nodes in running.items():
             if directory not in self._announcements:
                 self._announcements[directory] = LaunchAnnouncement(directory)
