@@ -17,6 +17,13 @@ Measured in the same run, median of RUNS runs each:
 
     .venv/bin/python bench/bench_launch.py [--runs 5]
 
+Node start-up, measured 2026-11-22 (2-core machine shared with other work, 5 runs each,
+A/B interleaved; `OPENBLAS_NUM_THREADS=0 bench_launch.py` gives the nodes numpy's default
+OpenBLAS pool again, i.e. the state before the kit's node scripts set it to 1): node alone
+CPU to its "started" line 0.23-0.28 s -> 0.17-0.18 s; in the launch 0.50-0.58 s -> 0.44-0.45
+s; CPU of launcher + children until the first Status 1.30 s -> 1.03 s; launch -> first
+Status 0.82 s (1.55 x bare trio) -> 0.65 s (1.42 x).
+
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
 
