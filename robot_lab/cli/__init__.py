@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 from types import ModuleType
@@ -71,6 +72,10 @@ def _parser(prog: str) -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
+    # rclpy's parameter services import numpy, whose OpenBLAS pool spins a thread for
+    # ~80 ms of CPU at start-up: a one-shot command (and the daemon and nodes it may start)
+    # has no use for it. A value the user set wins.
+    os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
     parser = _parser(prog)
     args = parser.parse_args(argv)
     if args.verb is None:

@@ -187,6 +187,7 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
     from robot_lab.process import spawn
 
     child_env = ros_environment(env)
+    child_env.setdefault('OPENBLAS_NUM_THREADS', '1')  # see robot_lab.cli.main
     cmd = [sys.executable, '-m', 'robot_lab.graph.daemon', _FLAG,
            '--idle-timeout', f'{idle_timeout:g}']
     if owner is not None:

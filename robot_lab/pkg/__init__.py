@@ -1,26 +1,32 @@
-"""Packages: the ament index (find packages and executables), create, build, doctor."""
+"""Packages: the ament index (find packages and executables), create, build, doctor.
 
-from robot_lab.pkg.create import create_package
-from robot_lab.pkg.index import (
-    ament_prefixes,
-    executables,
-    find_executable,
-    kit_prefix,
-    package_prefix,
-    package_share,
-    packages,
-)
-from robot_lab.pkg.workspace import use_workspace, workspace_dir
+Importing this package loads nothing else (the launcher needs only `index`, and every
+millisecond before its first node starts counts); the names below resolve on first use.
+"""
 
-__all__ = [
-    'ament_prefixes',
-    'create_package',
-    'executables',
-    'find_executable',
-    'kit_prefix',
-    'package_prefix',
-    'package_share',
-    'packages',
-    'use_workspace',
-    'workspace_dir',
-]
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_HOMES = {
+    'ament_prefixes': 'index',
+    'create_package': 'create',
+    'executables': 'index',
+    'find_executable': 'index',
+    'kit_prefix': 'index',
+    'package_prefix': 'index',
+    'package_share': 'index',
+    'packages': 'index',
+    'use_workspace': 'workspace',
+    'workspace_dir': 'workspace',
+}
+
+__all__ = sorted(_HOMES)
+
+
+def __getattr__(name: str) -> Any:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
+    return getattr(importlib.import_module(f'robot_lab.pkg.{home}'), name)
