@@ -176,3 +176,13 @@ def test_a_dead_node_is_no_longer_expected(start) -> None:  # type: ignore[no-un
 
 def test_query_without_a_daemon_is_none(no_daemon: None) -> None:
     assert daemon.query('node_list') is None
+
+
+def test_a_launch_that_fails_to_start_leaves_no_expectation(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    bad = tmp_path / 'bad.launch.xml'
+    bad.write_text('<launch>\n  <node pkg="robot_lab" exec="sensor_node" name="s"\n</launch>\n')
+    failed = run_cli('launch', str(bad))
+    assert failed.returncode == 1 and 'bad.launch.xml' in failed.stderr
+    # removed by the launcher itself, not left for the next reader to clean up
+    assert not list(graph_dir().glob('launch-*.json'))
+    assert expected_nodes(graph_dir()) == set()
