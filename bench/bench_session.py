@@ -3,17 +3,20 @@
 A JupyterLab kernel with a session, a live plot and parameter sliders used 27-80 % of a
 core while the system ran at 10-20 Hz (bench/browser_check.py). This measures the session
 part of that in a plain Python process, against the real three-node system
-(`robot-lab launch robot_lab robot.launch.xml` in its own process group):
+(`robot-lab launch robot_lab robot.launch.xml`, another process):
 - idle: the session alone (its hidden node spun in the background);
 - subs: plus 2 subscriptions, /sensor/temperature (10 Hz) and /cmd_vel (20 Hz);
 - widgets: the sliders of /sensor, /controller and /robot (their parameter clients and
   /parameter_events subscriptions) plus a plot of /sensor/temperature and /cmd_vel
-  (subscribed, not drawing: drawing costs the same whatever the executor);
+  (subscribed, not drawing: what drawing itself costs does not depend on the executor);
 - draw (--draw): widgets with the plot drawing 20 frames a second, for scale.
 Each case is measured in a fresh process (process CPU seconds over --seconds, as % of one
 core) and the median of --runs runs is printed, with the messages delivered per second (a
 cheap executor that drops callbacks would show there) and a slider set() round trip.
-`session` is the executor robot_lab.context.Session uses now; the others are candidates.
+`session` is the executor robot_lab.context.Session uses now (after), `multi4` the
+4-thread pool it used before; `multi2`, `single` and `events` are the other candidates
+(rclpy 7.1.5's EventsExecutor spins a whole core while idle and never ran a guard
+condition's callback here, so `events` runs end as hung).
 Usage: python bench/bench_session.py [--runs N] [--seconds S] [--executors a,b] [--draw]
 """
 
@@ -187,10 +190,11 @@ def main() -> None:
         stop(system)
     print(f'\nCPU of the session process, % of one core (median of {args.runs} runs of '
           f'{args.seconds:g} s; ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]})')
-    print(f'{"executor":10}' + ''.join(f'{case:>10}' for case in cases)
+    print(f'{"executor":16}' + ''.join(f'{case:>10}' for case in cases)
           + f'{"msgs/s":>9}{"set ms":>8}{"get ms":>8}')
+    labels = {'multi4': 'multi4 (before)', 'session': 'session (now)'}
     for executor in executors:
-        row = f'{executor:10}'
+        row = f'{labels.get(executor, executor):16}'
         for case in cases:
             row += f'{statistics.median(r["cpu"] for r in results[executor, case]):9.1f}%'
         widgets = results[executor, 'widgets']

@@ -58,13 +58,14 @@ class Session:
     use it for subscriptions, clients and graph queries. `executor` spins it in a daemon
     thread; add your own nodes with `add_node` (they get a thread of their own).
 
-    Why single-threaded executors: rclpy's MultiThreadedExecutor rebuilds its wait set
-    for every callback it hands to its pool, and loops without waiting while a ready
-    callback's group is busy; a kernel with a plot and sliders spent 8-100 % of a core
-    in it (bench/bench_session.py). Nothing of the kit waits, inside a callback of
-    `node`, for an answer `node` itself must deliver, so one thread is enough there.
-    Your nodes' callbacks may (a timer calling `robot_lab.param_get`), so they spin on a
-    second thread and the hidden node stays free to answer them.
+    Why single-threaded executors: rclpy's MultiThreadedExecutor (4 threads here before)
+    rebuilds its wait set again and again while its pool takes up a callback, 1600-4000
+    times a second for 30 messages a second; two subscriptions at 10 and 20 Hz cost
+    46-99 % of a core with it, 2.5 % with one thread (bench/bench_session.py).
+    Nothing of the kit waits, inside a callback of `node`, for an answer `node` itself
+    must deliver, so one thread is enough there. Your nodes' callbacks may (a timer
+    calling `robot_lab.param_get`), so they spin on a second thread and the hidden node
+    stays free to answer them.
     """
 
     def __init__(self, domain_id: int) -> None:
