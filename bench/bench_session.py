@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -189,20 +190,24 @@ def main() -> None:
     finally:
         stop(system)
     print(f'\nCPU of the session process, % of one core (median of {args.runs} runs of '
-          f'{args.seconds:g} s; ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]})')
+          f'{args.seconds:g} s, failed runs left out; ROS_DOMAIN_ID={os.environ["ROS_DOMAIN_ID"]})')
     print(f'{"executor":16}' + ''.join(f'{case:>10}' for case in cases)
-          + f'{"msgs/s":>9}{"set ms":>8}{"get ms":>8}')
+          + f'{"msgs/s":>9}{"set ms":>8}{"get ms":>8}{"failed":>8}')
     labels = {'multi4': 'multi4 (before)', 'session': 'session (now)'}
     for executor in executors:
         row = f'{labels.get(executor, executor):16}'
         for case in cases:
-            row += f'{statistics.median(r["cpu"] for r in results[executor, case]):9.1f}%'
+            row += f'{_median(results[executor, case], "cpu"):9.1f}%'
         widgets = results[executor, 'widgets']
-        row += (f'{statistics.median(r["msgs_per_s"] for r in widgets):9.1f}'
-                f'{statistics.median(r["set_ms"] for r in widgets):8.1f}'
-                f'{statistics.median(r["get_ms"] for r in widgets):8.1f}')
+        failed = sum(math.isnan(r['cpu']) for case in cases for r in results[executor, case])
+        row += (f'{_median(widgets, "msgs_per_s"):9.1f}{_median(widgets, "set_ms"):8.1f}'
+                f'{_median(widgets, "get_ms"):8.1f}{failed:8}')
         print(row)
 
+
+def _median(runs: list[dict[str, float]], key: str) -> float:
+    values = [r[key] for r in runs if not math.isnan(r[key])]
+    return statistics.median(values) if values else float('nan')
 
 if __name__ == '__main__':
     main()
