@@ -173,7 +173,7 @@ class Listener:
 
 def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
           env: Mapping[str, str] | None = None, listener: Listener | None = None,
-          owner: int | None = None) -> subprocess.Popen[bytes]:
+          owner: int | None = None, nice: int = 0) -> subprocess.Popen[bytes]:
     """Start a daemon for the graph of `env` (default: this process's environment).
 
     `detached`: its own session, outliving the caller until its idle timeout (what
@@ -181,7 +181,8 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
     (what a launcher wants). `listener`: a socket the caller bound already (the daemon
     inherits it; the caller should then close its copy with `unlink=False`). `owner`: a
     process whose end (even by `kill -9`) ends the daemon too, e.g. the JupyterLab that
-    `./kit start` runs. A second daemon for a graph that has one exits at once.
+    `./kit start` runs. `nice`: a lower CPU priority, so a daemon started beside nodes does
+    not slow their start-up. A second daemon for a graph that has one exits at once.
     """
     from robot_lab.env import ros_environment
     from robot_lab.process import spawn
@@ -192,6 +193,8 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
            '--idle-timeout', f'{idle_timeout:g}']
     if owner is not None:
         cmd += ['--owner', str(owner)]
+    if nice:
+        cmd += ['--nice', str(nice)]
     fds: tuple[int, ...] = ()
     if listener is not None:
         fds = listener.fds()
@@ -322,7 +325,10 @@ def _main(argv: list[str] | None = None) -> int:
     parser.add_argument('--listen-fd', type=int, default=None)
     parser.add_argument('--lock-fd', type=int, default=None)
     parser.add_argument('--owner', type=int, default=None)
+    parser.add_argument('--nice', type=int, default=0)
     args = parser.parse_args(argv)
+    if args.nice:
+        os.nice(args.nice)
     listener = None
     if args.listen_fd is not None and args.lock_fd is not None:
         listener = Listener(socket.socket(fileno=args.listen_fd),
