@@ -266,7 +266,10 @@ class _Server:
             try:
                 conn.settimeout(5.0)
                 line = conn.makefile('rb').readline()
+                if not line.strip():
+                    return  # a probe (`is_running`): not a request, keeps nobody alive
                 request = json.loads(line)
+                self.last_request = time.monotonic()
                 handler = self.handlers().get(str(request.get('op')))
                 if handler is None:
                     reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}"}
@@ -276,7 +279,6 @@ class _Server:
                 reply = {'error': err.message, 'fix': err.fix}
             except Exception as exc:  # a bad request must not take the daemon down
                 reply = {'error': f'graph daemon: {type(exc).__name__}: {exc}'}
-            self.last_request = time.monotonic()
             with contextlib.suppress(OSError):
                 conn.sendall(json.dumps(reply).encode())
 
