@@ -49,7 +49,9 @@ def _verb_module(verb: str) -> ModuleType | None:
         raise
 
 
-def _parser(prog: str) -> argparse.ArgumentParser:
+def _parser(prog: str, only: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line, or with `only` just that verb's part: every verb module
+    imported and built costs ~60 ms, which a launcher pays before its first node starts."""
     parser = argparse.ArgumentParser(
         prog=prog,
         description='robot_lab: ROS 2 Jazzy tools for the course kit (no ROS install needed).',
@@ -60,7 +62,7 @@ def _parser(prog: str) -> argparse.ArgumentParser:
         'launch and ros2cli verbs provided by robot_lab, not a full ROS 2 install)',
     )
     sub = parser.add_subparsers(dest='verb', metavar='VERB')
-    for verb in VERBS:
+    for verb in VERBS if only is None else [only]:
         module = _verb_module(verb)
         if module is None:
             continue
@@ -76,8 +78,9 @@ def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
     # ~80 ms of CPU at start-up: a one-shot command (and the daemon and nodes it may start)
     # has no use for it. A value the user set wins.
     os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
-    parser = _parser(prog)
-    args = parser.parse_args(argv)
+    words = list(sys.argv[1:] if argv is None else argv)
+    parser = _parser(prog, only=words[0] if words and words[0] in VERBS else None)
+    args = parser.parse_args(words)
     if args.verb is None:
         parser.print_help()
         return 0
