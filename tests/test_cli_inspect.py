@@ -187,7 +187,11 @@ def test_topic_pub_reaches_a_subscriber(system: dict[str, Proc]) -> None:
     listener = Proc([str(BIN / 'robot-lab'), 'topic', 'echo', '/chatter',
                      'std_msgs/msg/String', '--once'], env=dict(os.environ))
     try:
-        out = ok('topic', 'pub', '/chatter', 'std_msgs/msg/String', '{data: hi}', '--once')
+        # The publisher may match the echo's reader before that reader has matched it;
+        # the reliable resend that fixes it needs the publisher alive a little longer
+        # (ros2cli has the same race; --keep-alive is its answer too).
+        out = ok('topic', 'pub', '/chatter', 'std_msgs/msg/String', '{data: hi}', '--once',
+                 '--keep-alive', '1')
         assert 'publisher: beginning loop\n' in out
         assert "publishing #1: std_msgs.msg.String(data='hi')\n\n" in out
         listener.wait_for(r'^data: hi$', timeout=10)
