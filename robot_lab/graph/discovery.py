@@ -1,7 +1,7 @@
 """How long to wait for the ROS graph: DDS discovery is not instant.
 
 A fresh participant learns about the others in bursts: the ones that answer its initial
-announcements at once, the rest only at their next lease announcement (0.5 s with the
+announcements at once, the rest only at their next lease announcement (0.2 s with the
 kit's Fast DDS profile, see robot_lab/data/fastdds_profile.xml). So a query that must be
 complete (`node list`) waits until the session is older than one announcement period and
 the answer has stopped changing; a query for one thing (`param get /sensor …`) polls
@@ -38,11 +38,12 @@ __all__ = [
 T = TypeVar('T')
 
 # Others learn of a new participant from its announcements but answer at their next lease
-# announcement (0.5 s with the kit's profile), then endpoints and node names follow.
-# Measured for a fresh process against a running 3-node system (2 cores, load 4-6):
-# complete after 0.55 s (median), up to 1.02 s (25 runs). Without a daemon holding a warm
-# session (ros2cli has one), a cold CLI can only wait that out.
-DISCOVERY_WINDOW = 1.2
+# announcement (0.2 s with the kit's profile), then endpoints and node names follow.
+# Measured for a fresh process against a running 3-node system (2 cores): with a 0.5 s
+# announcement period, complete after 0.55 s (median) and up to 1.02 s (25 runs, load 4-6);
+# with 0.2 s, 0.32 s and up to 0.70 s (20 runs, quiet). Without a daemon holding a warm
+# session, or a launch saying which nodes to expect, a cold CLI can only wait that out.
+DISCOVERY_WINDOW = 1.0
 # An answer unchanged for this long (after the window) is taken as the settled graph.
 SETTLE = 0.25
 # A session past its first second has seen the graph; only fresh changes need settling.
@@ -107,13 +108,14 @@ def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
 
 def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
             window: float = DISCOVERY_WINDOW, settle: float = SETTLE,
-            ready: Callable[[], bool | None] | None = None) -> T:
+            ready: Callable[[], bool | None] | None = None,
+            ready_settle: float = WARM_SETTLE) -> T:
     """`probe()` once discovery has had its window and the answer stopped changing.
 
     `ready` (default: `launched_nodes_seen(session)`) can end the window early: True
     means everything known to be coming has been seen; False means more is coming, so the
-    wait may extend to EXPECTED_TIMEOUT. Bounded: on a graph that keeps changing it
-    returns the latest answer.
+    wait may extend to EXPECTED_TIMEOUT; once True, the answer need only be stable for
+    `ready_settle`. Bounded: on a graph that keeps changing it returns the latest answer.
     """
     if ready is None:
         ready = launched_nodes_seen(session)
@@ -128,7 +130,7 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         deadline = start + timeout
         expectation = ready()
         if expectation is True:
-            old_enough, settle = True, min(settle, WARM_SETTLE)
+            old_enough, settle = True, min(settle, ready_settle)
         elif expectation is False:
             # Nodes are on their way: a quiet graph is not a complete one yet.
             old_enough, deadline = False, start + max(timeout, EXPECTED_TIMEOUT)

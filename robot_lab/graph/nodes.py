@@ -54,7 +54,9 @@ def node_list(include_hidden: bool = False, *, settle: bool = True,
     sess = get_session(session)
     if not settle:
         return _full_names(sess, include_hidden)
-    return settled(sess, lambda: _full_names(sess, include_hidden), timeout=timeout)
+    # Once every announced node is seen, the list is complete: no settling on top.
+    return settled(sess, lambda: _full_names(sess, include_hidden), timeout=timeout,
+                   ready_settle=0.0)
 
 
 def find_node(name: str, include_hidden: bool = False, timeout: float = LOOKUP_TIMEOUT,
