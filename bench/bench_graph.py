@@ -86,6 +86,9 @@ def launch(daemon: bool = True) -> subprocess.Popen[bytes]:
 def wait_empty() -> None:
     while robot_lab.node_list(settle=False):
         time.sleep(0.1)  # the next run starts from an empty graph
+    # ...and not within milliseconds of the last one ending: participants that have just
+    # left are still being cleaned up, and a person does not relaunch that fast.
+    time.sleep(1.0)
 
 
 def node_list_after_launch(delay: float, runs: int,
