@@ -122,21 +122,23 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     start = time.monotonic()
     if start - session.created >= WARM_AGE:
         settle = min(settle, WARM_SETTLE)
-    value = probe()
-    changed = time.monotonic()
+    value: T | None = None
+    changed = start
     while True:
+        # ready() first, then probe(): the answer returned is never older than what
+        # ready() has seen (the graph only grows while a launch comes up).
+        expectation = ready()
+        fresh = probe()
         now = time.monotonic()
+        if value is None or fresh != value:
+            value, changed = fresh, now
         old_enough = now - session.created >= window
         deadline = start + timeout
-        expectation = ready()
         if expectation is True:
             old_enough, settle = True, min(settle, ready_settle)
         elif expectation is False:
             # Nodes are on their way: a quiet graph is not a complete one yet.
             old_enough, deadline = False, start + max(timeout, EXPECTED_TIMEOUT)
         if (old_enough and now - changed >= settle) or now >= deadline:
-            return value
+            return fresh
         time.sleep(POLL)
-        fresh = probe()
-        if fresh != value:
-            value, changed = fresh, time.monotonic()

@@ -28,6 +28,18 @@ def is_hidden(name: str) -> bool:
     return any(part.startswith('_') for part in name.split('/'))
 
 
+def names_and_types(query: Callable[[], Any], include_hidden: bool,
+                    settle: bool, sess: Session) -> NamesAndTypes:
+    """`query()`'s (name, types) pairs sorted, hidden ones dropped unless asked for, after
+    discovery has settled when `settle` (topic list -t, service list -t)."""
+
+    def probe() -> NamesAndTypes:
+        return [(name, list(types)) for name, types in sorted(query())
+                if include_hidden or not is_hidden(name)]
+
+    return settled(sess, probe) if settle else probe()
+
+
 def split_name(full_name: str) -> tuple[str, str]:
     """`/ns/name` -> (`name`, `/ns`); `/name` -> (`name`, `/`)."""
     namespace, _, name = absolute_name(full_name).rpartition('/')

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from robot_lab.graph.discovery import get_session, settled
-from robot_lab.graph.nodes import is_hidden
+from robot_lab.graph.discovery import get_session
+from robot_lab.graph.nodes import names_and_types
 
 if TYPE_CHECKING:
     from robot_lab.context import Session
@@ -20,15 +20,7 @@ def service_list_typed(include_hidden: bool = False, *, settle: bool = True,
     With `settle` it first lets discovery finish, like `node_list`.
     """
     sess = get_session(session)
-
-    def probe() -> list[tuple[str, list[str]]]:
-        return [
-            (name, list(kinds))
-            for name, kinds in sorted(sess.node.get_service_names_and_types())
-            if include_hidden or not is_hidden(name)
-        ]
-
-    return settled(sess, probe) if settle else probe()
+    return names_and_types(sess.node.get_service_names_and_types, include_hidden, settle, sess)
 
 
 def service_list(types: bool = False, include_hidden: bool = False, *, settle: bool = True,

@@ -20,7 +20,7 @@ from robot_lab.graph.discovery import (
     settled,
     wait_until,
 )
-from robot_lab.graph.nodes import is_hidden
+from robot_lab.graph.nodes import names_and_types
 from robot_lab.messages import field_value, message_class, message_from_yaml, type_name
 
 if TYPE_CHECKING:
@@ -62,15 +62,7 @@ def topic_list(include_hidden: bool = False, *, settle: bool = True,
     With `settle` it first lets discovery finish, like `node_list`.
     """
     sess = get_session(session)
-
-    def probe() -> list[tuple[str, list[str]]]:
-        return [
-            (name, list(types))
-            for name, types in sorted(sess.node.get_topic_names_and_types())
-            if include_hidden or not is_hidden(name)
-        ]
-
-    return settled(sess, probe) if settle else probe()
+    return names_and_types(sess.node.get_topic_names_and_types, include_hidden, settle, sess)
 
 
 def _types_of(sess: Session, topic: str) -> list[str] | None:
