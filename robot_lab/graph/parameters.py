@@ -25,6 +25,7 @@ if TYPE_CHECKING:
 __all__ = [
     'ParamDescription',
     'SetResult',
+    'call_parameter_service',
     'param_describe',
     'param_dump',
     'param_get',
@@ -68,7 +69,7 @@ def _target(sess: Session, node: str) -> str:
         ) from None
 
 
-def _call(sess: Session, node: str, service: str, srv_type: Any, request: Any,
+def call_parameter_service(sess: Session, node: str, service: str, srv_type: Any, request: Any,
           timeout: float = CALL_TIMEOUT) -> Any:
     """One service call with a deadline, resent while unanswered.
 
@@ -113,7 +114,7 @@ def param_list(node: str | None = None, prefixes: list[str] | None = None,
     result: dict[str, list[str]] = {}
     for full in nodes:
         request = ListParameters.Request(prefixes=list(prefixes or []))
-        response = _call(sess, full, 'list_parameters', ListParameters, request)
+        response = call_parameter_service(sess, full, 'list_parameters', ListParameters, request)
         result[full] = sorted(response.result.names)
     return result
 
@@ -121,7 +122,7 @@ def param_list(node: str | None = None, prefixes: list[str] | None = None,
 def _get_values(sess: Session, full: str, names: list[str]) -> list[Any]:
     from rcl_interfaces.srv import GetParameters
 
-    response = _call(sess, full, 'get_parameters', GetParameters,
+    response = call_parameter_service(sess, full, 'get_parameters', GetParameters,
                      GetParameters.Request(names=names))
     return list(response.values)
 
@@ -189,7 +190,7 @@ def set_parameters(node: str, values: dict[str, Any],
     sess = get_session(session)
     full = _target(sess, node)
     request = SetParameters.Request(parameters=[_to_msg(k, v) for k, v in values.items()])
-    response = _call(sess, full, 'set_parameters', SetParameters, request)
+    response = call_parameter_service(sess, full, 'set_parameters', SetParameters, request)
     return [
         SetResult(name, bool(r.successful), str(r.reason))
         for name, r in zip(values, response.results, strict=False)
@@ -233,7 +234,7 @@ def param_describe(node: str, name: str,
 
     sess = get_session(session)
     full = _target(sess, node)
-    response = _call(sess, full, 'describe_parameters', DescribeParameters,
+    response = call_parameter_service(sess, full, 'describe_parameters', DescribeParameters,
                      DescribeParameters.Request(names=[name]))
     if not response.descriptors:
         raise GraphError(

@@ -69,11 +69,21 @@ class Sliders:
                 f"Node not found: no parameter services of '{self.node}' within {timeout:g} s",
                 fix='start the node first and check its name with `robot-lab node list`',
             )
-        names = list(self._call(self.client.list_parameters(), 'list_parameters').result.names)
-        names.sort()
-        described = self._call(self.client.describe_parameters(names),
-                               'describe_parameters').descriptors
-        got = self._call(self.client.get_parameters(names), 'get_parameters').values
+        # Through the graph's parameter calls: they resend a request lost right after
+        # discovery, which these first three calls are.
+        from rcl_interfaces.srv import DescribeParameters, GetParameters, ListParameters
+
+        from robot_lab.graph.parameters import call_parameter_service
+
+        def call(service: str, srv_type: Any, request: Any) -> Any:
+            return call_parameter_service(self.session, self.node, service, srv_type,
+                                          request, timeout=self.call_timeout)
+
+        names = sorted(call('list_parameters', ListParameters,
+                            ListParameters.Request()).result.names)
+        described = call('describe_parameters', DescribeParameters,
+                         DescribeParameters.Request(names=names)).descriptors
+        got = call('get_parameters', GetParameters, GetParameters.Request(names=names)).values
         self.descriptors = dict(zip(names, described, strict=True))
         self._values: dict[str, Any] = {
             name: parameter_value_to_python(value) for name, value in zip(names, got, strict=True)
