@@ -30,7 +30,9 @@ __all__ = [
     'SETTLE',
     'WARM_SETTLE',
     'absolute_name',
+    'full_node_names',
     'get_session',
+    'launched_nodes_seen',
     'settled',
     'wait_until',
 ]
@@ -84,6 +86,16 @@ def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
         time.sleep(POLL)
 
 
+def full_node_names(session: Session, include_hidden: bool) -> list[str]:
+    """`/ns/name` of every node the session sees now, sorted (no waiting)."""
+    names = []
+    for name, namespace in session.node.get_node_names_and_namespaces():
+        if not name or (not include_hidden and name.startswith('_')):
+            continue
+        names.append(namespace.rstrip('/') + '/' + name)
+    return sorted(names)
+
+
 def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
     """A probe for `settled`: None when no launch announces nodes on this graph, else
     whether every node the running launches have up is in the session's graph."""
@@ -97,11 +109,7 @@ def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
             return False  # a launch is starting: its nodes are coming
         if not expected:
             return None
-        present = {
-            namespace.rstrip('/') + '/' + name
-            for name, namespace in session.node.get_node_names_and_namespaces()
-        }
-        return expected <= present
+        return expected <= set(full_node_names(session, include_hidden=True))
 
     return seen
 

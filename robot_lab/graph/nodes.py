@@ -10,6 +10,7 @@ from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import (
     LOOKUP_TIMEOUT,
     absolute_name,
+    full_node_names,
     get_session,
     settled,
     wait_until,
@@ -46,15 +47,6 @@ def split_name(full_name: str) -> tuple[str, str]:
     return name, namespace or '/'
 
 
-def _full_names(sess: Session, include_hidden: bool) -> list[str]:
-    names = []
-    for name, namespace in sess.node.get_node_names_and_namespaces():
-        if not name or (not include_hidden and name.startswith('_')):
-            continue
-        names.append(namespace.rstrip('/') + '/' + name)
-    return sorted(names)
-
-
 def node_list(include_hidden: bool = False, *, settle: bool = True,
               timeout: float = 2.0, session: Session | None = None) -> list[str]:
     """Full names of the nodes in the graph, sorted (like `ros2 node list`).
@@ -65,9 +57,9 @@ def node_list(include_hidden: bool = False, *, settle: bool = True,
     """
     sess = get_session(session)
     if not settle:
-        return _full_names(sess, include_hidden)
+        return full_node_names(sess, include_hidden)
     # Once every announced node is seen, the list is complete: no settling on top.
-    return settled(sess, lambda: _full_names(sess, include_hidden), timeout=timeout,
+    return settled(sess, lambda: full_node_names(sess, include_hidden), timeout=timeout,
                    ready_settle=0.0)
 
 
@@ -77,7 +69,7 @@ def find_node(name: str, include_hidden: bool = False, timeout: float = LOOKUP_T
     sess = get_session(session)
     full = absolute_name(name)
     found = wait_until(
-        lambda: full if full in _full_names(sess, include_hidden=True) else None, timeout
+        lambda: full if full in full_node_names(sess, include_hidden=True) else None, timeout
     )
     if found is None or (is_hidden(full) and not include_hidden):
         raise GraphError(
@@ -95,11 +87,11 @@ def wait_for_nodes(names: Iterable[str], timeout: float = 10.0,
     wanted = [absolute_name(n) for n in names]
 
     def all_there() -> list[str] | None:
-        present = set(_full_names(sess, include_hidden=True))
+        present = set(full_node_names(sess, include_hidden=True))
         return wanted if all(n in present for n in wanted) else None
 
     if wait_until(all_there, timeout) is None:
-        present = set(_full_names(sess, include_hidden=True))
+        present = set(full_node_names(sess, include_hidden=True))
         missing = [n for n in wanted if n not in present]
         raise GraphError(
             f'nodes not up within {timeout:g} s: {", ".join(missing)}',
