@@ -15,6 +15,10 @@ KIT = [
     'ros-jazzy-rclpy[fastrtps]',
     'ros-jazzy-common-interfaces',
     'ros-jazzy-ament-package',
+    'ros-jazzy-std-srvs',
+    'ros-jazzy-test-msgs',
+    'ros-jazzy-lifecycle-msgs',
+    'ros-jazzy-action-msgs',
     'colcon-core',
     'colcon-ros',
     'colcon-python-setup-py',
@@ -30,6 +34,10 @@ KIT = [
     'networkx',
     'psutil',
     'tqdm',
+    'nbgrader',
+    'copydetect',
+    'anywidget',
+    'bqplot',
 ]
 
 setup(
@@ -54,7 +62,7 @@ setup(
         'kit': KIT,
         # Everything `./kit test` and CI need on top of the kit.
         'test': [*KIT, 'pytest', 'pytest-timeout', 'nbval', 'ruff', 'mypy', 'types-PyYAML',
-                 'types-psutil'],
+                 'types-psutil', 'playwright', 'jupyterhub'],
     },
     zip_safe=True,
     maintainer='robot_lab maintainers',
