@@ -1,0 +1,183 @@
+"""What a grader hands back to an instructor: a gradebook, feedback, Gradescope results.
+
+One data model for every kind of submission (packages, notebooks): a `StudentReport` holds
+one `CheckOutcome` per rubric check, and `write_outputs(out_dir, reports)` writes
+
+- `OUT/grades.csv` — `student,score,max_score,<check ids>`, a cell is the points earned;
+- `OUT/feedback/<student>.md` and `.html` — per check: points, then the check's output
+  (what was expected, what was observed, how to fix it), and any pictures;
+- `OUT/results/<student>.json` — Gradescope's `results.json` schema (`score`, `tests`
+  of `{name, score, max_score, output}`), so the same checks run inside its autograder.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import json
+import re
+import shutil
+from collections.abc import Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ['CheckOutcome', 'StudentReport', 'safe_name', 'write_outputs']
+
+
+@dataclass
+class CheckOutcome:
+    """One rubric check's result; `output` is Markdown (expected / observed / how to fix)."""
+
+    id: str
+    name: str
+    score: float
+    max_score: float
+    output: str = ''
+
+    @property
+    def passed(self) -> bool:
+        return self.score >= self.max_score
+
+
+@dataclass
+class StudentReport:
+    """Everything graded for one student. `status` is 'graded' unless the run itself failed
+    ('error': `error` says why; the checks not reached score 0)."""
+
+    student: str
+    checks: list[CheckOutcome] = field(default_factory=list)
+    status: str = 'graded'
+    error: str = ''
+    images: list[Path] = field(default_factory=list)  # PNG/SVG files shown in the feedback
+    title: str = ''  # what was graded, e.g. 'ch6-lab1' or a notebook's name
+    elapsed: float = 0.0
+
+    @property
+    def score(self) -> float:
+        return sum(c.score for c in self.checks)
+
+    @property
+    def max_score(self) -> float:
+        return sum(c.max_score for c in self.checks)
+
+    def summary(self) -> str:
+        """`alice: 7/10`, one line per student."""
+        line = f'{self.student}: {number(self.score)}/{number(self.max_score)}'
+        return line if self.status == 'graded' else f'{line} ({self.status}: {self.error})'
+
+    def to_dict(self) -> dict[str, Any]:
+        data = asdict(self)
+        data['images'] = [str(p) for p in self.images]
+        data['score'] = self.score
+        data['max_score'] = self.max_score
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> StudentReport:
+        fields = {k: v for k, v in data.items()
+                  if k not in ('checks', 'score', 'max_score', 'images')}
+        return cls(**fields, checks=[CheckOutcome(**c) for c in data.get('checks', [])],
+                   images=[Path(p) for p in data.get('images', [])])
+
+    def results_json(self) -> dict[str, Any]:
+        """Gradescope's autograder `results.json` for this student."""
+        data: dict[str, Any] = {
+            'score': self.score,
+            'execution_time': round(self.elapsed, 1),
+            'tests': [{'name': c.name or c.id, 'score': c.score, 'max_score': c.max_score,
+                       'output': c.output, 'number': c.id} for c in self.checks],
+        }
+        if self.status != 'graded':
+            data['output'] = f'Grading ended early ({self.status}): {self.error}'
+        return data
+
+    def markdown(self, image_names: Sequence[str] = ()) -> str:
+        """The feedback page: total, a table of checks, then each check's explanation."""
+        head = f'# Feedback for {self.student}'
+        if self.title:
+            head += f' — {self.title}'
+        lines = [head, '', f'**Score: {number(self.score)} / {number(self.max_score)}**', '']
+        if self.status != 'graded':
+            lines += [f'> Grading ended early ({self.status}): {self.error}', '']
+        lines += ['| check | points | result |', '|---|---|---|']
+        for c in self.checks:
+            mark = 'passed' if c.passed else ('partly' if c.score > 0 else 'not met')
+            lines.append(f'| `{c.id}` {c.name} | {number(c.score)}/{number(c.max_score)} '
+                         f'| {mark} |')
+        lines.append('')
+        for name in image_names:
+            lines += [f'![your running graph]({name})', '']
+        for c in self.checks:
+            lines += [f'## {c.name or c.id} — {number(c.score)}/{number(c.max_score)}', '',
+                      c.output.strip() or ('Passed.' if c.passed else 'Not met.'), '']
+        return '\n'.join(lines)
+
+
+def number(value: float) -> str:
+    """`3` for 3.0, `2.5` for 2.5: points as a person writes them."""
+    return str(int(value)) if float(value).is_integer() else f'{value:g}'
+
+
+_UNSAFE = re.compile(r'[^A-Za-z0-9_.@+-]+')
+
+
+def safe_name(student: str) -> str:
+    """A file name for a student id (no path separators, no leading dot)."""
+    return _UNSAFE.sub('_', student).lstrip('.') or 'student'
+
+
+def _to_html(markdown_text: str, title: str) -> str:
+    import mistune
+
+    body = mistune.create_markdown(plugins=['table'])(markdown_text)
+    return ('<!DOCTYPE html>\n<html><head><meta charset="utf-8">'
+            f'<title>{html.escape(title)}</title><style>'
+            'body{font-family:sans-serif;max-width:60em;margin:2em auto;line-height:1.4}'
+            'table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.2em .6em}'
+            'pre{background:#f6f8fa;padding:.6em;overflow-x:auto}img{max-width:100%}'
+            f'</style></head><body>\n{body}</body></html>\n')
+
+
+def check_ids(reports: Iterable[StudentReport]) -> list[str]:
+    """Every check id, in the order first seen (the gradebook's columns)."""
+    ids: dict[str, None] = {}
+    for report in reports:
+        for c in report.checks:
+            ids.setdefault(c.id, None)
+    return list(ids)
+
+
+def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
+                  columns: Sequence[str] | None = None) -> Path:
+    """Write grades.csv, feedback/<student>.md+.html and results/<student>.json; return OUT.
+
+    `columns` fixes the check-id columns (e.g. the rubric's order); by default every id seen.
+    Images are copied next to the feedback as `<student>.<name>` so the pages are portable.
+    """
+    out = Path(out_dir)
+    (out / 'feedback').mkdir(parents=True, exist_ok=True)
+    (out / 'results').mkdir(parents=True, exist_ok=True)
+    ids = list(columns) if columns is not None else check_ids(reports)
+    with (out / 'grades.csv').open('w', newline='') as f:
+        writer = csv.writer(f)
+        writer.writerow(['student', 'score', 'max_score', *ids])
+        for r in sorted(reports, key=lambda r: r.student):
+            earned = {c.id: c.score for c in r.checks}
+            writer.writerow([r.student, number(r.score), number(r.max_score),
+                             *(number(earned.get(i, 0.0)) for i in ids)])
+    for r in reports:
+        name = safe_name(r.student)
+        images = []
+        for image in r.images:
+            if Path(image).is_file():
+                target = out / 'feedback' / f'{name}.{Path(image).name}'
+                if Path(image).resolve() != target.resolve():
+                    shutil.copyfile(image, target)
+                images.append(target.name)
+        text = r.markdown(images)
+        (out / 'feedback' / f'{name}.md').write_text(text)
+        (out / 'feedback' / f'{name}.html').write_text(_to_html(text, f'Feedback: {r.student}'))
+        (out / 'results' / f'{name}.json').write_text(
+            json.dumps(r.results_json(), indent=2) + '\n')
+    return out
