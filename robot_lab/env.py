@@ -77,7 +77,7 @@ def apply_ros_defaults(env: MutableMapping[str, str] | None = None) -> MutableMa
     ):
         target['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(DISCOVERY_PROFILE)
     # The venv is an ament prefix too (message packages, ament_index_python).
-    from robot_lab.pkg.index import ament_prefixes
+    from robot_lab.ament_prefix import ament_prefixes
 
     target['AMENT_PREFIX_PATH'] = os.pathsep.join(str(p) for p in ament_prefixes(target))
     _add_wheel_libraries(target)
