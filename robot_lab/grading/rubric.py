@@ -1,0 +1,116 @@
+"""Rubrics: which checks a lab has, their points and thresholds, from a YAML file.
+
+The kit ships one per lab (`robot_lab/grading/rubrics/<lab>.yaml`); an instructor copies
+one, changes points or thresholds, and passes `--rubric FILE`. Check ids are fixed by the
+grader (they name the behaviour measured); a rubric may drop a check or give it 0 points.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from robot_lab.errors import RobotLabError
+
+__all__ = ['CHECK_IDS', 'Limits', 'Rubric', 'RubricCheck', 'load_rubric', 'rubric_path']
+
+CHECK_IDS = ('builds', 'launch_file', 'sensor_publishes', 'controller_commands',
+             'actuator_logs', 'params_file', 'params_used', 'readme')
+_DIR = Path(__file__).with_name('rubrics')
+
+
+@dataclass(frozen=True)
+class RubricCheck:
+    id: str
+    name: str
+    points: float
+    options: dict[str, Any] = field(default_factory=dict)
+
+    def option(self, key: str, default: Any) -> Any:
+        return self.options.get(key, default)
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What one submission's job may use (see robot_lab.grading.sandbox)."""
+
+    wall_seconds: float = 150.0
+    cpu_seconds: int = 120
+    memory_mb: int = 1500
+    processes: int = 256
+    file_mb: int = 256
+    output_kb: int = 64
+
+
+@dataclass(frozen=True)
+class Rubric:
+    lab: str
+    title: str
+    checks: list[RubricCheck]
+    observe_seconds: float = 4.0
+    startup_seconds: float = 12.0
+    limits: Limits = Limits()
+    source: Path | None = None
+
+    def check(self, check_id: str) -> RubricCheck | None:
+        return next((c for c in self.checks if c.id == check_id), None)
+
+    @property
+    def ids(self) -> list[str]:
+        return [c.id for c in self.checks]
+
+
+def rubric_path(lab: str) -> Path:
+    """The shipped rubric of `lab`, or an error listing the labs there are."""
+    path = _DIR / f'{lab}.yaml'
+    if not path.is_file():
+        labs = ', '.join(sorted(p.stem for p in _DIR.glob('*.yaml')))
+        raise RobotLabError(f'no rubric for lab {lab!r}', fix=f'use --lab with one of: {labs}')
+    return path
+
+
+def _fail(path: Path, message: str, fix: str) -> RobotLabError:
+    return RobotLabError(message, file=path, fix=fix)
+
+
+def load_rubric(path: str | Path) -> Rubric:
+    """Read and validate a rubric file; errors name the file and the fix."""
+    file = Path(path)
+    try:
+        data = yaml.safe_load(file.read_text())
+    except OSError as err:
+        raise _fail(file, f'cannot read the rubric: {err.strerror}',
+                    'give the path of a rubric YAML file') from None
+    except yaml.YAMLError as err:
+        mark = getattr(err, 'problem_mark', None)
+        line = f' (line {mark.line + 1})' if mark is not None else ''
+        raise _fail(file, f'not valid YAML{line}: {getattr(err, "problem", err)}',
+                    'fix the YAML syntax (compare with the shipped rubric)') from None
+    if not isinstance(data, dict) or not isinstance(data.get('checks'), list):
+        raise _fail(file, 'a rubric is a mapping with a `checks:` list',
+                    'copy a shipped rubric (robot_lab/grading/rubrics/) and edit it')
+    checks = []
+    for item in data['checks']:
+        if not isinstance(item, dict) or item.get('id') not in CHECK_IDS:
+            got = item.get('id') if isinstance(item, dict) else item
+            raise _fail(file, f'unknown check {got!r}',
+                        f'use one of: {", ".join(CHECK_IDS)}')
+        points = item.get('points', 1)
+        if not isinstance(points, int | float) or points < 0:
+            raise _fail(file, f'check {item["id"]}: points must be a number >= 0',
+                        'write e.g. `points: 2`')
+        options = {k: v for k, v in item.items() if k not in ('id', 'name', 'points')}
+        checks.append(RubricCheck(item['id'], str(item.get('name', item['id'])),
+                                  float(points), options))
+    raw_limits = data.get('limits') or {}
+    unknown = set(raw_limits) - set(Limits.__dataclass_fields__)
+    if unknown:
+        raise _fail(file, f'unknown limits: {", ".join(sorted(unknown))}',
+                    f'use: {", ".join(Limits.__dataclass_fields__)}')
+    return Rubric(lab=str(data.get('lab', file.stem)), title=str(data.get('title', '')),
+                  checks=checks, observe_seconds=float(data.get('observe_seconds', 4.0)),
+                  startup_seconds=float(data.get('startup_seconds', 12.0)),
+                  limits=Limits(**raw_limits), source=file)
