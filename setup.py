@@ -45,7 +45,8 @@ setup(
     version='0.1.0',
     description='Jupyter-first ROS 2 Jazzy course kit with no ROS install',
     packages=find_packages(include=['robot_lab', 'robot_lab.*']),
-    package_data={'robot_lab': ['py.typed', 'data/*', 'pkg/templates/*/*', 'grading/rubrics/*.yaml']},
+    package_data={'robot_lab': ['py.typed', 'data/*', 'pkg/templates/*/*',
+                                'grading/rubrics/*.yaml']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + PACKAGE]),
         ('share/' + PACKAGE, ['package.xml']),
