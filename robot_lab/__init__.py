@@ -73,6 +73,8 @@ _API: dict[str, str] = {
     'launch_panel': 'robot_lab.widgets.launch_panel',
     'recorder': 'robot_lab.widgets.bag',
     'player': 'robot_lab.widgets.bag',
+    'robot_view': 'robot_lab.widgets.robot_view',
+    'RobotView': 'robot_lab.widgets.robot_view',
 }
 
 __all__ = sorted(_API)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import math
 import sys
 import threading
 import time
@@ -370,3 +371,40 @@ def test_slider_rows_fit_a_narrow_notebook(system: None) -> None:
     finally:
         param_set('/sensor', 'noise_level', 0.0)
         sliders.close()
+
+
+def test_pose_integration_follows_arcs_and_lines() -> None:
+    from robot_lab.widgets.robot_view import Pose, integrate
+
+    ahead = integrate(Pose(0.0, 0.0, 0.0), 0.5, 0.0, 2.0)
+    assert ahead == pytest.approx((1.0, 0.0, 0.0))
+    # a quarter circle of radius 1 m counter-clockwise ends at (1, 1) facing +y
+    quarter = integrate(Pose(0.0, 0.0, 0.0), 1.0, 1.0, math.pi / 2)
+    assert quarter == pytest.approx((1.0, 1.0, math.pi / 2), abs=1e-9)
+
+
+def test_robot_view_integrates_a_real_twist_topic(system: None) -> None:
+    """A node publishing geometry_msgs/Twist on /robot_view_test moves the drawn robot."""
+    import conftest
+
+    from robot_lab.widgets.robot_view import RobotView
+
+    view = RobotView('/robot_view_test', headless_seconds=0.0)
+    driver = conftest.Proc([str(conftest.BIN / 'robot-lab'), 'topic', 'pub', '--rate', '20',
+                            '/robot_view_test', 'geometry_msgs/msg/Twist',
+                            '{linear: {x: 0.5}, angular: {z: 0.5}}'])
+    try:
+        assert view.wait_for_motion(0.2, timeout=20.0), f'no motion: {view!r}'
+        pose = view.pose
+        assert pose.x > 0.1 and pose.y > 0.0 and pose.theta > 0.0, pose  # a left turn
+        assert view.count > 3
+        payload = view._full()
+        assert payload['kind'] == 'reset' and len(payload['poses']) == 3 * len(view.path)
+        assert view._new() is None  # a full picture leaves nothing pending
+        assert view.render_png().startswith(PNG_MAGIC)
+        widget = view.start().widget
+        assert 'robot-lab-widget' in widget._dom_classes
+    finally:
+        driver.stop()
+        view.close()
+    assert view._canvas.note.startswith('closed')

@@ -10,13 +10,14 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ['console', 'launch_panel', 'plot', 'sliders']
+__all__ = ['console', 'launch_panel', 'plot', 'robot_view', 'sliders']
 
 _HOMES = {
     'plot': 'robot_lab.widgets.plot',
     'sliders': 'robot_lab.widgets.sliders',
     'console': 'robot_lab.widgets.console',
     'launch_panel': 'robot_lab.widgets.launch_panel',
+    'robot_view': 'robot_lab.widgets.robot_view',
 }
 
 
