@@ -27,6 +27,7 @@ VERBS: dict[str, str] = {
     'topic': 'topic',
     'param': 'param',
     'service': 'service',
+    'action': 'action',
     'interface': 'interface',
     'graph': 'graph',
     'pkg': 'pkg',
