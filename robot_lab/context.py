@@ -40,15 +40,10 @@ def _init_args() -> list[str] | None:
 
 
 def _domain_from_env() -> int:
-    raw = os.environ.get('ROS_DOMAIN_ID', '').strip()
-    if not raw:
-        return 0
-    try:
-        return int(raw)
-    except ValueError:
-        raise GraphError(
-            f'ROS_DOMAIN_ID={raw!r} is not a number', fix='set it to an integer 0..101'
-        ) from None
+    """ROS_DOMAIN_ID, or the user's own domain when it is unset (robot_lab/domain.py)."""
+    from robot_lab.domain import domain_for
+
+    return domain_for()
 
 
 class Session:

@@ -1,6 +1,8 @@
 """The environment robot_lab gives every ROS process it starts (or joins, in a kernel).
 
-Two defaults, both overridable by what the user already set:
+Defaults, each overridable by what the user already set:
+- ROS_DOMAIN_ID: the user's own domain on this host (robot_lab/domain.py), so two
+  students on one machine never see each other's nodes.
 - ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST: DDS never sends a packet off loopback.
 - FASTRTPS_DEFAULT_PROFILES_FILE: the kit's fast-discovery profile (see data/).
 
@@ -69,6 +71,10 @@ def apply_ros_defaults(env: MutableMapping[str, str] | None = None) -> MutableMa
     target: MutableMapping[str, str] = os.environ if env is None else env
     for key, value in _DEFAULTS.items():
         target.setdefault(key, value)
+    if not target.get('ROS_DOMAIN_ID', '').strip():
+        from robot_lab.domain import user_domain
+
+        target['ROS_DOMAIN_ID'] = str(user_domain(target))
     if (
         _uses_fastdds(target)
         and 'FASTRTPS_DEFAULT_PROFILES_FILE' not in target

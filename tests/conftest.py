@@ -24,11 +24,14 @@ REPO = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
 SHARED = REPO.parent / 'shared'
 
-os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-apply_ros_defaults()
-
 # Domain IDs: a base per pytest run (ROBOT_LAB_TEST_DOMAIN_BASE), one per module after it.
 _BASE = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
+
+os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+# Set before the kit's defaults, which would otherwise give the tester's own domain from
+# the host registry (robot_lab/domain.py); every module sets its own below anyway.
+os.environ['ROS_DOMAIN_ID'] = str(_BASE % 100 + 1)
+apply_ros_defaults()
 _modules: dict[str, int] = {}
 
 

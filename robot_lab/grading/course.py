@@ -51,7 +51,9 @@ def _domain(notebook: str) -> int:
     test_base = os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '').strip()
     if test_base:
         return (int(test_base) + 60 + _number(notebook)) % 100 + 1
-    return int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
+    from robot_lab.domain import domain_for
+
+    return domain_for()  # ROS_DOMAIN_ID, or the user's own: notebook 05 sees 03's nodes
 
 
 def _workspace() -> Path:

@@ -34,8 +34,12 @@ _GRAPH_VARIABLES = (
 
 def graph_key(env: Mapping[str, str] | None = None) -> str:
     """`d<domain>-<range>-<hash>`: equal for processes that see the same DDS graph."""
+    from robot_lab.domain import domain_for
+
     source = os.environ if env is None else env
-    return _key(tuple(source.get(k) for k in ('ROS_DOMAIN_ID', *_GRAPH_VARIABLES)))
+    # Unset ROS_DOMAIN_ID means the user's own domain (from the registry `source` names).
+    domain = str(domain_for(source))
+    return _key((domain, *(source.get(k) for k in _GRAPH_VARIABLES)))
 
 
 @functools.lru_cache(maxsize=16)

@@ -50,10 +50,21 @@ def check_package(path: str | os.PathLike[str]) -> Report:
 
 
 def _environment_checks() -> list[Check]:
+    from robot_lab.domain import resolve
     from robot_lab.env import ros_environment
+    from robot_lab.errors import RobotLabError
 
-    env = ros_environment()
     checks: list[Check] = []
+    try:
+        choice = resolve()
+        good = choice.domain in range(0, 102) or choice.domain in range(215, 233)
+        checks.append(Check('ROS_DOMAIN_ID', good, str(choice),
+                            fix='use a number from 0 to 101 or 215 to 232 (Fast DDS ports '
+                            'of the others clash with Linux ephemeral ports or overflow)'))
+        env = ros_environment()
+    except RobotLabError as err:
+        checks.append(Check('ROS_DOMAIN_ID', False, err.message, fix=err.fix))
+        env = ros_environment({'ROS_DOMAIN_ID': '0'})
     version = sys.version_info
     checks.append(Check(
         'Python', version >= (3, 10) and sys.platform.startswith('linux'),
@@ -78,16 +89,6 @@ def _environment_checks() -> list[Check]:
     except Exception as err:
         checks.append(Check('rclpy', False, f'cannot import rclpy: {err}',
                             fix="pip install 'robot_lab[kit]' in this venv"))
-    domain = env.get('ROS_DOMAIN_ID', '')
-    if not domain:
-        checks.append(Check('ROS_DOMAIN_ID', True, 'unset (domain 0)'))
-    else:
-        good = domain.isdigit() and 0 <= int(domain) <= 232
-        checks.append(Check(
-            'ROS_DOMAIN_ID', good and int(domain) <= 101, domain,
-            fix='use a number from 0 to 101 (safe on Linux)',
-            severity='error' if not good else 'warning',
-        ))
     discovery = env.get('ROS_AUTOMATIC_DISCOVERY_RANGE', '')
     checks.append(Check(
         'ROS_AUTOMATIC_DISCOVERY_RANGE', discovery == 'LOCALHOST', discovery or 'unset',

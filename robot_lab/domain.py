@@ -1,0 +1,312 @@
+"""Which ROS_DOMAIN_ID a process uses: the user's own, unless someone set one.
+
+Two students on one host who both leave ROS_DOMAIN_ID unset would share domain 0 and see
+(and change) each other's nodes as soon as discovery reaches across users (UDP-only
+transports do). So when ROS_DOMAIN_ID is not set, every Unix user gets a domain of their
+own from a host-wide registry: the same in all their kernels, terminals, launches, daemons
+and `ros2` commands, stable across logins, and never shared (an allocation under a lock,
+not a hash that can collide). `ROS_DOMAIN_ID` set by the user or the hub always wins.
+
+Which domains: Fast DDS puts domain d on UDP ports 7400 + 250 d + ..., so 0-101 stay
+below Linux's ephemeral port range (32768-60999) and 215-232 above it. Users get 1-101
+(101 users; 0 stays what a process started without the kit uses). Parallel jobs (test
+modules, grading runs) lease domains for as long as they run: 215-232 first, then free
+user domains from the top. Past 101 users the answer is one container per user.
+
+The registry is a small JSON file (default /var/tmp/robot_lab/domains.json, or
+ROBOT_LAB_DOMAIN_REGISTRY), changed only under an exclusive flock and written in place
+(a sticky shared directory lets no user replace another's file). `python -m
+robot_lab.domain` prints it; `--release USER` frees a user's entry.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import fcntl
+import functools
+import json
+import os
+import pwd
+import sys
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any, Literal
+
+from robot_lab.errors import RobotLabError
+
+__all__ = [
+    'DEFAULT_REGISTRY',
+    'JOB_DOMAINS',
+    'POOL_VARIABLE',
+    'REGISTRY_VARIABLE',
+    'USER_DOMAINS',
+    'DomainChoice',
+    'DomainRegistry',
+    'domain_for',
+    'lease_domains',
+    'resolve',
+    'user_domain',
+]
+
+REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_REGISTRY'
+# `first-last` domains handed to users (an admin may narrow it; tests use their own).
+POOL_VARIABLE = 'ROBOT_LAB_USER_DOMAINS'
+DEFAULT_REGISTRY = Path('/var/tmp/robot_lab/domains.json')
+USER_DOMAINS = range(1, 102)
+JOB_DOMAINS = range(215, 233)
+_VALID = (*range(0, 102), *range(215, 233))
+
+_FIX_FULL = ('give each student a container of their own (Zero to JupyterHub on Kubernetes, '
+             'docs/deploy.md), set ROS_DOMAIN_ID per user in the hub, or free the entries '
+             'of users who left: python -m robot_lab.domain --release USER')
+
+
+def registry_path(env: Mapping[str, str] | None = None) -> Path:
+    source = os.environ if env is None else env
+    return Path(source.get(REGISTRY_VARIABLE, '').strip() or DEFAULT_REGISTRY)
+
+
+def user_pool(env: Mapping[str, str] | None = None) -> range:
+    """The user domains: USER_DOMAINS, or `first-last` from ROBOT_LAB_USER_DOMAINS."""
+    source = os.environ if env is None else env
+    raw = source.get(POOL_VARIABLE, '').strip()
+    if not raw:
+        return USER_DOMAINS
+    first, _, last = raw.partition('-')
+    try:
+        pool = range(int(first), int(last or first) + 1)
+    except ValueError:
+        pool = range(0)
+    if not pool or not all(d in _VALID for d in pool):
+        raise RobotLabError(f'{POOL_VARIABLE}={raw!r} is not a range of valid domains',
+                            fix='use FIRST-LAST within 0-101 or 215-232, e.g. 1-101')
+    return pool
+
+
+def _start_time(pid: int) -> int | None:
+    """The process's start time in clock ticks (tells a live pid from a reused one)."""
+    try:
+        with open(f'/proc/{pid}/stat', encoding='ascii', errors='replace') as stat:
+            fields = stat.read().rpartition(')')[2].split()
+    except OSError:
+        return None
+    if fields[0] in ('Z', 'X'):
+        return None
+    return int(fields[19])
+
+
+def _user_name(uid: int) -> str:
+    try:
+        return pwd.getpwuid(uid).pw_name
+    except KeyError:
+        return f'uid {uid}'
+
+
+class DomainRegistry:
+    """The host's table of users' domains and jobs' leases, in one locked JSON file."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def _open(self) -> IO[str]:
+        directory = self.path.parent
+        try:
+            if not directory.is_dir():
+                directory.mkdir(parents=True, exist_ok=True)
+                with contextlib.suppress(OSError):  # shared by every user, like /tmp
+                    directory.chmod(0o1777)
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise RobotLabError(
+                f'cannot open the ROS domain registry {self.path}: {exc.strerror}',
+                fix=f'set ROS_DOMAIN_ID yourself, or point {REGISTRY_VARIABLE} at a file '
+                'every user can write') from None
+        with contextlib.suppress(OSError):
+            if os.fstat(fd).st_uid == os.getuid():
+                os.fchmod(fd, 0o666)  # every user adds their own entry
+        return os.fdopen(fd, 'r+', encoding='utf-8')
+
+    @contextlib.contextmanager
+    def locked(self) -> Iterator[dict[str, Any]]:
+        """The table, for reading and changing; written back in place on exit."""
+        with self._open() as file:
+            fcntl.flock(file, fcntl.LOCK_EX)
+            text = file.read()
+            try:
+                data = json.loads(text) if text.strip() else {}
+                if not isinstance(data, dict):
+                    raise ValueError('not an object')
+            except ValueError:
+                raise RobotLabError(
+                    f'the ROS domain registry {self.path} is damaged',
+                    fix='fix or remove it (users then get new domains at their next start)',
+                ) from None
+            data.setdefault('users', {})
+            data.setdefault('leases', {})
+            before = json.dumps(data, sort_keys=True)
+            yield data
+            after = json.dumps(data, indent=1, sort_keys=True)
+            if json.dumps(data, sort_keys=True) != before:
+                file.seek(0)
+                file.write(after + '\n')
+                file.truncate()
+                file.flush()
+                os.fsync(file.fileno())
+
+    def read(self) -> dict[str, Any]:
+        with self.locked() as data:
+            self._live_leases(data)
+            copy: dict[str, Any] = json.loads(json.dumps(data))
+            return copy
+
+    @staticmethod
+    def _live_leases(data: dict[str, Any]) -> dict[int, dict[str, Any]]:
+        """Leases whose holder still runs; the others are dropped from `data`."""
+        live = {}
+        for key, lease in list(data['leases'].items()):
+            if _start_time(int(lease.get('pid', 0))) == lease.get('start'):
+                live[int(key)] = lease
+            else:
+                del data['leases'][key]
+        return live
+
+    def user_domain(self, uid: int, pool: range) -> int:
+        """The domain of user `uid`, allocated (lowest free in `pool`) on first use."""
+        with self.locked() as data:
+            entry = data['users'].get(str(uid))
+            if entry is not None:
+                return int(entry['domain'])
+            taken = {int(e['domain']) for e in data['users'].values()}
+            taken |= set(self._live_leases(data))
+            free = [d for d in pool if d not in taken]
+            if not free:
+                raise RobotLabError(
+                    f'no ROS domain left for {_user_name(uid)}: all {len(pool)} user domains '
+                    f'({pool.start}-{pool.stop - 1}) in {self.path} are taken', fix=_FIX_FULL)
+            data['users'][str(uid)] = {'domain': free[0], 'name': _user_name(uid),
+                                       'since': time.strftime('%Y-%m-%dT%H:%M:%S%z')}
+            return free[0]
+
+    def lease(self, count: int, pool: Sequence[int], purpose: str) -> list[int]:
+        """`count` domains held by this process until `release` (or its death)."""
+        pid = os.getpid()
+        with self.locked() as data:
+            taken = {int(e['domain']) for e in data['users'].values()}
+            taken |= set(self._live_leases(data))
+            free = [d for d in pool if d not in taken]
+            if len(free) < count:
+                raise RobotLabError(
+                    f'{purpose or "a job"} needs {count} ROS domains, {len(free)} are free '
+                    f'in {self.path}', fix='wait for other jobs to end, or run fewer at once')
+            chosen = free[:count]
+            for domain in chosen:
+                data['leases'][str(domain)] = {'pid': pid, 'start': _start_time(pid),
+                                               'uid': os.getuid(), 'purpose': purpose}
+            return chosen
+
+    def release(self, domains: Sequence[int]) -> None:
+        with self.locked() as data:
+            for domain in domains:
+                lease = data['leases'].get(str(domain))
+                if lease is not None and lease.get('pid') == os.getpid():
+                    del data['leases'][str(domain)]
+
+    def release_user(self, uid: int) -> int | None:
+        with self.locked() as data:
+            entry = data['users'].pop(str(uid), None)
+            return None if entry is None else int(entry['domain'])
+
+
+@functools.lru_cache(maxsize=8)
+def _cached_user_domain(uid: int, path: Path, pool: range) -> int:
+    return DomainRegistry(path).user_domain(uid, pool)
+
+
+def user_domain(env: Mapping[str, str] | None = None, uid: int | None = None) -> int:
+    """This user's domain from the registry of `env` (allocated on first use)."""
+    return _cached_user_domain(os.getuid() if uid is None else uid, registry_path(env),
+                               user_pool(env))
+
+
+@dataclass(frozen=True)
+class DomainChoice:
+    """A domain and why: `variable` (ROS_DOMAIN_ID was set) or `registry` (the user's)."""
+
+    domain: int
+    source: Literal['variable', 'registry']
+    registry: Path | None = None
+
+    def __str__(self) -> str:
+        if self.source == 'variable':
+            return f'{self.domain} (ROS_DOMAIN_ID set in the environment)'
+        return (f"{self.domain} (user {_user_name(os.getuid())}'s own domain, "
+                f'from the registry {self.registry})')
+
+
+def resolve(env: Mapping[str, str] | None = None) -> DomainChoice:
+    """The domain for a process with environment `env` (default: os.environ), and why."""
+    source = os.environ if env is None else env
+    raw = source.get('ROS_DOMAIN_ID', '').strip()
+    if raw:
+        try:
+            return DomainChoice(int(raw), 'variable')
+        except ValueError:
+            raise RobotLabError(f'ROS_DOMAIN_ID={raw!r} is not a number',
+                                fix='set it to an integer 0..101, or unset it') from None
+    return DomainChoice(user_domain(source), 'registry', registry_path(source))
+
+
+def domain_for(env: Mapping[str, str] | None = None) -> int:
+    """Just the number of `resolve(env)`."""
+    return resolve(env).domain
+
+
+@contextlib.contextmanager
+def lease_domains(count: int, purpose: str = '', pool: Sequence[int] | None = None,
+                  env: Mapping[str, str] | None = None) -> Iterator[list[int]]:
+    """`count` domains reserved host-wide while the block runs (parallel jobs: grading,
+    test modules), so no user and no other job is in them. A holder killed with -9 frees
+    its leases too (the next allocation sees its process gone)."""
+    if pool is None:
+        users = user_pool(env)
+        pool = [*JOB_DOMAINS, *reversed(users)]
+    registry = DomainRegistry(registry_path(env))
+    domains = registry.lease(count, pool, purpose)
+    try:
+        yield domains
+    finally:
+        registry.release(domains)
+
+
+def _main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog='python -m robot_lab.domain',
+                                     description='The host ROS domain registry')
+    parser.add_argument('--release', metavar='USER', help="free USER's domain")
+    args = parser.parse_args(argv)
+    registry = DomainRegistry(registry_path())
+    try:
+        if args.release:
+            uid = int(args.release) if args.release.isdigit() else pwd.getpwnam(
+                args.release).pw_uid
+            freed = registry.release_user(uid)
+            print(f'{args.release}: ' + ('had no domain' if freed is None
+                                         else f'domain {freed} freed'))
+            return 0
+        data = registry.read()
+    except (RobotLabError, KeyError) as err:
+        print(err, file=sys.stderr)
+        return 1
+    print(f'{registry.path}:')
+    for uid, entry in sorted(data['users'].items(), key=lambda kv: kv[1]['domain']):
+        print(f"  domain {entry['domain']:>3}  {entry.get('name', '?')} (uid {uid})")
+    for domain, lease in sorted(data['leases'].items(), key=lambda kv: int(kv[0])):
+        print(f"  domain {int(domain):>3}  leased by pid {lease['pid']} "
+              f"({lease.get('purpose') or 'a job'})")
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(_main())
