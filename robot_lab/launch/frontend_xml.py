@@ -11,7 +11,9 @@ from typing import Any
 from xml.parsers import expat
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.describe import DescriptionStep, Entity, parse_root
+from robot_lab.launch.action import DescriptionStep
+from robot_lab.launch.entity import Entity
+from robot_lab.launch.registry import parse_root
 from robot_lab.launch.substitutions import coerce
 
 __all__ = ['XmlEntity', 'load_xml_launch_file', 'parse_xml']

@@ -12,7 +12,9 @@ from typing import Any
 import yaml
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.describe import DescriptionStep, Entity, parse_root
+from robot_lab.launch.action import DescriptionStep
+from robot_lab.launch.entity import Entity
+from robot_lab.launch.registry import parse_root
 
 __all__ = ['YamlEntity', 'load_yaml_launch_file']
 

@@ -5,7 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-from robot_lab.launch.describe import Condition, LaunchContext, LaunchStep
+from robot_lab.launch.action import LaunchStep
+from robot_lab.launch.conditions import Condition
+from robot_lab.launch.context import LaunchContext
 from robot_lab.launch.substitutions import Substitution
 
 from . import actions, conditions, launch_description_sources, substitutions

@@ -6,8 +6,17 @@ import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
-from robot_lab.launch import describe as core
-from robot_lab.launch.describe import Condition, LaunchStep, ProcessOptions
+from robot_lab.launch.action import LaunchStep, as_step
+from robot_lab.launch.actions.arguments import DeclareArgumentStep, SetConfigurationStep
+from robot_lab.launch.actions.environment import EnvironmentStep
+from robot_lab.launch.actions.execute_process import ExecuteStep, ProcessOptions
+from robot_lab.launch.actions.group import GroupStep
+from robot_lab.launch.actions.include import IncludeStep
+from robot_lab.launch.actions.log import LogStep
+from robot_lab.launch.actions.opaque import OpaqueStep
+from robot_lab.launch.actions.shutdown import ShutdownStep
+from robot_lab.launch.actions.timer import TimerStep
+from robot_lab.launch.conditions import Condition
 
 from .substitutions import opt, subs
 
@@ -34,10 +43,10 @@ def _place(step: LaunchStep, condition: Condition | None) -> None:
 
 def to_step(entity: Any) -> LaunchStep:
     """An action or a (nested) LaunchDescription."""
-    return core._as_step(entity)
+    return as_step(entity)
 
 
-class DeclareLaunchArgument(core.DeclareArgumentStep):
+class DeclareLaunchArgument(DeclareArgumentStep):
     def __init__(self, name: str, *, default_value: Any = None, description: str | None = None,
                  choices: Sequence[str] | None = None, condition: Condition | None = None,
                  **_: Any) -> None:
@@ -49,13 +58,13 @@ class DeclareLaunchArgument(core.DeclareArgumentStep):
         return self.default
 
 
-class SetLaunchConfiguration(core.SetConfigurationStep):
+class SetLaunchConfiguration(SetConfigurationStep):
     def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
         super().__init__(name, value)
         _place(self, condition)
 
 
-class IncludeLaunchDescription(core.IncludeStep):
+class IncludeLaunchDescription(IncludeStep):
     def __init__(self, launch_description_source: Any, *,
                  launch_arguments: Iterable[tuple[Any, Any]] | Mapping[Any, Any] | None = None,
                  condition: Condition | None = None, **_: Any) -> None:
@@ -66,7 +75,7 @@ class IncludeLaunchDescription(core.IncludeStep):
         _place(self, condition)
 
 
-class GroupAction(core.GroupStep):
+class GroupAction(GroupStep):
     def __init__(self, actions: Iterable[Any], *, scoped: bool = True, forwarding: bool = True,
                  launch_configurations: Mapping[Any, Any] | None = None,
                  condition: Condition | None = None, **_: Any) -> None:
@@ -85,7 +94,7 @@ def process_options(
     exit_action = None
     if on_exit is not None:
         actions = on_exit if isinstance(on_exit, list | tuple) else [on_exit]
-        if not all(isinstance(a, core.ShutdownStep) for a in actions):
+        if not all(isinstance(a, ShutdownStep) for a in actions):
             raise TypeError('robot_lab supports on_exit=Shutdown() only')
         exit_action = 'shutdown'
     return ProcessOptions(
@@ -99,14 +108,14 @@ def process_options(
     )
 
 
-class ExecuteProcess(core.ExecuteStep):
+class ExecuteProcess(ExecuteStep):
     def __init__(self, *, cmd: Iterable[Any], condition: Condition | None = None,
                  **kwargs: Any) -> None:
         super().__init__([subs(part) for part in cmd], process_options(**kwargs))
         _place(self, condition)
 
 
-class TimerAction(core.TimerStep):
+class TimerAction(TimerStep):
     def __init__(self, *, period: Any, actions: Iterable[Any],
                  condition: Condition | None = None, **_: Any) -> None:
         super().__init__(period if isinstance(period, float | int) else subs(period),
@@ -114,32 +123,32 @@ class TimerAction(core.TimerStep):
         _place(self, condition)
 
 
-class LogInfo(core.LogStep):
+class LogInfo(LogStep):
     def __init__(self, *, msg: Any, condition: Condition | None = None, **_: Any) -> None:
         super().__init__(msg)
         _place(self, condition)
 
 
-class SetEnvironmentVariable(core.EnvironmentStep):
+class SetEnvironmentVariable(EnvironmentStep):
     def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
         super().__init__('set', name, value)
         _place(self, condition)
 
 
-class UnsetEnvironmentVariable(core.EnvironmentStep):
+class UnsetEnvironmentVariable(EnvironmentStep):
     def __init__(self, name: Any, *, condition: Condition | None = None) -> None:
         super().__init__('unset', name)
         _place(self, condition)
 
 
-class AppendEnvironmentVariable(core.EnvironmentStep):
+class AppendEnvironmentVariable(EnvironmentStep):
     def __init__(self, name: Any, value: Any, *, prepend: Any = False,
                  separator: Any = os.pathsep, condition: Condition | None = None) -> None:
         super().__init__('append', name, value, prepend, separator)
         _place(self, condition)
 
 
-class OpaqueFunction(core.OpaqueStep):
+class OpaqueFunction(OpaqueStep):
     def __init__(self, *, function: Callable[..., Any], args: Sequence[Any] | None = None,
                  kwargs: Mapping[str, Any] | None = None,
                  condition: Condition | None = None) -> None:
@@ -147,7 +156,7 @@ class OpaqueFunction(core.OpaqueStep):
         _place(self, condition)
 
 
-class Shutdown(core.ShutdownStep):
+class Shutdown(ShutdownStep):
     def __init__(self, *, reason: Any = 'reason not given',
                  condition: Condition | None = None) -> None:
         super().__init__(reason)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from robot_lab.launch.describe import Condition, EqualsCondition
+from robot_lab.launch.conditions import Condition, EqualsCondition
 
 __all__ = [
     'Condition',

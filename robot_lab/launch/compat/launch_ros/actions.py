@@ -6,10 +6,13 @@ import os
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from robot_lab.launch import describe as core
+from robot_lab.launch.actions.namespace import PushNamespaceStep
+from robot_lab.launch.actions.node import NodeStep
+from robot_lab.launch.actions.ros_globals import GlobalRosStep
 from robot_lab.launch.compat.launch.actions import _place, process_options
 from robot_lab.launch.compat.launch.substitutions import subs
-from robot_lab.launch.describe import Condition, ParamFileRef, ParamValue
+from robot_lab.launch.conditions import Condition
+from robot_lab.launch.parameters import ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
 
 __all__ = [
@@ -56,7 +59,7 @@ def _parameters(parameters: Iterable[Any]) -> list[Any]:
     return result
 
 
-class Node(core.NodeStep):
+class Node(NodeStep):
     def __init__(self, *, executable: Any, package: Any = None, name: Any = None,
                  namespace: Any = None, exec_name: Any = None,
                  parameters: Iterable[Any] | None = None,
@@ -76,7 +79,7 @@ class Node(core.NodeStep):
         _place(self, condition)
 
 
-class PushROSNamespace(core.PushNamespaceStep):
+class PushROSNamespace(PushNamespaceStep):
     def __init__(self, namespace: Any, *, condition: Condition | None = None) -> None:
         super().__init__(namespace)
         _place(self, condition)
@@ -85,19 +88,19 @@ class PushROSNamespace(core.PushNamespaceStep):
 PushRosNamespace = PushROSNamespace
 
 
-class SetParameter(core.GlobalRosStep):
+class SetParameter(GlobalRosStep):
     def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
         super().__init__('parameter', name, _value(value))
         _place(self, condition)
 
 
-class SetParametersFromFile(core.GlobalRosStep):
+class SetParametersFromFile(GlobalRosStep):
     def __init__(self, filename: Any, *, condition: Condition | None = None) -> None:
         super().__init__('file', filename)
         _place(self, condition)
 
 
-class SetRemap(core.GlobalRosStep):
+class SetRemap(GlobalRosStep):
     def __init__(self, src: Any, dst: Any, *, condition: Condition | None = None) -> None:
         super().__init__('remap', src, dst)
         _place(self, condition)

@@ -6,7 +6,7 @@ import typing
 from typing import Any
 
 from robot_lab.launch.compat.launch.substitutions import subs
-from robot_lab.launch.describe import ParamFileRef, ParamValue
+from robot_lab.launch.parameters import ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
 
 __all__ = ['Parameter', 'ParameterFile', 'ParameterValue']

@@ -1,0 +1,111 @@
+"""The base of every launch action, and what actions share: substitutions in, location.
+
+Like ros2/launch this runs in two phases: a frontend (XML, YAML or Python) *parses* a
+file into actions (so an unknown tag or attribute anywhere is an error, even in a branch
+that is switched off), then the actions are *executed* against a LaunchContext (see
+context.py). Executing a process action does not start it: it resolves its command line
+into a ProcessSpec of the plan.
+"""
+
+from __future__ import annotations
+
+import inspect
+import os
+import traceback
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from robot_lab.errors import LaunchError
+from robot_lab.launch.substitutions import Substitution, Text
+
+if TYPE_CHECKING:
+    from robot_lab.launch.conditions import Condition
+    from robot_lab.launch.context import LaunchContext
+
+__all__ = ['DescriptionStep', 'LaunchStep', 'Subs', 'as_step', 'caller_line', 'opt_subs',
+           'python_error', 'subs']
+
+Subs = list[Substitution]
+
+
+def subs(value: Any) -> Subs:
+    """SomeSubstitutionsType (str, Substitution or a list of them) -> list of substitutions."""
+    if isinstance(value, Substitution):
+        return [value]
+    if isinstance(value, str):
+        return [Text(value)]
+    if isinstance(value, os.PathLike):
+        return [Text(os.fspath(value))]
+    if isinstance(value, Iterable):
+        out: Subs = []
+        for item in value:
+            out.extend(subs(item))
+        return out
+    raise TypeError(f'expected text or substitutions, got {type(value).__name__}: {value!r}')
+
+
+def opt_subs(value: Any) -> Subs | None:
+    return None if value is None else subs(value)
+
+
+def caller_line() -> tuple[Path | None, int | None]:
+    """file:line of the first frame outside robot_lab's launch package (a Python launch file)."""
+    here = str(Path(__file__).parent)
+    for frame in inspect.stack(0)[2:]:
+        if not frame.filename.startswith(here):
+            return Path(frame.filename), frame.lineno
+    return None, None
+
+
+class LaunchStep:
+    """A parsed action; `execute` resolves it into the plan (and may change the context)."""
+
+    file: Path | None = None
+    line: int | None = None
+    condition: Condition | None = None
+
+    def locate(self, file: Path | None, line: int | None) -> None:
+        self.file, self.line = file, line
+
+    def locate_caller(self) -> None:
+        self.file, self.line = caller_line()
+
+    def execute(self, context: LaunchContext) -> None:
+        raise NotImplementedError
+
+    def children(self) -> list[LaunchStep]:
+        return []
+
+
+class DescriptionStep(LaunchStep):
+    """A LaunchDescription: its entities, in order, in the current scope."""
+
+    def __init__(self, entities: Sequence[LaunchStep]) -> None:
+        self.entities = list(entities)
+
+    def execute(self, context: LaunchContext) -> None:
+        context.run(self.entities)
+
+    def children(self) -> list[LaunchStep]:
+        return self.entities
+
+
+def python_error(err: BaseException, what: str) -> LaunchError:
+    """A Python exception from launch-file code, located at its innermost launch-file frame."""
+    frames = traceback.extract_tb(err.__traceback__)
+    here = str(Path(__file__).parent)
+    located = [f for f in frames if not f.filename.startswith(here)]
+    frame = located[-1] if located else (frames[-1] if frames else None)
+    return LaunchError(
+        f'{what} raised {type(err).__name__}: {err}',
+        file=frame.filename if frame else None, line=frame.lineno if frame else None)
+
+
+def as_step(item: Any) -> LaunchStep:
+    if isinstance(item, LaunchStep):
+        return item
+    entities = getattr(item, 'entities', None)
+    if entities is not None:
+        return DescriptionStep([as_step(e) for e in entities])
+    raise TypeError(f'not a launch action: {item!r}')

@@ -1,0 +1,54 @@
+"""`<set_parameter>`, `<set_parameters_from_file>`, `<set_remap>`: for later nodes in scope."""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING, Any
+
+from robot_lab.launch.action import LaunchStep, opt_subs, subs
+from robot_lab.launch.entity import Entity, required
+from robot_lab.launch.parameters import ParamValue, check_param_file, param_value
+from robot_lab.launch.registry import register
+from robot_lab.launch.substitutions import perform
+
+if TYPE_CHECKING:
+    from robot_lab.launch.context import LaunchContext
+
+__all__ = ['GlobalRosStep']
+
+
+@register('set_parameter', 'set_parameters_from_file', 'set_remap')
+class GlobalRosStep(LaunchStep):
+    """set_parameter / set_parameters_from_file / set_remap: for later nodes in scope."""
+
+    def __init__(self, kind: str, first: Any, second: Any = None) -> None:
+        self.kind = kind
+        self.first = subs(first)
+        self.second = second if kind == 'parameter' else opt_subs(second)
+
+    def execute(self, context: LaunchContext) -> None:
+        if self.kind == 'parameter':
+            name = perform(self.first, context)
+            value = param_value(self.second, context, name)
+            entry: Any = (name, value)
+            key = 'global_params'
+        elif self.kind == 'file':
+            path = os.path.abspath(perform(self.first, context))
+            check_param_file(path, context)
+            entry, key = path, 'global_params'
+        else:
+            assert self.second is not None
+            entry = (perform(self.first, context), perform(self.second, context))
+            key = 'ros_remaps'
+        # launch appends to the list it finds (shared with enclosing scopes): same here
+        if context.ros[key] is None:
+            context.ros[key] = []
+        context.ros[key].append(entry)
+
+    @classmethod
+    def parse(cls, e: Entity) -> LaunchStep:
+        if e.type_name == 'set_parameter':
+            return cls('parameter', required(e, 'name'), ParamValue(required(e, 'value')))
+        if e.type_name == 'set_parameters_from_file':
+            return cls('file', required(e, 'filename'))
+        return cls('remap', required(e, 'from'), required(e, 'to'))
