@@ -7,9 +7,10 @@ robot_lab's small equivalent, built on the generated classes' own introspection
 
 from __future__ import annotations
 
+import functools
 import importlib
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import yaml
@@ -22,6 +23,7 @@ __all__ = [
     'message_from_yaml',
     'message_to_dict',
     'message_to_yaml',
+    'stamped_message_from_yaml',
     'type_name',
 ]
 
@@ -152,7 +154,22 @@ def message_to_yaml(msg: Any, *, no_arr: bool = False, no_str: bool = False,
                      allow_unicode=True)
 
 
-def _fill(msg: Any, values: Mapping[str, Any], path: str) -> None:
+Stamper = Callable[[Any], None]
+
+
+def _qualified(value: Any) -> str:
+    cls = type(value)
+    return f'{cls.__module__.split(".")[0]}/{cls.__name__}'
+
+
+def _fill(msg: Any, values: Mapping[str, Any], path: str, stamps: list[Stamper] | None) -> None:
+    """Set `values` into `msg` (rosidl_runtime_py's set_message_fields rules).
+
+    With `stamps` (a list), ros2cli's expansions apply: a `std_msgs/Header` given as
+    `auto` stays empty (frame_id '') and its stamp is registered in `stamps`; a
+    `builtin_interfaces/Time` given as `now` is registered too. The caller sets them to the
+    current time at each publish.
+    """
     fields = msg.get_fields_and_field_types()
     for key, value in values.items():
         if key not in fields:
@@ -161,12 +178,18 @@ def _fill(msg: Any, values: Mapping[str, Any], path: str) -> None:
                 fix=f'fields are: {", ".join(fields)}',
             )
         current = getattr(msg, key)
+        if stamps is not None and _is_message(current) and isinstance(value, str):
+            if _qualified(current) == 'std_msgs/Header' and value == 'auto':
+                stamps.append(functools.partial(setattr, current, 'stamp'))
+                continue
+            if _qualified(current) == 'builtin_interfaces/Time' and value == 'now':
+                stamps.append(functools.partial(setattr, msg, key))
+                continue
         if _is_message(current) and isinstance(value, Mapping):
-            _fill(current, value, f'{path}{key}.')
+            _fill(current, value, f'{path}{key}.', stamps)
             continue
         try:
-            if isinstance(current, float) and type(value) is int:
-                value = float(value)  # YAML `1` for a float field, as ros2 topic pub allows
+            value = _coerce(msg, key, current, value, f'{path}{key}', stamps)
             setattr(msg, key, value)
         except (AssertionError, TypeError, ValueError) as exc:
             raise GraphError(
@@ -174,9 +197,65 @@ def _fill(msg: Any, values: Mapping[str, Any], path: str) -> None:
             ) from None
 
 
+def _coerce(msg: Any, key: str, current: Any, value: Any, path: str,
+            stamps: list[Stamper] | None) -> Any:
+    """A YAML value in the field's Python type: ints for floats, dicts for messages in
+    sequences (`points: [{x: 1.0}]`), as ros2 topic pub accepts them."""
+    if isinstance(current, float) and type(value) is int:
+        return float(value)  # YAML `1` for a float field
+    if isinstance(value, list | tuple) and any(isinstance(v, Mapping) for v in value):
+        slot = dict(zip(msg.get_fields_and_field_types(), msg.SLOT_TYPES, strict=False))[key]
+        item_type: Any = getattr(slot, 'value_type', None)
+        if type(item_type).__name__ == 'NamespacedType':
+            cls = message_class('/'.join(item_type.namespaced_name()))
+            items = []
+            for i, item in enumerate(value):
+                sub = cls()
+                if not isinstance(item, Mapping):
+                    raise TypeError(f'item {i} must be a dictionary, not {item!r}')
+                _fill(sub, item, f'{path}[{i}].', stamps)
+                items.append(sub)
+            return items
+    return value
+
+
 def message_from_yaml(type_or_class: str | Any, text: str | Mapping[str, Any] | None) -> Any:
-    """Build a message from YAML text (`topic pub`'s argument) or a mapping."""
+    """Build a message from YAML text (`topic pub`'s argument) or a mapping.
+
+    `header: auto` and Time fields given as `now` get the current time (once); see
+    `stamped_message_from_yaml` to restamp at each publish as `ros2 topic pub` does.
+    """
+    msg, restamp = stamped_message_from_yaml(type_or_class, text)
+    restamp()
+    return msg
+
+
+def stamped_message_from_yaml(type_or_class: str | Any, text: str | Mapping[str, Any] | None,
+                              ) -> tuple[Any, Callable[[], bool]]:
+    """(message, restamp): `restamp()` sets every `header: auto` stamp and every Time
+    given as `now` to the current ROS time (rclpy's system clock) and says whether there
+    were any. ros2 topic pub calls it before each publish."""
     cls = message_class(type_or_class) if isinstance(type_or_class, str) else type_or_class
+    values = _yaml_values(text)
+    msg = cls()
+    stamps: list[Stamper] = []
+    _fill(msg, values, '', stamps)
+
+    def restamp() -> bool:
+        if not stamps:
+            return False
+        from rclpy.clock import Clock
+        from rclpy.clock_type import ClockType
+
+        now = Clock(clock_type=ClockType.SYSTEM_TIME).now().to_msg()
+        for stamp in stamps:
+            stamp(now)
+        return True
+
+    return msg, restamp
+
+
+def _yaml_values(text: str | Mapping[str, Any] | None) -> Mapping[str, Any]:
     if isinstance(text, str):
         try:
             values = yaml.safe_load(text) if text.strip() else {}
@@ -196,9 +275,7 @@ def message_from_yaml(type_or_class: str | Any, text: str | Mapping[str, Any] | 
             f'the passed value needs to be a dictionary in YAML format: {text!r}',
             fix="e.g. '{data: 22.5}'",
         )
-    msg = cls()
-    _fill(msg, values, '')
-    return msg
+    return values
 
 
 def field_value(msg: Any, path: str) -> Any:

@@ -100,6 +100,31 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     hz.add_argument('--duration', type=_positive_float, default=None, metavar='S',
                     help='stop after S seconds (robot_lab; ros2cli runs until Ctrl-C)')
 
+    bw = sub.add_parser('bw', help='Display bandwidth used by topic')
+    bw.add_argument('topic', help='Topic name to monitor for bandwidth utilization')
+    bw.add_argument('--window', '-w', type=_positive_int, default=100, metavar='WINDOW',
+                    help='maximum window size, in # of messages, for calculating rate '
+                    '(default: 100)')
+    bw.add_argument('--duration', type=_positive_float, default=None, metavar='S',
+                    help='stop after S seconds (robot_lab; ros2cli runs until Ctrl-C)')
+
+    delay = sub.add_parser('delay', help='Display delay of topic from timestamp in header')
+    delay.add_argument('topic', help='Topic name to calculate the delay for')
+    delay.add_argument('--window', '-w', type=_positive_int, default=10000,
+                       help='window size, in # of messages, for calculating rate, '
+                       'string to (default: 10000)')
+    delay.add_argument('--duration', type=_positive_float, default=None, metavar='S',
+                       help='stop after S seconds (robot_lab; ros2cli runs until Ctrl-C)')
+
+    find = sub.add_parser('find', help='Output a list of available topics of a given type')
+    find.add_argument('topic_type', help="Name of the ROS topic type to filter for "
+                      "(e.g. 'std_msg/msg/String')")
+    find.add_argument('-c', '--count-topics', action='store_true',
+                      help='Only display the number of topics discovered')
+    find.add_argument('--include-hidden-topics', dest='find_hidden', action='store_true',
+                      help='Consider hidden topics as well')
+    add_no_daemon(find)
+
     pub = sub.add_parser('pub', help='Publish a message to a topic')
     pub.add_argument('topic_name', help="Name of the ROS topic to publish to (e.g. '/chatter')")
     pub.add_argument('message_type', help="Type of the ROS message (e.g. 'std_msgs/String')")
@@ -122,10 +147,49 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     pub.add_argument('--keep-alive', metavar='N', type=_positive_float, default=0.1,
                      help='Keep publishing node alive for N seconds after the last msg '
                      '(default: 0.1)')
+    _add_qos_arguments(pub, 'publish', 'default')
+
+
+# rclpy's short keys (QoSPresetProfiles.short_keys() etc.), listed here so that --help and
+# argument errors need no rclpy import.
+QOS_PROFILES = ['unknown', 'default', 'system_default', 'sensor_data', 'services_default',
+                'parameters', 'parameter_events', 'action_status_default', 'best_available']
+QOS_RELIABILITY = ['system_default', 'reliable', 'best_effort', 'unknown', 'best_available']
+QOS_DURABILITY = ['system_default', 'transient_local', 'volatile', 'unknown', 'best_available']
+QOS_HISTORY = ['system_default', 'keep_last', 'keep_all', 'unknown']
+QOS_LIVELINESS = ['system_default', 'automatic', 'manual_by_topic', 'unknown', 'best_available']
+
+
+def _add_qos_arguments(parser: argparse.ArgumentParser, verb: str, default: str) -> None:
+    """ros2topic's --qos-* options (same names, choices and help)."""
+    parser.add_argument('--qos-profile', choices=QOS_PROFILES, default=default,
+                        help=f'Quality of service preset profile to {verb} with '
+                        f'(default: {default})')
+    parser.add_argument('--qos-depth', metavar='N', type=int,
+                        help=f'Queue size setting to {verb} with '
+                        '(overrides depth value of --qos-profile option)')
+    parser.add_argument('--qos-history', choices=QOS_HISTORY,
+                        help=f'History of samples setting to {verb} with '
+                        '(overrides history value of --qos-profile option, default: keep_last)')
+    compatible = 'default: Compatible profile with running endpoints )'
+    parser.add_argument('--qos-reliability', choices=QOS_RELIABILITY,
+                        help=f'Quality of service reliability setting to {verb} with '
+                        f'(overrides reliability value of --qos-profile option, {compatible}')
+    parser.add_argument('--qos-durability', choices=QOS_DURABILITY,
+                        help=f'Quality of service durability setting to {verb} with '
+                        f'(overrides durability value of --qos-profile option, {compatible}')
+    parser.add_argument('--qos-liveliness', choices=QOS_LIVELINESS,
+                        help=f'Quality of service liveliness setting to {verb} with '
+                        '(overrides liveliness value of --qos-profile option')
+    parser.add_argument('--qos-liveliness-lease-duration-seconds', type=float,
+                        help=f'Quality of service liveliness lease duration setting to {verb} '
+                        'with (overrides liveliness lease duration value of --qos-profile '
+                        'option')
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'info': _info, 'type': _type, 'echo': _echo, 'hz': _hz, 'pub': _pub}
+    verbs = {'list': _list, 'info': _info, 'type': _type, 'echo': _echo, 'hz': _hz, 'pub': _pub,
+             'bw': _bw, 'delay': _delay, 'find': _find}
     verb = verbs.get(args.topic_verb or '')
     if verb is None:
         args._parser.print_help()
@@ -248,24 +312,31 @@ def _echo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _wait_for_topic(sess: Any, topic: str, end: float | None) -> bool:
+    """ros2topic's blocking type lookup: warn once, then wait for a publisher (bounded by
+    --duration); False when it never came."""
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, wait_until
+
+    def has_type() -> bool | None:
+        return True if any(n == topic for n, _ in sess.node.get_topic_names_and_types()) else None
+
+    if wait_until(has_type, LOOKUP_TIMEOUT) is not None:
+        return True
+    print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
+    remaining = None if end is None else max(0.0, end - time.monotonic())
+    return wait_until(has_type, 1e9 if remaining is None else remaining) is not None
+
+
 def _hz(args: argparse.Namespace) -> int:
-    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+    from robot_lab.graph.discovery import absolute_name, get_session
     from robot_lab.graph.topics import rate_subscription
 
     topic = absolute_name(args.topic_name)
     sess = get_session(None)
     start = time.monotonic()
     end = None if args.duration is None else start + args.duration
-
-    def has_type() -> bool | None:
-        return True if any(n == topic for n, _ in sess.node.get_topic_names_and_types()) else None
-
-    if wait_until(has_type, LOOKUP_TIMEOUT) is None:
-        # Like ros2cli: say so once, then keep waiting for a publisher (bounded by --duration).
-        print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
-        remaining = None if end is None else max(0.0, end - time.monotonic())
-        if wait_until(has_type, 1e9 if remaining is None else remaining) is None:
-            return 0
+    if not _wait_for_topic(sess, topic, end):
+        return 0
     meter = rate_subscription(topic, args.window_size, session=sess)
     try:
         # ros2cli prints about once a second of message time, starting a second after the
@@ -290,20 +361,101 @@ def _hz(args: argparse.Namespace) -> int:
     return 0
 
 
+def _every_second(meter: Any, end: float | None, report: Any) -> None:
+    """Call `report()` once a second (ros2cli's 1 s timer) until `end`; close the meter."""
+    try:
+        tick = time.monotonic() + 1.0
+        while end is None or tick <= end:
+            time.sleep(max(0.0, tick - time.monotonic()))
+            report()
+            tick += 1.0
+    finally:
+        meter.close()
+
+
+def _bw(args: argparse.Namespace) -> int:
+    from robot_lab.graph.discovery import absolute_name, get_session
+    from robot_lab.graph.topic_stats import TopicMeter
+
+    topic = absolute_name(args.topic)
+    sess = get_session(None)
+    end = None if args.duration is None else time.monotonic() + args.duration
+    if not _wait_for_topic(sess, topic, end):
+        return 0
+    meter = TopicMeter.bandwidth(topic, args.window, session=sess)
+    print(f'Subscribed to [{topic}]', flush=True)
+
+    def report() -> None:
+        stats = meter.meter.stats()
+        if stats is not None:
+            print(stats, flush=True)
+
+    _every_second(meter, end, report)
+    return 0
+
+
+def _delay(args: argparse.Namespace) -> int:
+    from robot_lab.graph.discovery import absolute_name, get_session
+    from robot_lab.graph.topic_stats import TopicMeter
+
+    topic = absolute_name(args.topic)
+    sess = get_session(None)
+    end = None if args.duration is None else time.monotonic() + args.duration
+    if not _wait_for_topic(sess, topic, end):
+        return 0
+    meter = TopicMeter.delay(topic, args.window, session=sess)
+    printed = [0]
+
+    def report() -> None:
+        stats = meter.meter.stats()
+        if stats is None:
+            return  # nothing measured yet: ros2cli stays silent
+        if meter.meter.count == printed[0]:
+            print('no new messages', flush=True)
+            return
+        printed[0] = meter.meter.count
+        print(stats, flush=True)
+
+    _every_second(meter, end, report)
+    return 0
+
+
+def _find(args: argparse.Namespace) -> int:
+    from robot_lab.graph.topics import topic_find
+
+    hidden = args.include_hidden_topics or args.find_hidden
+    answer = ask_daemon(args, 'topic_list', include_hidden=hidden)
+    if answer is not None:
+        found = [name for name, types in answer if args.topic_type in types]
+    else:
+        found = topic_find(args.topic_type, include_hidden=hidden)
+    if args.count_topics:
+        print(len(found))
+    else:
+        for name in found:
+            print(name)
+    return 0
+
+
 def _pub(args: argparse.Namespace) -> int:
-    from robot_lab.graph.topics import open_publisher, wait_for_subscribers
-    from robot_lab.messages import message_class, message_from_yaml
+    from robot_lab.graph.topics import open_publisher, qos_profile, wait_for_subscribers
+    from robot_lab.messages import message_class, stamped_message_from_yaml
 
     times = 1 if args.once else args.times
     wait_for = (args.wait_matching_subscriptions if args.wait_matching_subscriptions is not None
                 else int(times != 0))
+    cls = message_class(args.message_type)  # GraphError: The passed message type is invalid
+    # GraphError: needs a dictionary in YAML format / Failed to populate field
+    msg, restamp = stamped_message_from_yaml(cls, args.values)
+    qos = qos_profile(args.qos_profile, reliability=args.qos_reliability,
+                      durability=args.qos_durability, depth=args.qos_depth,
+                      history=args.qos_history, liveliness=args.qos_liveliness,
+                      lease_seconds=args.qos_liveliness_lease_duration_seconds)
+    pub = open_publisher(args.topic_name, args.message_type, qos=qos)
     if wait_for == 0 and args.max_wait_time_secs is not None:
         print('--max-wait-time-secs option is only effective with '
               '--wait-matching-subscriptions, --once or --times', file=sys.stderr)
         return 1
-    cls = message_class(args.message_type)  # GraphError: The passed message type is invalid
-    msg = message_from_yaml(cls, args.values)  # GraphError: needs a dictionary in YAML format
-    pub = open_publisher(args.topic_name, args.message_type)
     if wait_for and not wait_for_subscribers(pub, wait_for, 0):
         print(f'Waiting for at least {wait_for} matching subscription(s)...', flush=True)
         start = time.monotonic()
@@ -323,6 +475,7 @@ def _pub(args: argparse.Namespace) -> int:
             delay = start + count * period - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
+        restamp()  # `header: auto` / `stamp: now`: the time of this publish, as ros2cli
         count += 1
         if args.print and count % args.print == 0:
             print(f'publishing #{count}: {msg!r}\n', flush=True)

@@ -21,7 +21,12 @@ from robot_lab.graph.discovery import (
     wait_until,
 )
 from robot_lab.graph.nodes import names_and_types
-from robot_lab.messages import field_value, message_class, message_from_yaml, type_name
+from robot_lab.messages import (
+    field_value,
+    message_class,
+    stamped_message_from_yaml,
+    type_name,
+)
 
 if TYPE_CHECKING:
     from robot_lab.context import Session
@@ -35,6 +40,8 @@ __all__ = [
     'echo_stream',
     'open_publisher',
     'publish',
+    'qos_profile',
+    'topic_find',
     'topic_hz',
     'topic_info',
     'topic_list',
@@ -63,6 +70,14 @@ def topic_list(include_hidden: bool = False, *, settle: bool = True,
     """
     sess = get_session(session)
     return names_and_types(sess.node.get_topic_names_and_types, include_hidden, settle, sess)
+
+
+def topic_find(msg_type: str, include_hidden: bool = False, *, settle: bool = True,
+               session: Session | None = None) -> list[str]:
+    """Topics of exactly type `msg_type`, sorted (`ros2 topic find`: the full name,
+    `std_msgs/msg/String`, as the graph spells it)."""
+    return [name for name, types in topic_list(include_hidden, settle=settle, session=session)
+            if msg_type in types]
 
 
 def _types_of(sess: Session, topic: str) -> list[str] | None:
@@ -362,23 +377,68 @@ def topic_hz(topic: str, window: int = DEFAULT_WINDOW, duration: float = 5.0,
     return stats
 
 
-_PUBLISHERS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str], Any]] = (
+_PUBLISHERS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str, str], Any]] = (
     weakref.WeakKeyDictionary()
 )
 
 
-def open_publisher(name: str, msg_type: str, session: Session | None = None) -> Any:
-    """The session's publisher for (topic, type), made once and kept (default QoS, depth 10).
+def qos_profile(profile: str = 'default', *, reliability: str | None = None,
+                durability: str | None = None, depth: int | None = None,
+                history: str | None = None, liveliness: str | None = None,
+                lease_seconds: float | None = None) -> Any:
+    """An rclpy QoSProfile from ros2cli's short keys (`--qos-profile sensor_data
+    --qos-reliability reliable --qos-depth 5`), by ros2topic's rules: overrides replace the
+    preset's policies; a transient-local profile of depth 0 gets depth 1."""
+    from rclpy.duration import Duration
+    from rclpy.qos import (
+        QoSDurabilityPolicy,
+        QoSHistoryPolicy,
+        QoSLivelinessPolicy,
+        QoSPresetProfiles,
+        QoSReliabilityPolicy,
+    )
+
+    def lookup(kind: Any, key: str, what: str) -> Any:
+        try:
+            return kind.get_from_short_key(key)
+        except (KeyError, AttributeError):
+            raise GraphError(
+                f"unknown QoS {what} '{key}'",
+                fix=f'one of: {", ".join(kind.short_keys())}',
+            ) from None
+
+    qos = lookup(QoSPresetProfiles, profile, 'profile')
+    if history:
+        qos.history = lookup(QoSHistoryPolicy, history, 'history')
+    if durability:
+        qos.durability = lookup(QoSDurabilityPolicy, durability, 'durability')
+    if reliability:
+        qos.reliability = lookup(QoSReliabilityPolicy, reliability, 'reliability')
+    if liveliness:
+        qos.liveliness = lookup(QoSLivelinessPolicy, liveliness, 'liveliness')
+    if lease_seconds and lease_seconds >= 0:
+        qos.liveliness_lease_duration = Duration(seconds=lease_seconds)
+    if depth and depth >= 0:
+        qos.depth = depth
+    elif qos.durability == QoSDurabilityPolicy.TRANSIENT_LOCAL and qos.depth == 0:
+        qos.depth = 1
+    return qos
+
+
+def open_publisher(name: str, msg_type: str, session: Session | None = None,
+                   qos: Any = None) -> Any:
+    """The session's publisher for (topic, type, QoS), made once and kept (default QoS:
+    reliable, volatile, depth 10).
 
     Keeping it means repeated publishes need no new discovery and nothing in flight is lost.
     """
     sess = get_session(session)
     topic = absolute_name(name)
     cls = message_class(msg_type)
-    key = (topic, type_name(cls))
+    key = (topic, type_name(cls), '' if qos is None else repr(qos))
     cache = _PUBLISHERS.setdefault(sess, {})
     if key not in cache:
-        cache[key] = sess.node.create_publisher(cls, topic, 10)
+        cache[key] = sess.node.create_publisher(cls, topic, 10 if qos is None else qos)
     return cache[key]
 
 
@@ -402,7 +462,10 @@ def publish(topic: str, msg_type: str, values: str | Mapping[str, Any] | Any = N
     single message is not sent to no one.
     """
     cls = message_class(msg_type)
-    msg = values if isinstance(values, cls) else message_from_yaml(cls, values)
+    if isinstance(values, cls):
+        msg, restamp = values, None
+    else:
+        msg, restamp = stamped_message_from_yaml(cls, values)
     pub = open_publisher(topic, msg_type, session=session)
     if wait_for_subscriber > 0:
         wait_for_subscribers(pub, 1, wait_for_subscriber)
@@ -414,5 +477,7 @@ def publish(topic: str, msg_type: str, values: str | Mapping[str, Any] | Any = N
             delay = start + i * period - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
+        if restamp is not None:
+            restamp()  # `header: auto`, `stamp: now`: the time of this publish
         pub.publish(msg)
     return times
