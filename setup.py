@@ -9,7 +9,7 @@ from setuptools import find_packages, setup
 
 PACKAGE = 'robot_lab'
 
-NODES = ['sensor_node', 'controller_node', 'robot_node']
+NODES = ['sensor_node', 'controller_node', 'robot_node', 'switch_node', 'fibonacci_node']
 
 KIT = [
     'ros-jazzy-rclpy[fastrtps]',

@@ -18,7 +18,7 @@ __all__ = ['ament_prefixes', 'kit_prefix']
 
 _MARKERS = Path('share', 'ament_index', 'resource_index', 'packages')
 _KIT = 'robot_lab'
-_NODES = ('sensor_node', 'controller_node', 'robot_node')
+_NODES = ('sensor_node', 'controller_node', 'robot_node', 'switch_node', 'fibonacci_node')
 
 
 def _source_root() -> Path | None:

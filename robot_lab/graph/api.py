@@ -7,7 +7,21 @@ optional `session=` (default: `robot_lab.context.session()`).
 
 from __future__ import annotations
 
-from robot_lab.graph.interfaces import interface_show
+from robot_lab.graph.actions import (
+    ActionGoal,
+    ActionInfo,
+    action_info,
+    action_list,
+    action_type,
+    send_goal,
+)
+from robot_lab.graph.interfaces import (
+    interface_list,
+    interface_package,
+    interface_packages,
+    interface_proto,
+    interface_show,
+)
 from robot_lab.graph.nodes import NodeInfo, node_info, node_list, wait_for_nodes
 from robot_lab.graph.parameters import (
     ParamDescription,
@@ -19,13 +33,22 @@ from robot_lab.graph.parameters import (
     param_load,
     param_set,
 )
-from robot_lab.graph.services import service_list
+from robot_lab.graph.services import (
+    ServiceInfo,
+    call_service,
+    service_find,
+    service_info,
+    service_list,
+    service_type,
+)
+from robot_lab.graph.topic_stats import BwStats, DelayStats, topic_bw, topic_delay
 from robot_lab.graph.topics import (
     Endpoint,
     HzStats,
     TopicInfo,
     echo,
     publish,
+    topic_find,
     topic_hz,
     topic_info,
     topic_list,
@@ -34,13 +57,26 @@ from robot_lab.graph.topics import (
 )
 
 __all__ = [
+    'ActionGoal',
+    'ActionInfo',
+    'BwStats',
+    'DelayStats',
     'Endpoint',
     'HzStats',
     'NodeInfo',
     'ParamDescription',
+    'ServiceInfo',
     'SetResult',
     'TopicInfo',
+    'action_info',
+    'action_list',
+    'action_type',
+    'call_service',
     'echo',
+    'interface_list',
+    'interface_package',
+    'interface_packages',
+    'interface_proto',
     'interface_show',
     'node_info',
     'node_list',
@@ -51,7 +87,14 @@ __all__ = [
     'param_load',
     'param_set',
     'publish',
+    'send_goal',
+    'service_find',
+    'service_info',
     'service_list',
+    'service_type',
+    'topic_bw',
+    'topic_delay',
+    'topic_find',
     'topic_hz',
     'topic_info',
     'topic_list',

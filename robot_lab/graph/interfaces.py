@@ -1,4 +1,7 @@
-"""Interface definitions (`ros2 interface show`): the .msg/.srv/.action text the wheels ship.
+"""Interfaces (`ros2 interface show|list|package|packages|proto`): what the wheels ship.
+
+Which interfaces exist comes from the ament index (`rosidl_interfaces` resources), as
+rosidl_runtime_py finds them; definitions are the .msg/.srv/.action text the wheels ship.
 
 The message wheels install their definitions under <prefix>/share/<pkg>/msg/; when one is
 missing (a package built without them) the text is rebuilt from the generated class.
@@ -8,11 +11,24 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any, Literal
 
 from robot_lab.errors import GraphError, PackageNotFoundError
 from robot_lab.messages import message_class
 
-__all__ = ['interface_show']
+__all__ = [
+    'InterfaceKind',
+    'interface_list',
+    'interface_package',
+    'interface_packages',
+    'interface_proto',
+    'interface_show',
+]
+
+InterfaceKind = Literal['msg', 'srv', 'action']
+_SUFFIXES: dict[str, tuple[str, ...]] = {
+    'msg': ('.idl', '.msg'), 'srv': ('.idl', '.srv'), 'action': ('.idl', '.action'),
+}
 
 _PRIMITIVES = {
     'bool', 'byte', 'char', 'float32', 'float64', 'int8', 'uint8', 'int16', 'uint16',
@@ -104,3 +120,92 @@ def interface_show(type_name: str, comments: bool = True,
     out: list[str] = []
     _render(type_name, comments, nested_comments, 0, out)
     return '\n'.join(out)
+
+
+
+def _index_entries(package: str | None = None) -> dict[str, list[str]]:
+    """package -> the lines of its `rosidl_interfaces` resource (`msg/String.idl`, ...).
+
+    With `package`, just that one; PackageNotFoundError if it is not a package at all.
+    """
+    from robot_lab.pkg.index import ament_prefixes, packages
+
+    known = packages()
+    if package is not None and package not in known:
+        raise PackageNotFoundError(
+            f"Unknown package '{package}'",
+            fix='`robot-lab interface packages` lists the packages that have interfaces',
+        )
+    found: dict[str, list[str]] = {}
+    for prefix in ament_prefixes():
+        directory = prefix / 'share' / 'ament_index' / 'resource_index' / 'rosidl_interfaces'
+        if not directory.is_dir():
+            continue
+        for marker in sorted(directory.iterdir()):
+            if (package is None or marker.name == package) and marker.name not in found:
+                found[marker.name] = marker.read_text().splitlines()
+    return found
+
+
+def _names(entries: list[str], kinds: tuple[str, ...]) -> list[str]:
+    """`msg/String` style names of the given kinds, sorted (rosidl_runtime_py leaves out
+    names with an underscore: the generated `_Goal`, `_Request` parts)."""
+    names = set()
+    for entry in entries:
+        kind, _, rest = entry.partition('/')
+        if kind in kinds and '_' not in entry and rest.endswith(_SUFFIXES[kind]):
+            names.add(entry.rsplit('.', 1)[0])
+    return sorted(names)
+
+
+def interface_list(kinds: tuple[InterfaceKind, ...] = ('msg', 'srv', 'action'),
+                   package: str | None = None) -> dict[str, list[str]]:
+    """package -> its interfaces of `kinds` (`msg/String`, ...), packages sorted; a package
+    without such interfaces is left out (`ros2 interface list`, `interface package`)."""
+    result = {}
+    for name, entries in sorted(_index_entries(package).items()):
+        names = _names(entries, kinds)
+        if names:
+            result[name] = names
+    return result
+
+
+def interface_package(package: str,
+                      kinds: tuple[InterfaceKind, ...] = ('msg', 'srv', 'action')) -> list[str]:
+    """`std_msgs/msg/String`, ... of one package (`ros2 interface package`)."""
+    return [f'{package}/{name}' for name in interface_list(kinds, package).get(package, [])]
+
+
+def interface_packages(kind: InterfaceKind | None = None) -> list[str]:
+    """Packages that have interfaces (of `kind`), sorted (`ros2 interface packages`)."""
+    if kind is None:
+        return sorted(_index_entries())
+    return list(interface_list((kind,)))
+
+
+def _interface_object(identifier: str) -> Any:
+    import importlib
+
+    package, kind, name = _split(identifier)
+    try:
+        return getattr(importlib.import_module(f'{package}.{kind}'), name)
+    except (ImportError, AttributeError):
+        raise GraphError(
+            f"The interface '{identifier}' is invalid",
+            fix=f'`robot-lab interface package {package}` lists what {package} has',
+        ) from None
+
+
+def interface_proto(type_name: str) -> str:
+    """The YAML of a default message, request or goal (`ros2 interface proto`), the text
+    to edit into a `topic pub`, `service call` or `action send_goal` argument."""
+    from robot_lab.messages import message_to_yaml
+
+    interface = _interface_object(type_name)
+    if hasattr(interface, 'Goal'):
+        instance = interface.Goal()
+    elif hasattr(interface, 'Request'):
+        instance = interface.Request()
+    else:
+        instance = interface()
+    return message_to_yaml(instance)

@@ -46,7 +46,8 @@ def declare(
     return node.declare_parameter(name, default, descriptor)
 
 
-def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None) -> None:
+def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None,
+             threads: int = 1) -> None:
     """rclpy.init, spin, and a clean exit (code 0, no traceback) on SIGINT or SIGTERM.
 
     rclpy's own signal handlers shut the context down from inside the handler, which races
@@ -54,9 +55,11 @@ def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None) -> N
     flag; the spin loop returns to Python at least every 0.1 s to see it, then the node and
     the context are shut down in order. Re-arming SIGINT also undoes the "ignored"
     disposition a process inherits when started with `&` from a non-interactive shell.
+    `threads` > 1 spins a MultiThreadedExecutor, for a node whose callback may block while
+    others must run (an action server's execute callback and its cancel requests).
     """
     import rclpy
-    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.executors import MultiThreadedExecutor, SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
 
     stop = threading.Event()
@@ -73,7 +76,8 @@ def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None) -> N
     node = None
     try:
         node = factory()
-        executor = SingleThreadedExecutor()
+        executor = (SingleThreadedExecutor() if threads <= 1
+                    else MultiThreadedExecutor(num_threads=threads))
         executor.add_node(node)
         while not stop.is_set() and rclpy.utilities.ok():
             executor.spin_once(timeout_sec=0.1)
