@@ -16,7 +16,7 @@ import pytest
 from conftest import BIN, Proc, run_cli
 
 import robot_lab
-from robot_lab import GraphError
+from robot_lab.errors import GraphError
 
 
 @pytest.fixture(scope='module')
@@ -91,7 +91,7 @@ def test_call_service_from_a_notebook(servers: dict[str, Proc]) -> None:
     assert (state.success, state.message) == (False, 'disabled')
     info = robot_lab.service_info('/get_state')
     assert (info.types, info.servers, info.clients) == (['std_srvs/srv/Trigger'], 1, 1)
-    with pytest.raises(GraphError, match="service '/absent' not available within 0.3 s"):
+    with pytest.raises(GraphError, match=r"service '/absent' not available within 0\.3 s"):
         robot_lab.call_service('/absent', 'std_srvs/srv/Trigger', timeout=0.3)
 
 
