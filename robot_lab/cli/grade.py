@@ -1,17 +1,31 @@
-"""`robot-lab grade SUBMISSION... [--json]`: run submissions headless and score them."""
+"""`robot-lab grade SUBMISSION... [--json]`: run submissions headless and score them.
+
+Notebooks by default; with `--lab LAB` (or `--rubric FILE`) package submissions:
+`robot-lab grade DIR --lab ch6-lab1 -o OUT --jobs 2` (robot_lab.grading.package_grade).
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 
-HELP = 'Grade submitted exercise notebooks (runs each headless, scores its check cells)'
+HELP = ("Grade submitted exercise notebooks, or with --lab a class's ROS 2 packages "
+        '(build, launch, watch, score)')
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('submissions', nargs='+', metavar='SUBMISSION',
-                        help='A submitted .ipynb, or a folder of them')
+                        help='A submitted .ipynb, or a folder of them; with --lab: a folder '
+                        'with one folder or .zip per student (or one package folder)')
+    parser.add_argument('--lab', metavar='LAB',
+                        help='Grade ROS 2 packages for this lab (ch6-lab1, lab1.3)')
+    parser.add_argument('--rubric', metavar='FILE',
+                        help="A rubric YAML (a copy of a shipped one) instead of the lab's")
+    parser.add_argument('-o', '--out', metavar='OUT',
+                        help='Write OUT/grades.csv, OUT/feedback/, OUT/results/ '
+                        '(Gradescope), OUT/similarity.html')
     parser.add_argument('--json', action='store_true',
                         help='Print JSON for gradebooks (an object, or a list for several)')
     parser.add_argument('--timeout', type=float, default=60.0, metavar='S',
@@ -30,7 +44,45 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--executed-as', metavar='FILE', help=argparse.SUPPRESS)
 
 
+def _packages(args: argparse.Namespace) -> int:
+    from robot_lab.grading.package_grade import grade_packages, resolve_rubric
+    from robot_lab.grading.report import StudentReport, number
+
+    if args.domain_id is not None:
+        os.environ['ROS_DOMAIN_ID'] = str(args.domain_id)
+    rubric = resolve_rubric(args.lab, args.rubric)
+
+    def table(report: StudentReport) -> str:
+        width = max([len(c.id) for c in report.checks] + [5])
+        lines = [f'{report.student}', f'  {"check":<{width}}  points']
+        lines += [f'  {c.id:<{width}}  {number(c.score):>3}/{number(c.max_score)}'
+                  for c in report.checks]
+        lines.append(report.summary())
+        return '\n'.join(lines)
+
+    reports = grade_packages(args.submissions, rubric, args.out, jobs=args.jobs,
+                             progress=(not args.json and sys.stderr.isatty()) or bool(args.out))
+    if args.json:
+        data = [r.to_dict() for r in reports]
+        json.dump(data[0] if len(data) == 1 else data, sys.stdout, indent=2)
+        print()
+    elif len(reports) == 1 and not args.out:
+        print(reports[0].markdown([str(p) for p in reports[0].images]))
+    else:
+        for r in reports:
+            print(table(r))
+    if args.out:
+        print(f'wrote {args.out}/grades.csv, feedback/, results/ and similarity.html '
+              f'for {len(reports)} student(s)')
+    failed = [r for r in reports if r.status == 'error']
+    for r in failed:
+        print(f'robot-lab grade: could not grade {r.student}: {r.error}', file=sys.stderr)
+    return 2 if failed else 0
+
+
 def main(args: argparse.Namespace) -> int:
+    if args.lab or args.rubric:
+        return _packages(args)
     from robot_lab.grading.grade import GradeResult, grade, grade_many, submissions
 
     def show(result: GradeResult) -> None:

@@ -1,0 +1,156 @@
+"""Grade a class's package submissions: `robot-lab grade DIR --lab ch6-lab1 -o OUT`.
+
+Each student's entry is graded by its own job (robot_lab.grading.sandbox) running
+robot_lab.grading.package_checks: N jobs at a time, job slot k in ROS domain
+`job_domain(k)`, a progress bar over students. A job that crashes or runs out of time
+still gives its student a report (the checks it had scored, the rest at 0, the reason);
+only a grader that cannot run at all fails. Outputs (robot_lab.grading.report) and the
+similarity report (robot_lab.grading.similarity) go to OUT.
+"""
+
+from __future__ import annotations
+
+import json
+import queue
+import shutil
+import tempfile
+import threading
+import uuid
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+from robot_lab.grading.report import CheckOutcome, StudentReport, write_outputs
+from robot_lab.grading.rubric import Rubric, load_rubric, rubric_path
+from robot_lab.grading.sandbox import job_domain, run_job
+from robot_lab.grading.submission import Submission, find_submissions
+
+__all__ = ['grade_package', 'grade_packages', 'resolve_rubric']
+
+
+def resolve_rubric(lab: str | None, rubric: str | Path | None) -> Rubric:
+    """`--rubric FILE` when given, else the shipped rubric of `--lab`."""
+    if rubric is not None:
+        return load_rubric(rubric)
+    return load_rubric(rubric_path(lab or 'ch6-lab1'))
+
+
+def grade_package(submission: Submission, rubric: Rubric, slot: int = 0,
+                  work: Path | None = None, keep: Path | None = None) -> StudentReport:
+    """Grade one student's entry in a sandboxed job; never raises for the student's faults.
+
+    `keep`: a folder to copy the job's graph picture into (the job folder is removed).
+    """
+    assert rubric.source is not None
+    job_dir = Path(tempfile.mkdtemp(prefix='robot_lab_grade_', dir=work))
+    try:
+        (job_dir / 'job.json').write_text(json.dumps({
+            'student': submission.student, 'source': str(submission.source.resolve()),
+            'rubric': str(rubric.source.resolve())}))
+        run = run_job(job_dir, job_domain(slot), rubric.limits, uuid.uuid4().hex)
+        report = _read_report(job_dir, submission.student, rubric)
+        if run.timed_out:
+            report.status = 'timeout'
+            report.error = (f'stopped after {rubric.limits.wall_seconds:g} s (every process '
+                            'of it killed); checks not reached score 0')
+        elif run.returncode != 0 or not (job_dir / 'report.json').is_file():
+            report.status = 'error'
+            last = run.output.strip().splitlines()[-6:]
+            report.error = (f'the grading job ended with code {run.returncode}: '
+                            + ' | '.join(last))
+        report.elapsed = run.elapsed
+        if keep is not None:
+            kept = []
+            for image in report.images:
+                source = job_dir / Path(image).name
+                if source.is_file():
+                    target = keep / uuid.uuid4().hex[:12] / source.name
+                    target.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copyfile(source, target)
+                    kept.append(target)
+            report.images = kept
+        return report
+    finally:
+        shutil.rmtree(job_dir, ignore_errors=True)
+
+
+def _read_report(job_dir: Path, student: str, rubric: Rubric) -> StudentReport:
+    path = job_dir / 'report.json'
+    if path.is_file():
+        try:
+            report = StudentReport.from_dict(json.loads(path.read_text()))
+            report.student = student
+            return report
+        except (ValueError, TypeError, KeyError):
+            pass
+    return StudentReport(student, [CheckOutcome(c.id, c.name, 0.0, c.points,
+                                                'Not reached: the grading job ended early.')
+                                   for c in rubric.checks], title=rubric.lab)
+
+
+def _progress(total: int, enabled: bool) -> Any:
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit='student', desc='grading', dynamic_ncols=True)
+
+
+def grade_packages(
+    submissions: str | Path | Sequence[str | Path],
+    rubric: Rubric,
+    out_dir: str | Path | None = None,
+    jobs: int = 1,
+    progress: bool = True,
+    on_report: Callable[[StudentReport], None] | None = None,
+) -> list[StudentReport]:
+    """Grade every student under `submissions`; write OUT's files when `out_dir` is given."""
+    if isinstance(submissions, str | Path):
+        entries = find_submissions(submissions)
+    elif len(submissions) == 1:
+        entries = find_submissions(submissions[0])
+    else:  # several entries named on the command line: one student each
+        entries = [e for path in submissions for e in find_submissions(path)]
+    jobs = max(1, min(jobs, len(entries) or 1))
+    slots: queue.Queue[int] = queue.Queue()
+    for k in range(jobs):
+        slots.put(k)
+    bar = _progress(len(entries), progress)
+    lock = threading.Lock()
+    out = Path(out_dir) if out_dir is not None else None
+    keep = out / 'feedback' / '.images' if out is not None else None
+    reports: list[StudentReport] = []
+
+    def one(entry: Submission) -> StudentReport:
+        slot = slots.get()
+        try:
+            if bar is not None:
+                with lock:
+                    bar.set_postfix_str(entry.student)
+            report = grade_package(entry, rubric, slot, keep=keep)
+        finally:
+            slots.put(slot)
+        with lock:
+            if bar is not None:
+                bar.update(1)
+                bar.set_postfix_str(entry.student)
+            if on_report is not None:
+                on_report(report)
+        return report
+
+    try:
+        with ThreadPoolExecutor(max_workers=jobs, thread_name_prefix='grade-job') as pool:
+            reports = list(pool.map(one, entries))
+    finally:
+        if bar is not None:
+            bar.close()
+    if out is not None:
+        write_outputs(out, reports, columns=rubric.ids)
+        if keep is not None:
+            shutil.rmtree(keep, ignore_errors=True)
+        if len(entries) > 1:
+            from robot_lab.grading.similarity import similarity_report
+
+            similarity_report(entries, out / 'similarity.html')
+    return reports

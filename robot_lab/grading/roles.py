@@ -1,0 +1,286 @@
+"""Who is the sensor, the controller and the actuator: inferred from the live graph.
+
+Students name packages, nodes, topics and types as they like, so roles come from
+behaviour seen by an observer session in the job's domain, never from names:
+
+- sensor: publishes a topic periodically and takes no input from the other nodes;
+- controller: subscribes to the sensor's topic and publishes another topic (its commands);
+  optionally its output must change while the sensor's data changes;
+- actuator: subscribes to the commands and writes a log line for each one received.
+
+`observe()` watches the graph (every topic with a subscription of its own, `/rosout` for
+log lines per node) for a bounded time; `infer_roles()` reads the result.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ['NodeSeen', 'Observation', 'Roles', 'TopicSeen', 'infer_roles', 'observe']
+
+IGNORED_TOPICS = ('/rosout', '/parameter_events')
+_SAMPLES = 3
+_SIGNATURES = 200
+_LOG_LINES = 8
+_TEXT = 300  # characters of a sample message kept
+
+
+@dataclass
+class TopicSeen:
+    name: str
+    types: list[str]
+    publishers: list[str] = field(default_factory=list)
+    subscribers: list[str] = field(default_factory=list)
+    count: int = 0
+    first: float = 0.0
+    last: float = 0.0
+    samples: deque[str] = field(default_factory=lambda: deque(maxlen=_SAMPLES))
+    signatures: deque[str] = field(default_factory=lambda: deque(maxlen=_SIGNATURES))
+
+    @property
+    def rate(self) -> float:
+        span = self.last - self.first
+        return (self.count - 1) / span if self.count > 1 and span > 0 else 0.0
+
+
+@dataclass
+class NodeSeen:
+    name: str  # full name, '/sensor'
+    publishes: list[str] = field(default_factory=list)
+    subscribes: list[str] = field(default_factory=list)
+    log_count: int = 0
+    logs: deque[str] = field(default_factory=lambda: deque(maxlen=_LOG_LINES))
+
+
+@dataclass
+class Observation:
+    nodes: dict[str, NodeSeen] = field(default_factory=dict)
+    topics: dict[str, TopicSeen] = field(default_factory=dict)
+    duration: float = 0.0  # the watch window, after the nodes were up
+
+    def log_rate(self, node: str) -> float:
+        seen = self.nodes.get(node)
+        return seen.log_count / self.duration if seen and self.duration > 0 else 0.0
+
+
+@dataclass
+class Roles:
+    sensor: str | None = None
+    sensor_topic: str | None = None
+    controller: str | None = None
+    command_topic: str | None = None
+    actuator: str | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+def _logger_node(logger: str, nodes: list[str]) -> str | None:
+    """The node a /rosout record's logger name belongs to ('ns.sensor' -> '/ns/sensor')."""
+    wanted = '/' + logger.replace('.', '/')
+    for node in nodes:
+        if wanted == node or wanted.startswith(node + '/'):
+            return node
+    tail = logger.rsplit('.', 1)[-1]
+    return next((n for n in nodes if n.rsplit('/', 1)[-1] == tail), None)
+
+
+class _Watcher:
+    """Subscriptions of the observer session; callbacks only count and keep samples."""
+
+    def __init__(self, sess: Any) -> None:
+        self.sess = sess
+        self.obs = Observation()
+        self.lock = threading.Lock()
+        self.subs: dict[str, Any] = {}
+        self.counting = False
+        self.unassigned_logs: deque[tuple[str, str]] = deque(maxlen=2000)
+
+    def _on_message(self, topic: str, msg: Any) -> None:
+        from robot_lab.messages import message_to_dict
+
+        if not self.counting:
+            return
+        now = time.monotonic()
+        with self.lock:
+            seen = self.obs.topics[topic]
+            if seen.count == 0:
+                seen.first = now
+            seen.count += 1
+            seen.last = now
+        try:
+            data = message_to_dict(msg)
+        except Exception:  # an unusual type: counted, not shown
+            return
+        text = str(data)
+        with self.lock:
+            seen.samples.append(text[:_TEXT])
+            seen.signatures.append(text[:_TEXT])
+
+    def _on_log(self, msg: Any) -> None:
+        if not self.counting:
+            return
+        line = f'[{msg.name}] {msg.msg}'[:_TEXT]
+        with self.lock:
+            node = _logger_node(msg.name, list(self.obs.nodes))
+            if node is None:
+                self.unassigned_logs.append((msg.name, line))
+                return
+            self.obs.nodes[node].log_count += 1
+            self.obs.nodes[node].logs.append(line)
+
+    def refresh(self) -> list[str]:
+        """Re-read the graph: nodes, their endpoints, new topics subscribed; the nodes."""
+        from rclpy.qos import QoSProfile, QoSReliabilityPolicy
+
+        from robot_lab.graph.discovery import full_node_names
+        from robot_lab.messages import message_class
+
+        node = self.sess.node
+        names = [n for n in full_node_names(self.sess, include_hidden=False)]
+        with self.lock:
+            for full in names:
+                base = full.rsplit('/', 1)
+                namespace, short = (base[0] or '/'), base[1]
+                seen = self.obs.nodes.setdefault(full, NodeSeen(full))
+                with contextlib.suppress(Exception):
+                    seen.publishes = sorted(
+                        t for t, _ in node.get_publisher_names_and_types_by_node(short, namespace)
+                        if t not in IGNORED_TOPICS)
+                    seen.subscribes = sorted(
+                        t for t, _ in node.get_subscriber_names_and_types_by_node(short, namespace)
+                        if t not in IGNORED_TOPICS)
+                # Log lines that came before the node was discovered.
+                for logger, line in list(self.unassigned_logs):
+                    if _logger_node(logger, [full]) == full:
+                        seen.log_count += 1
+                        seen.logs.append(line)
+                        self.unassigned_logs.remove((logger, line))
+        for topic, types in node.get_topic_names_and_types():
+            if topic in IGNORED_TOPICS or topic.startswith('/_'):
+                continue
+            with self.lock:
+                seen_topic = self.obs.topics.setdefault(topic, TopicSeen(topic, list(types)))
+                seen_topic.publishers = sorted(
+                    n for n in names if topic in self.obs.nodes[n].publishes)
+                seen_topic.subscribers = sorted(
+                    n for n in names if topic in self.obs.nodes[n].subscribes)
+            if topic in self.subs or len(types) != 1:
+                continue
+            try:
+                cls = message_class(types[0])
+            except Exception:
+                continue
+            qos = QoSProfile(depth=50, reliability=QoSReliabilityPolicy.BEST_EFFORT)
+            self.subs[topic] = node.create_subscription(
+                cls, topic, lambda m, t=topic: self._on_message(t, m), qos)
+        return names
+
+    def start_logs(self) -> None:
+        from rcl_interfaces.msg import Log
+        from rclpy.qos import QoSProfile, QoSReliabilityPolicy
+
+        qos = QoSProfile(depth=100, reliability=QoSReliabilityPolicy.BEST_EFFORT)
+        self.subs['/rosout'] = self.sess.node.create_subscription(Log, '/rosout', self._on_log, qos)
+
+    def close(self) -> None:
+        for sub in self.subs.values():
+            with contextlib.suppress(Exception):
+                self.sess.node.destroy_subscription(sub)
+
+
+def observe(sess: Any, expected_nodes: int, startup: float, duration: float,
+            alive: Callable[[], bool]) -> Observation:
+    """Watch the graph: wait (≤ `startup` s) until `expected_nodes` nodes are up, then count
+    messages and log lines for `duration` s. `alive()` False ends the wait early."""
+    watcher = _Watcher(sess)
+    watcher.start_logs()
+    try:
+        deadline = time.monotonic() + startup
+        watcher.counting = True
+        while time.monotonic() < deadline:
+            names = watcher.refresh()
+            if len(names) >= expected_nodes or not alive():
+                break
+            time.sleep(0.2)
+        # Count from here: a full window with every subscription in place.
+        time.sleep(0.3)
+        watcher.refresh()
+        with watcher.lock:
+            for topic in watcher.obs.topics.values():
+                topic.count, topic.first, topic.last = 0, 0.0, 0.0
+            for node in watcher.obs.nodes.values():
+                node.log_count = 0
+        started = time.monotonic()
+        end = started + duration
+        while time.monotonic() < end:
+            time.sleep(min(0.5, max(0.0, end - time.monotonic())))
+            watcher.refresh()
+        watcher.counting = False
+        watcher.obs.duration = time.monotonic() - started
+        return watcher.obs
+    finally:
+        watcher.counting = False
+        watcher.close()
+
+
+def _changes(topic: TopicSeen) -> bool:
+    return len(set(topic.signatures)) > 1
+
+
+def infer_roles(obs: Observation, min_rate: float) -> Roles:
+    """Sensor, controller and actuator from what the observer saw (see the module doc)."""
+    roles = Roles()
+    student_pubs = {t: s.publishers for t, s in obs.topics.items() if s.publishers}
+    # The sensor: a periodic topic whose publisher takes no input from other student nodes.
+    candidates = []
+    for topic, seen in obs.topics.items():
+        if seen.count < 2 or seen.rate < min_rate:
+            continue
+        for pub in seen.publishers:
+            inputs = [t for t in obs.nodes[pub].subscribes
+                      if any(p != pub for p in student_pubs.get(t, []))]
+            if not inputs:
+                candidates.append((len(seen.subscribers), seen.rate, topic, pub))
+    if candidates:
+        _subs, _rate, roles.sensor_topic, roles.sensor = max(candidates)
+    else:
+        return roles
+    # The controller: subscribes to the sensor topic, publishes something else.
+    best: tuple[int, int, str, str] | None = None
+    for name, node in obs.nodes.items():
+        if name == roles.sensor or roles.sensor_topic not in node.subscribes:
+            continue
+        for topic in node.publishes:
+            if topic == roles.sensor_topic:
+                continue
+            out = obs.topics.get(topic)
+            count = out.count if out else 0
+            listened = len(out.subscribers) if out else 0
+            key = (listened, count, topic, name)
+            if best is None or key > best:
+                best = key
+    if best is None:
+        subscribers = [n for n, s in obs.nodes.items()
+                       if roles.sensor_topic in s.subscribes and n != roles.sensor]
+        if not subscribers:
+            roles.notes.append(f'no node subscribes to the sensor topic {roles.sensor_topic}')
+        return roles
+    _l, _c, roles.command_topic, roles.controller = best
+    # The actuator: subscribes to the commands.
+    actuators = [n for n, s in obs.nodes.items()
+                 if roles.command_topic in s.subscribes
+                 and n not in (roles.sensor, roles.controller)]
+    if actuators:
+        roles.actuator = max(actuators, key=lambda n: obs.nodes[n].log_count)
+    return roles
+
+
+def controller_output_changes(obs: Observation, roles: Roles) -> bool:
+    """True when the commands took more than one value during the watch."""
+    topic = obs.topics.get(roles.command_topic or '')
+    return topic is not None and _changes(topic)

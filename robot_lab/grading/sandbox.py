@@ -1,0 +1,204 @@
+"""One submission's job, fenced in: its own ROS domain, HOME, TMPDIR, limits and namespaces.
+
+The grader starts each job as `python -m robot_lab.grading.package_checks JOBDIR` through
+`robot_lab.process.spawn` (parent-death signal), wrapped, where the host allows
+unprivileged namespaces, in `unshare --user --map-root-user --net --pid --fork
+--kill-child`: the job then sees only a loopback interface (no DDS traffic leaves it or
+reaches another job) and is PID 1 of its own PID namespace, so when it dies — stopped at
+its time budget, or because the grader was killed with `kill -9` — the kernel kills every
+process the submission started, forked daemons included. Without namespaces the job leads
+its own process group, which the grader kills, and every process carries a token in its
+environment that a final sweep looks for.
+
+Inside, `enter()` applies the resource limits (CPU seconds, address space, file size, and
+process count where the kernel enforces it: not for root) that every child inherits.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import functools
+import os
+import resource
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from robot_lab.grading.rubric import Limits
+from robot_lab.process import spawn
+
+__all__ = ['JobRun', 'enter', 'job_domain', 'namespaces_available', 'run_job', 'sweep']
+
+TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
+_UNSHARE = ['--user', '--map-root-user', '--net', '--pid', '--fork', '--kill-child']
+
+
+def job_domain(slot: int) -> int:
+    """The ROS domain of the job in parallel slot `slot` (0-based): ROS_DOMAIN_ID + slot.
+
+    One function so a per-user domain registry can take over the choice.
+    """
+    base = int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
+    return (base + slot) % 233
+
+
+@functools.cache
+def namespaces_available() -> bool:
+    """True when `unshare` can give a job its own user, network and PID namespaces here."""
+    unshare = shutil.which('unshare')
+    if unshare is None or os.environ.get('ROBOT_LAB_GRADE_NO_NAMESPACES'):
+        return False
+    try:
+        done = subprocess.run([unshare, *_UNSHARE, 'true'], capture_output=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return done.returncode == 0
+
+
+def _loopback_up() -> None:
+    """A fresh network namespace has `lo` down; DDS on localhost needs it up."""
+    siocgifflags, siocsifflags, iff_up = 0x8913, 0x8914, 0x1
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        request = struct.pack('16sh', b'lo', 0)
+        flags = struct.unpack('16sh', fcntl.ioctl(sock, siocgifflags, request))[1]
+        if not flags & iff_up:
+            fcntl.ioctl(sock, siocsifflags, struct.pack('16sh', b'lo', flags | iff_up))
+
+
+def _init_process() -> None:
+    """As PID 1 of the namespace: fork the real job, reap orphans, exit with the job.
+
+    The job must not be PID 1 itself: robot_lab.process.spawn's children take a parent
+    with PID 1 for a dead one and exit at once. When this process exits, the kernel
+    kills everything left in the namespace.
+    """
+    child = os.fork()
+    if child == 0:
+        return
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    while True:
+        try:
+            pid, status = os.wait()
+        except ChildProcessError:
+            os._exit(1)
+        if pid == child:
+            os._exit(os.waitstatus_to_exitcode(status) & 0xFF)
+
+
+def enter(limits: Limits, in_namespace: bool) -> None:
+    """Run first thing in the job: loopback up, own process group, resource limits."""
+    if in_namespace:
+        _loopback_up()
+        if os.getpid() == 1:
+            _init_process()
+    else:
+        with contextlib.suppress(OSError):
+            os.setpgrp()
+    mb = 1024 * 1024
+    wanted = {
+        resource.RLIMIT_CPU: limits.cpu_seconds,
+        resource.RLIMIT_AS: limits.memory_mb * mb,
+        resource.RLIMIT_FSIZE: limits.file_mb * mb,
+        resource.RLIMIT_NPROC: limits.processes,
+        resource.RLIMIT_CORE: 0,
+    }
+    for which, value in wanted.items():
+        _soft, hard = resource.getrlimit(which)
+        if hard != resource.RLIM_INFINITY:
+            value = min(value, hard)
+        with contextlib.suppress(ValueError, OSError):
+            resource.setrlimit(which, (value, value))
+    # A write past RLIMIT_FSIZE fails with EFBIG instead of killing the writer.
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
+@dataclass
+class JobRun:
+    """How a job's process ended: exit code (None if killed at its budget), output tail."""
+
+    returncode: int | None
+    timed_out: bool
+    output: str
+    elapsed: float
+    isolated: bool  # ran in its own namespaces
+
+
+def _tail(path: Path, limit: int) -> str:
+    try:
+        with path.open('rb') as f:
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - limit))
+            text = f.read().decode(errors='replace')
+    except OSError:
+        return ''
+    return ('[... earlier output cut ...]\n' if size > limit else '') + text
+
+
+def run_job(job_dir: Path, domain: int, limits: Limits, token: str) -> JobRun:
+    """Run the job in `job_dir` (its job.json is already written) and wait at most
+    `limits.wall_seconds`; every process of the job is gone when this returns."""
+    home, tmp = job_dir / 'home', job_dir / 'tmp'
+    home.mkdir(exist_ok=True)
+    tmp.mkdir(exist_ok=True)
+    isolated = namespaces_available()
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(('JPY_', 'JUPYTER', 'ROBOT_LAB_GRAPH_DAEMON'))}
+    env.update({
+        'HOME': str(home), 'TMPDIR': str(tmp), 'ROS_DOMAIN_ID': str(domain),
+        'ROS_LOG_DIR': str(job_dir / 'ros_log'), 'ROBOT_LAB_WORKSPACE': str(job_dir / 'ws'),
+        'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST', 'PYTHONDONTWRITEBYTECODE': '1',
+        'ROBOT_LAB_GRADE_ISOLATED': '1' if isolated else '', TOKEN_VAR: token,
+        'PYTHONUNBUFFERED': '1',
+    })
+    env.pop('ROS_STATIC_PEERS', None)
+    cmd = [sys.executable, '-m', 'robot_lab.grading.package_checks', str(job_dir)]
+    if isolated:
+        cmd = [shutil.which('unshare') or 'unshare', *_UNSHARE, *cmd]
+    log = job_dir / 'job.log'
+    started = time.monotonic()
+    with log.open('wb') as out:
+        proc = spawn(cmd, env=env, cwd=job_dir, stdout=out, stderr=subprocess.STDOUT)
+        timed_out = False
+        try:
+            proc.wait(limits.wall_seconds)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+        finally:
+            _kill(proc, isolated)
+    sweep(token)
+    code = None if timed_out else proc.returncode
+    return JobRun(code, timed_out, _tail(log, limits.output_kb * 1024),
+                  time.monotonic() - started, isolated)
+
+
+def _kill(proc: subprocess.Popen[bytes], isolated: bool) -> None:
+    if proc.poll() is None:
+        if isolated:
+            proc.kill()  # unshare --kill-child: the namespace's PID 1 dies, then all of it
+        else:
+            with contextlib.suppress(OSError):
+                os.killpg(proc.pid, signal.SIGKILL)
+            proc.kill()
+    proc.wait()
+
+
+def sweep(token: str) -> list[str]:
+    """Kill any process still carrying the job's token (outside namespaces, a student
+    process that left the process group); the command lines of those killed."""
+    import psutil
+
+    killed = []
+    for proc in psutil.process_iter():
+        with contextlib.suppress(psutil.Error):
+            if proc.environ().get(TOKEN_VAR) == token:
+                killed.append(' '.join(proc.cmdline())[:200])
+                proc.kill()
+    return killed
