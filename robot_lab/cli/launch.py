@@ -10,10 +10,8 @@ from __future__ import annotations
 import argparse
 import os
 import shlex
-import signal
 import sys
 from collections.abc import Callable
-from types import FrameType
 from typing import TYPE_CHECKING
 
 from robot_lab.launch.description import (
@@ -26,6 +24,7 @@ from robot_lab.launch.description import (
     TimerAction,
 )
 from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.runner import run_supervisor
 from robot_lab.launch.supervisor import Supervisor, check_param_files
 
 if TYPE_CHECKING:
@@ -188,23 +187,4 @@ def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
     supervisor = Supervisor(plan, output, noninteractive=noninteractive,
                             graph_daemon=not daemon.disabled(),
                             graph_listener=graph_listener, announcement=announcement)
-
-    def on_sigint(signum: int, frame: FrameType | None) -> None:
-        supervisor.interrupt()
-
-    def on_sigterm(signum: int, frame: FrameType | None) -> None:
-        supervisor.terminate()
-
-    previous = {
-        signal.SIGINT: signal.signal(signal.SIGINT, on_sigint),
-        signal.SIGTERM: signal.signal(signal.SIGTERM, on_sigterm),
-    }
-    output.open()
-    try:
-        if on_start is not None:
-            on_start(supervisor)
-        return supervisor.run()
-    finally:
-        output.close()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+    return run_supervisor(supervisor, on_start=on_start)

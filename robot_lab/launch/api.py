@@ -23,6 +23,7 @@ from typing import Any
 from robot_lab.errors import LaunchError
 from robot_lab.launch.description import LaunchPlan
 from robot_lab.launch.output import LaunchOutput, OutputLine
+from robot_lab.launch.runner import run_supervisor
 from robot_lab.launch.supervisor import Supervisor, check_param_files
 
 __all__ = ['LaunchHandle', 'ProcessStatus', 'describe_launch', 'launch', 'running_launches']
@@ -80,13 +81,10 @@ class LaunchHandle:
     def _run(self) -> None:
         # This thread forks the children and must live as long as they do.
         try:
-            self.output.open()
-            self.returncode = self._supervisor.run()
+            self.returncode = run_supervisor(self._supervisor)
         except BaseException as exc:  # reported by .processes/.wait_for, not lost in a thread
             self._error = exc
             self._supervisor.started.set()
-        finally:
-            self.output.close()
 
     @property
     def running(self) -> bool:

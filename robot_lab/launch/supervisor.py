@@ -5,9 +5,9 @@ calls `Supervisor.run()`. Children are started with `robot_lab.process.spawn`, w
 parent-death signal is tied to that thread, so run() must be called from a thread that
 lives as long as the launch (the CLI's main thread, or the notebook's supervisor thread).
 The launcher has no DDS participant of its own: it never imports rclpy, so the nodes it
-starts find each other as fast as bare processes do. It tells graph queries which nodes
-it has up (robot_lab/graph/expected.py) and, when asked, starts a graph daemon beside
-them (robot_lab/graph/daemon.py) so one-shot CLI queries answer at once.
+starts find each other as fast as bare processes do. What it does for graph queries
+(announcing its nodes, a graph daemon beside them) is robot_lab/graph/launch_companion.py:
+the supervisor only reports which node runs where.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.errors import ParamFileError
-from robot_lab.graph.expected import LaunchAnnouncement, graph_dir
+from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
 from robot_lab.launch.description import (
     Action,
     LaunchPlan,
@@ -42,15 +42,11 @@ from robot_lab.process import spawn
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
+    from robot_lab.graph.expected import LaunchAnnouncement
 
-__all__ = ['ProcessRecord', 'Supervisor', 'check_param_files', 'run_plan']
+__all__ = ['ProcessRecord', 'Supervisor', 'check_param_files']
 
 _LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
-# How often a launch checks that its nodes' graph still has a daemon (seconds).
-DAEMON_CHECK = 1.0
-# The daemon starts beside the nodes at a lower CPU priority: on two cores its start-up
-# (≈ 0.4 s of CPU) otherwise delayed the nodes' by ≈ 0.3 s (bench/bench_graph.py).
-DAEMON_NICE = int(os.environ.get('ROBOT_LAB_DAEMON_NICE', '10'))
 
 
 def check_param_files(plan: LaunchPlan) -> None:
@@ -130,14 +126,9 @@ class Supervisor:
         self.output = output
         self.noninteractive = noninteractive
         self.graph_daemon = graph_daemon
-        # One file per graph the nodes are in; `announcement` is the one the CLI wrote
-        # before the launch file was read (it said "starting").
-        self._announcements: dict[Path, LaunchAnnouncement] = (
-            {} if announcement is None else {announcement.directory: announcement})
-        self._daemons: list[subprocess.Popen[bytes]] = []
-        self._daemon_graphs: set[Path] = set()
-        self._listener = graph_listener
-        self._graph_envs: dict[Path, dict[str, str]] = {}  # an environment of each graph
+        self._graph = LaunchGraphCompanion(
+            daemon=graph_daemon, listener=graph_listener, announcement=announcement,
+            warn=lambda message: self.output.launcher('WARNING', 'launch', message))
         self.records: list[ProcessRecord] = [ProcessRecord(spec) for spec in plan.processes()]
         self._by_spec = {id(r.spec): r for r in self.records}
         self.started = threading.Event()  # the plan's first actions have been executed
@@ -214,7 +205,7 @@ class Supervisor:
         finally:
             self.started.set()
             self._kill_leftovers()
-            self._end_graph_companions()
+            self._graph.close()
             self._selector.close()
             with self._requests_lock:
                 self._closed = True
@@ -321,8 +312,7 @@ class Supervisor:
         record.popen, record.pid = popen, popen.pid
         record.state, record.returncode, record.stopping = 'running', None, False
         if spec.node_name:
-            record.graph = graph_dir(env)
-            self._graph_envs.setdefault(record.graph, env)
+            record.graph = self._graph.graph_of(env)
         record.generation += 1
         record.partial = {'stdout': b'', 'stderr': b''}
         record.open_streams = 0
@@ -448,7 +438,7 @@ class Supervisor:
         self.is_shutdown = True
         if reason:
             self.output.launcher('DEBUG', 'launch', f'shutting down: {reason}')
-        self._stop_graph_daemons()  # it exits while the nodes do
+        self._graph.stop_daemons()  # it exits while the nodes do
         for item in self._schedule:
             if item.keeps_alive:
                 item.cancelled = True  # timers and pending respawns never start now
@@ -501,89 +491,32 @@ class Supervisor:
         `node list` that reaches a warm daemon first waits for them."""
         for action in self.plan.actions:
             if isinstance(action, ProcessSpec) and action.node_name:
-                self._by_spec[id(action)].graph = graph_dir(self._environment(action))
+                self._by_spec[id(action)].graph = self._graph.graph_of(self._environment(action))
         self._announce()
 
     def _announce(self) -> None:
-        """Tell graph queries which nodes this launch has up or is starting (per graph).
-
-        A node not spawned yet is announced with the launcher's own pid: it is expected
-        for as long as the launcher lives.
-        """
-        running: dict[Path, list[tuple[str, int]]] = {d: [] for d in self._announcements}
+        """The nodes this launch has up (their pid) or is about to start (the launcher's)."""
+        nodes: list[tuple[Path, str, int]] = []
         for record in self.records:
             if record.graph is None or not record.spec.node_name:
                 continue
             if record.state == 'running' and record.pid:
-                running.setdefault(record.graph, []).append((record.spec.node_name, record.pid))
+                nodes.append((record.graph, record.spec.node_name, record.pid))
             elif record.state == 'pending' and not self.is_shutdown:
-                running.setdefault(record.graph, []).append((record.spec.node_name, os.getpid()))
-        for directory, nodes in running.items():
-            if directory not in self._announcements:
-                self._announcements[directory] = LaunchAnnouncement(directory)
-            self._announcements[directory].update(nodes)
+                nodes.append((record.graph, record.spec.node_name, os.getpid()))
+        self._graph.announce(nodes)
+
+    def _running_graphs(self) -> set[Path]:
+        return {r.graph for r in self.records if r.graph is not None and r.state == 'running'}
 
     def _start_graph_daemons(self) -> None:
-        """One daemon per graph this launch's nodes are in, unless one already serves it.
-
-        Started after the nodes (they matter more) from this thread, so it dies with the
-        launcher like they do.
-        """
-        from robot_lab.graph import daemon
-
-        if self._listener is not None:
-            listener, self._listener = self._listener, None
-            self._daemon_graphs.add(listener.path.parent)
-            self._graph_envs.setdefault(listener.path.parent, dict(os.environ))
-            try:
-                self._daemons.append(
-                    daemon.start(detached=False, listener=listener, nice=DAEMON_NICE))
-            except OSError as exc:
-                self.output.launcher('WARNING', 'launch', f'no graph daemon: {exc}')
-            listener.close(unlink=not self._daemons)  # the daemon has its own copy now
-        running = {r.graph for r in self.records if r.graph is not None and r.state == 'running'}
-        for directory in running - self._daemon_graphs:
-            self._daemon_graphs.add(directory)
-            env = self._graph_envs[directory]
-            if daemon.is_running(env):
-                continue
-            try:
-                self._daemons.append(daemon.start(detached=False, env=env, nice=DAEMON_NICE))
-            except OSError as exc:
-                self.output.launcher('WARNING', 'launch', f'no graph daemon: {exc}')
+        self._graph.start_daemons(self._running_graphs())
 
     def _check_graph_daemons(self) -> None:
-        """A daemon of another launch serving our graph may end with that launch: then we
-        start our own, so the CLI stays fast for as long as our nodes run."""
         if self.is_shutdown:
             return
-        from robot_lab.graph import daemon
-
-        self._daemons = [p for p in self._daemons if p.poll() is None]
-        for directory in list(self._daemon_graphs):
-            if not daemon.is_running(self._graph_envs[directory]):
-                self._daemon_graphs.discard(directory)
-        self._start_graph_daemons()
+        self._graph.check_daemons(self._running_graphs())
         self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
-
-    def _stop_graph_daemons(self) -> None:
-        for proc in self._daemons:
-            if proc.poll() is None:
-                with contextlib.suppress(ProcessLookupError):
-                    proc.terminate()
-
-    def _end_graph_companions(self) -> None:
-        if self._listener is not None:  # never handed to a daemon
-            self._listener.close()
-        for announcement in self._announcements.values():
-            announcement.close()
-        self._stop_graph_daemons()
-        for proc in self._daemons:
-            try:
-                proc.wait(2.0)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
 
     def _kill_leftovers(self) -> None:
         """Only reached on an error inside the loop: never leave a child behind."""
@@ -592,18 +525,3 @@ class Supervisor:
                 record.popen.kill()
                 record.popen.wait()
                 record.state, record.returncode = 'died', record.popen.returncode
-
-
-def run_plan(plan: LaunchPlan, output: LaunchOutput, *, noninteractive: bool = True,
-             on_start: Callable[[Supervisor], None] | None = None) -> int:
-    """Check the plan's parameter files, then run it to the end in this thread."""
-    check_param_files(plan)
-    supervisor = Supervisor(plan, output, noninteractive=noninteractive)
-    if on_start is not None:
-        on_start(supervisor)
-    output.open()
-    try:
-        return supervisor.run()
-    finally:
-        output.close()
-
