@@ -171,6 +171,10 @@ def _fill(msg: Any, values: Mapping[str, Any], path: str, stamps: list[Stamper] 
     current time at each publish.
     """
     fields = msg.get_fields_and_field_types()
+    if hasattr(msg, '_check_fields'):
+        # Jazzy's classes check a value's type only with ROS_PYTHON_CHECK_FIELDS=1; without
+        # it `stamp: yesterday` would be accepted here and fail later, inside publish().
+        msg._check_fields = True
     for key, value in values.items():
         if key not in fields:
             raise GraphError(
