@@ -18,7 +18,7 @@ from typing import Any
 import anywidget
 import traitlets
 
-__all__ = ['Chart', 'Feed', 'PoseCanvas', 'StyleBeacon']
+__all__ = ['Chart', 'Feed', 'PoseCanvas', 'StyleBeacon', 'kit_box']
 
 # Shared by every robot_lab widget: a disconnected widget (kernel restarted or gone) is
 # greyed out and says so, instead of a tiny chain icon on controls that look usable.
@@ -39,6 +39,14 @@ function addStyle() {
   style.id = STYLE_ID;
   style.textContent = CSS;
   document.head.appendChild(style);
+  // A slider keeps keyboard focus after a drag, and the arrow keys would then change a
+  // parameter unnoticed: a robot_lab slider lets go of the focus when the mouse does.
+  document.addEventListener('pointerup', () => setTimeout(() => {
+    const active = document.activeElement;
+    if (active && active.closest && active.closest('.robot-lab-widget .widget-slider')) {
+      active.blur();
+    }
+  }, 0), true);
 }
 function sizeCanvas(root, canvas, height) {
   const width = Math.max(200, Math.min(root.clientWidth || 800, 960));
@@ -77,7 +85,7 @@ function animate(root, fps, frame) {
   const gap = 1000 / fps;
   const loop = (ts) => {
     handle = requestAnimationFrame(loop);
-    if (!root.isConnected || ts - last < gap) return;
+    if (!root.isConnected || ts - last < gap - 4) return;  // 4 ms: rAF ticks jitter
     if (frame()) {
       last = ts;
       frames += 1;
@@ -344,6 +352,15 @@ class StyleBeacon(anywidget.AnyWidget):  # type: ignore[misc]
     """Invisible; loads the shared style so a plain ipywidgets box shows when disconnected."""
 
     _esm = _BEACON_ESM
+
+
+def kit_box(children: list[Any], **layout: Any) -> Any:
+    """A VBox of robot_lab's: greyed out and labelled when its kernel is gone."""
+    import ipywidgets as widgets
+
+    box = widgets.VBox([*children, StyleBeacon()], layout=widgets.Layout(**layout))
+    box.add_class('robot-lab-widget')
+    return box
 
 
 class Feed:

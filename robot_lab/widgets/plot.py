@@ -2,9 +2,9 @@
 
 An argument is a topic followed by a field path, `/cmd_vel/linear/x`; like rqt_plot, it
 is split at the longest prefix that is a topic on the graph. A topic alone plots its one
-numeric field (`/sensor/temperature` is `data`). Drawing happens on a thread of its own
-into an ipywidgets.Image, so the kernel stays free; with no frontend (nbval, CI) the plot
-collects for a bounded time and leaves a static PNG of what it saw.
+numeric field (`/sensor/temperature` is `data`). The browser draws (widgets/canvas.py):
+the kernel sends only the samples that are new, 20 times a second. With no frontend
+(nbval, CI) the plot collects for a bounded time and leaves a static PNG of what it saw.
 """
 
 from __future__ import annotations
@@ -39,6 +39,12 @@ class Series:
     type_name: str
     samples: deque[tuple[float, float]] = dataclasses.field(
         default_factory=lambda: deque(maxlen=200_000))
+    pending: list[float] = dataclasses.field(default_factory=list)  # t, v, t, v, ... unsent
+
+    @property
+    def label(self) -> str:
+        """The legend's name: the whole field path, as rqt_plot shows it."""
+        return f'{self.topic}/{self.field}'
 
 
 def _numeric(value: Any) -> float | None:
@@ -98,16 +104,13 @@ class Plot:
         self.headless_seconds = headless_seconds
         self.bag = Path(bag) if bag is not None else None
         self.t0 = time.monotonic()
-        self.redraws = 0
         self.log = WidgetLog(max_lines=20, height='5em')
         self._lock = threading.Lock()
-        self._render_lock = threading.Lock()
         self._paused_at: float | None = None
         self._closed = threading.Event()
-        self._thread: threading.Thread | None = None
         self._widget: Any = None
-        self._image: Any = None
-        self._figure: Any = None
+        self._chart: Any = None
+        self._feed: Any = None
         self._subscriptions: list[Any] = []
         if self.bag is not None:
             self.series = self._read_bag(paths)
@@ -201,11 +204,14 @@ class Plot:
 
         def _on_message(msg: Any) -> None:
             now = time.monotonic() - self.t0
+            streaming = self._feed is not None  # nobody to send to: keep nothing pending
             with self._lock:
                 for series in group:
                     value = _numeric(field_value(msg, series.field))
                     if value is not None:
                         series.samples.append((now, value))
+                        if streaming and self._paused_at is None:
+                            series.pending.extend((round(now, 4), value))
 
         return _on_message
 
@@ -246,43 +252,55 @@ class Plot:
         with self._lock:
             for series in self.series:
                 series.samples.clear()
+                series.pending.clear()
+        if self._feed is not None:
+            self._feed.reset()
 
     def pause(self) -> None:
         """Freeze the view (samples keep arriving in `.data`)."""
         if self._paused_at is None:
             self._paused_at = time.monotonic() - self.t0
         if self._widget is not None:
+            self._chart.frozen_at = self._paused_at
             self._pause_button.value = True
 
     def resume(self) -> None:
+        """Follow the data again; the view gets what arrived while it was frozen."""
+        if self.bag is not None:
+            return  # a recording's view is fixed
         self._paused_at = None
         if self._widget is not None:
             self._pause_button.value = False
+            self._chart.frozen_at = None
+            self._feed.reset()
 
     @property
     def paused(self) -> bool:
         return self._paused_at is not None
 
-    # -- drawing --------------------------------------------------------------------
-    def _make_figure(self) -> Any:
+    # -- the static picture (headless runs, bags in a static page) -------------------
+    def render_png(self) -> bytes:
+        """Draw the current window to PNG bytes with matplotlib (no live frontend needed)."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
+        end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
+        start = end - self.window
+        shift = 0.0 if self.bag else end  # live: x is "seconds before now"
+        data = self.data
         topics = list(dict.fromkeys(s.topic for s in self.series))
         fig = Figure(figsize=(8.0, 1.1 + 1.7 * len(topics)), dpi=100)
         FigureCanvasAgg(fig)
-        axes = fig.subplots(len(topics), 1, squeeze=False)[:, 0]
-        self._axes = dict(zip(topics, axes, strict=True))
-        self._ylims: dict[str, tuple[float, float]] = {}
-        self._background: Any = None
-        self._lines: dict[str, Any] = {}
+        axes = dict(zip(topics, fig.subplots(len(topics), 1, squeeze=False)[:, 0],
+                        strict=True))
         for index, series in enumerate(self.series):
-            ax = self._axes[series.topic]
-            # Animated lines are left out of full draws and blitted over a cached background.
-            (line,) = ax.plot([], [], color=_COLOURS[index % len(_COLOURS)], linewidth=1.6,
-                              label=series.field.replace('/', '.'), animated=True)
-            self._lines[series.path] = line
-        for topic, ax in self._axes.items():
+            points = [p for p in data[series.path] if start <= p[0] <= end]
+            axes[series.topic].plot([p[0] - shift for p in points], [p[1] for p in points],
+                                    color=_COLOURS[index % len(_COLOURS)], linewidth=1.6,
+                                    label=series.label)
+        for topic, ax in axes.items():
+            visible = [v for line in ax.get_lines() for v in line.get_ydata()]
+            ax.set_ylim(*_autoscale(visible))
             ax.set_title(topic, loc='left', fontsize=10, color='#333333')
             ax.set_xlim(*((0.0, self.window) if self.bag else (-self.window, 0.0)))
             ax.grid(True, color='#e5e5e5', linewidth=0.8)
@@ -292,62 +310,19 @@ class Plot:
             for side in ('top', 'right'):
                 ax.spines[side].set_visible(False)
             ax.tick_params(labelsize=8)
-            if ax is not axes[-1]:
+        last = list(axes.values())[-1]
+        for ax in axes.values():
+            if ax is not last:
                 ax.tick_params(labelbottom=False)
-        axes[-1].set_xlabel('time since the start of the bag (s)' if self.bag
-                            else 'time relative to now (s)', fontsize=9)
+        last.set_xlabel(self._xlabel(), fontsize=9)
         fig.tight_layout(h_pad=0.6)
-        return fig
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format='png')
+        return buffer.getvalue()
 
-    def render_png(self) -> bytes:
-        """Draw the current window to PNG bytes (used by the live view and snapshots).
-
-        The x axis is fixed (seconds before now), so axes and ticks are drawn only when a
-        y range changes; every other frame blits the lines over the cached background.
-        """
-        from PIL import Image
-
-        with self._render_lock:
-            if self._figure is None:
-                self._figure = self._make_figure()
-            end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
-            start = end - self.window
-            shift = 0.0 if self.bag else end  # live: x is "seconds before now"
-            data = self.data
-            full = self._background is None
-            for topic, ax in self._axes.items():
-                visible: list[float] = []
-                for series in self.series:
-                    if series.topic != topic:
-                        continue
-                    points = [p for p in data[series.path] if start <= p[0] <= end]
-                    self._lines[series.path].set_data([p[0] - shift for p in points],
-                                                      [p[1] for p in points])
-                    visible.extend(p[1] for p in points)
-                wanted = _autoscale(visible)
-                current = self._ylims.get(topic)
-                if current is None or _needs_rescale(current, wanted):
-                    ax.set_ylim(*wanted)
-                    self._ylims[topic] = wanted
-                    full = True
-            canvas = self._figure.canvas
-            if full:
-                canvas.draw()
-                self._background = canvas.copy_from_bbox(self._figure.bbox)
-            else:
-                canvas.restore_region(self._background)
-            for series in self.series:
-                self._axes[series.topic].draw_artist(self._lines[series.path])
-            # PIL with light compression encodes the Agg buffer far faster than savefig. A
-            # plot has few colours: as a 128-colour palette PNG a frame costs about half the
-            # CPU time and a third of the bytes (profiled in JupyterLab, encoding was most of
-            # what a live plot cost the kernel; 20 frames a second go over the websocket).
-            buffer = io.BytesIO()
-            frame = Image.frombuffer('RGBA', canvas.get_width_height(), canvas.buffer_rgba())
-            frame.convert('RGB').quantize(128, method=Image.Quantize.FASTOCTREE).save(
-                buffer, format='PNG', compress_level=1)
-            self.redraws += 1
-            return buffer.getvalue()
+    def _xlabel(self) -> str:
+        return ('time since the start of the bag (s)' if self.bag
+                else 'time relative to now (s)')
 
     def snapshot(self) -> Any:
         """An IPython Image of the window now (what a static page should show)."""
@@ -355,24 +330,70 @@ class Plot:
 
         return Image(data=self.render_png(), format='png')
 
-    # -- live view ------------------------------------------------------------------
+    # -- the live view: the browser draws ------------------------------------------
+    def _full(self) -> dict[str, Any]:
+        """Every sample in the window (and forget what was pending: it is included)."""
+        now = time.monotonic() - self.t0
+        since = -math.inf if self.bag else now - self.window - 1.0
+        with self._lock:
+            points = []
+            for series in self.series:
+                series.pending.clear()
+                points.append([x for t, v in series.samples if t >= since
+                               for x in (round(t, 4), v)])
+            totals = [len(s.samples) for s in self.series]
+        return {'kind': 'reset', 'points': points, 'totals': totals, 'now': now}
+
+    def _new(self) -> dict[str, Any] | None:
+        """The samples that arrived since the last send; None when nothing did or paused."""
+        if self._paused_at is not None:
+            return None
+        with self._lock:
+            if not any(s.pending for s in self.series):
+                return None
+            points = []
+            for series in self.series:
+                points.append(series.pending)
+                series.pending = []
+            totals = [len(s.samples) for s in self.series]
+        return {'kind': 'append', 'points': points, 'totals': totals,
+                'now': time.monotonic() - self.t0}
+
+    @property
+    def redraws(self) -> int:
+        """How many updates the live view has sent to the browser."""
+        return self._feed.sent if self._feed is not None else 0
+
     @property
     def widget(self) -> Any:
-        """The live view: pause/clear buttons, status, and the plot image."""
+        """The live view: pause/clear buttons and the chart the browser draws."""
         if self._widget is None:
             import ipywidgets as widgets
 
+            from robot_lab.widgets.canvas import Chart, Feed
+
+            topics = list(dict.fromkeys(s.topic for s in self.series))
+            config = {
+                'series': [{'label': s.label, 'colour': _COLOURS[i % len(_COLOURS)],
+                            'panel': topics.index(s.topic)}
+                           for i, s in enumerate(self.series)],
+                'panels': topics, 'window': self.window, 'live': self.bag is None,
+                'xlabel': self._xlabel(), 'fps': 30,
+            }
+            self._chart = Chart(config=config, frozen_at=self._paused_at)
+            self._feed = Feed(self._chart, self._full, self._new, self.fps, self.log.guard)
             self._pause_button = widgets.ToggleButton(
-                description='Pause', icon='pause', tooltip='freeze the view',
-                layout=widgets.Layout(width='7em'))
+                value=self.paused, description='Pause', icon='pause',
+                tooltip='freeze the view', layout=widgets.Layout(width='7em'),
+                disabled=self.bag is not None)
             clear = widgets.Button(description='Clear', icon='eraser',
                                    layout=widgets.Layout(width='7em'))
-            self._status = widgets.HTML()
-            self._image = widgets.Image(format='png', value=self.render_png())
             self._pause_button.observe(self._on_pause, names='value')
             clear.on_click(lambda _b: self.clear())
-            toolbar = widgets.HBox([self._pause_button, clear, self._status])
-            self._widget = widgets.VBox([toolbar, self._image, self.log.widget])
+            toolbar = widgets.HBox([self._pause_button, clear])
+            self._widget = widgets.VBox([toolbar, self._chart, self.log.widget],
+                                        layout=widgets.Layout(max_width='960px'))
+            self._widget.add_class('robot-lab-widget')
         return self._widget
 
     def _on_pause(self, change: dict[str, Any]) -> None:
@@ -382,42 +403,24 @@ class Plot:
             self.resume()
 
     def start(self) -> Plot:
-        """Start redrawing the widget `fps` times a second on a thread of its own."""
+        """Start sending new samples to the browser `fps` times a second."""
         _ = self.widget
-        if self._thread is None or not self._thread.is_alive():
-            self._thread = threading.Thread(target=self.log.guard(self._redraw_loop),
-                                            name='robot_lab-plot', daemon=True)
-            self._thread.start()
+        if self.bag is None:
+            self._feed.start()
         return self
 
-    def _redraw_loop(self) -> None:
-        period = 1.0 / self.fps
-        next_frame = time.monotonic()
-        while not self._closed.is_set():
-            if self._paused_at is None:
-                self._image.value = self.render_png()
-                counts = ', '.join(f'{s.field.replace("/", ".")}: {len(s.samples)}'
-                                   for s in self.series)
-                self._status.value = (f'<span style="color:#666;font-size:12px">'
-                                      f'&nbsp;{counts} samples</span>')
-            next_frame += period
-            delay = next_frame - time.monotonic()
-            if delay < 0:  # drawing is slower than fps: skip frames instead of piling up
-                next_frame = time.monotonic()
-                delay = 0.0
-            self._closed.wait(delay)
-
     def close(self) -> None:
-        """Stop drawing and unsubscribe (also done when the cell that made it runs again)."""
+        """Stop sending and unsubscribe (also done when the cell that made it runs again)."""
+        if self._closed.is_set():
+            return
         self._closed.set()
+        if self._feed is not None:
+            self._feed.close()
         if self.bag is not None:
             return
-        if self._thread is not None:
-            self._thread.join(timeout=2.0)
-        if self._widget is not None:  # after the join: the last frame must not overwrite it
+        if self._widget is not None:
             self._pause_button.disabled = True
-            self._status.value = ('<span style="color:#666;font-size:12px">&nbsp;closed: '
-                                  'no longer updated</span>')
+            self._chart.note = 'closed: no longer updated'
         subscriptions, self._subscriptions = self._subscriptions, []
 
         def _destroy() -> None:
@@ -429,7 +432,7 @@ class Plot:
     def _ipython_display_(self) -> None:
         from IPython.display import display
 
-        if self.bag is not None:
+        if self.bag is not None and is_headless():
             display(self.snapshot())
         elif is_headless():
             seconds = self.headless_seconds
@@ -457,15 +460,6 @@ def _autoscale(values: list[float]) -> tuple[float, float]:
         middle = (low + high) / 2
         return (middle - minimum / 2 - 0.05 * minimum, middle + minimum / 2 + 0.05 * minimum)
     return (low - 0.1 * span, high + 0.1 * span)
-
-
-def _needs_rescale(current: tuple[float, float], wanted: tuple[float, float]) -> bool:
-    """Rescale when data leaves the range or fills under a quarter of it (hysteresis)."""
-    low, high = current
-    want_low, want_high = wanted
-    if want_low < low or want_high > high:
-        return True
-    return (want_high - want_low) < 0.25 * (high - low)
 
 
 def plot(*paths: str, window: float = 10.0, fps: float = 20.0, timeout: float = 5.0,
