@@ -89,6 +89,7 @@ _API: dict[str, str] = {
     'recorder': 'robot_lab.widgets.bag',
     'player': 'robot_lab.widgets.bag',
     'robot_view': 'robot_lab.widgets.robot_view',
+    'close_widgets': 'robot_lab.widgets.output',
     'RobotView': 'robot_lab.widgets.robot_view',
 }
 

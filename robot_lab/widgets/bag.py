@@ -149,6 +149,8 @@ class BagRecorder:
         if self._widget is None:
             import ipywidgets as widgets
 
+            from robot_lab.widgets.canvas import kit_box
+
             self._start_button = widgets.Button(description='Record', icon='circle',
                                                 button_style='danger')
             self._stop_button = widgets.Button(description='Stop', icon='stop')
@@ -157,7 +159,7 @@ class BagRecorder:
             self._status = widgets.HTML()
             what = 'all topics' if self.all_topics else ' '.join(self.topics)
             header = widgets.HTML(f'<b>bag record</b> <code>{html.escape(what)}</code>')
-            self._widget = widgets.VBox([
+            self._widget = kit_box([
                 header, widgets.HBox([self._start_button, self._stop_button]),
                 self._status, self.log.widget,
             ])
@@ -286,6 +288,8 @@ class BagPlayer:
         if self._widget is None:
             import ipywidgets as widgets
 
+            from robot_lab.widgets.canvas import kit_box
+
             self._play_button = widgets.Button(description='Play', icon='play',
                                                button_style='success')
             self._stop_button = widgets.Button(description='Stop', icon='stop')
@@ -303,7 +307,7 @@ class BagPlayer:
             self._status = widgets.HTML()
             header = widgets.HTML(
                 f'<b>bag play</b> <code>{html.escape(str(self.bag))}</code>')
-            self._widget = widgets.VBox([
+            self._widget = kit_box([
                 header,
                 widgets.HBox([self._play_button, self._stop_button, self._rate_box]),
                 self._progress, self._status, self.log.widget,

@@ -81,6 +81,7 @@ class Console:
         self.records: deque[LogRecord] = deque(maxlen=max_records)
         self.log = WidgetLog(max_lines=300, render=_render, hide_empty=False)
         self._lock = threading.Lock()
+        self._options_lock = threading.Lock()
         self._closed = threading.Event()
         self._widget: Any = None
         self._subscription: Any = None
@@ -189,43 +190,55 @@ class Console:
         self.log.clear()
 
     # -- the widget ------------------------------------------------------------------------
+    # Both stay None until the widget is whole: /rosout callbacks run on the session's
+    # threads and may arrive while it is being built (they then skip the node list).
     _node_options: list[str] | None = None
+    _node_box: Any = None
 
     @property
     def widget(self) -> Any:
         if self._widget is None:
             import ipywidgets as widgets
 
-            self._level_box = widgets.Dropdown(
+            from robot_lab.widgets.canvas import kit_box
+
+            level_box = widgets.Dropdown(
                 options=list(LEVELS), value=_NAMES.get(self.level, 'DEBUG'),
                 description='level ≥', layout=widgets.Layout(width='14em'),
                 style={'description_width': '4em'})
-            self._node_options = []
-            self._node_box = widgets.Dropdown(options=[_ALL], value=_ALL, description='node',
-                                              layout=widgets.Layout(width='20em'),
-                                              style={'description_width': '3em'})
-            self._refresh_node_options()
+            node_box = widgets.Dropdown(options=[_ALL], value=_ALL, description='node',
+                                        layout=widgets.Layout(width='20em'),
+                                        style={'description_width': '3em'})
             clear = widgets.Button(description='Clear', icon='eraser',
                                    layout=widgets.Layout(width='7em'))
-            self._level_box.observe(lambda c: self.set_filter(level=c['new']), names='value')
-            self._node_box.observe(
+            level_box.observe(lambda c: self.set_filter(level=c['new']), names='value')
+            node_box.observe(
                 lambda c: self.set_filter(node=None if c['new'] == _ALL else c['new']),
                 names='value')
             clear.on_click(lambda _b: self.clear())
-            self._widget = widgets.VBox([
-                widgets.HBox([self._level_box, self._node_box, clear]), self.log.widget])
+            view = kit_box([widgets.HBox([level_box, node_box, clear]), self.log.widget])
+            self._level_box = level_box
+            with self._lock:
+                self._node_box = node_box
+                self._node_options = []
+            self._widget = view
+            self._refresh_node_options()
         return self._widget
 
     def _refresh_node_options(self) -> None:
-        with self._lock:
-            nodes = sorted({r.node for r in self.records})
-        self._node_options = nodes
-        current = self.node or _ALL
-        options = [_ALL, *nodes]
-        if current not in options:
-            options.append(current)
-        self._node_box.options = options
-        self._node_box.value = current
+        with self._options_lock:
+            box = self._node_box
+            if box is None:
+                return
+            with self._lock:
+                nodes = sorted({r.node for r in self.records})
+                self._node_options = nodes
+            current = self.node or _ALL
+            options = [_ALL, *nodes]
+            if current not in options:
+                options.append(current)
+            box.options = options
+            box.value = current
 
     def _ipython_display_(self) -> None:
         from IPython.display import HTML, display

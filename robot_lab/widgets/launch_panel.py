@@ -101,6 +101,8 @@ class LaunchPanel:
         if self._widget is None:
             import ipywidgets as widgets
 
+            from robot_lab.widgets.canvas import kit_box
+
             self._start_button = widgets.Button(description='Start', icon='play',
                                                 button_style='success')
             self._stop_button = widgets.Button(description='Stop', icon='stop',
@@ -111,7 +113,7 @@ class LaunchPanel:
             self._output = widgets.Box(
                 [self.console.widget] if self.console is not None else [])
             header = widgets.HTML(f'<b>launch</b> <code>{html.escape(self.title)}</code>')
-            self._widget = widgets.VBox([
+            self._widget = kit_box([
                 header, widgets.HBox([self._start_button, self._stop_button]),
                 self._status, self._output, self.log.widget])
             self.refresh()

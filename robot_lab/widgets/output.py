@@ -15,13 +15,14 @@ import sys
 import threading
 import time
 import traceback
+import weakref
 from collections import deque
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import IO, Any, ParamSpec, Protocol, TypeVar
 
-__all__ = ['WidgetLog', 'current_cell', 'in_ci', 'is_headless', 'owned_by_cell', 'routed_to',
-           'scroll_box']
+__all__ = ['WidgetLog', 'close_widgets', 'current_cell', 'in_ci', 'is_headless', 'owned_by_cell',
+           'routed_to', 'scroll_box']
 
 P = ParamSpec('P')
 R = TypeVar('R')
@@ -81,6 +82,23 @@ class Closable(Protocol):
 
 _CELL_RUNS: dict[str, tuple[str, list[Closable]]] = {}
 _CELL_LOCK = threading.Lock()
+_OPEN: weakref.WeakSet[Any] = weakref.WeakSet()
+
+
+def close_widgets() -> int:
+    """Close every live widget this kernel made (plots, sliders, consoles, views).
+
+    For a lesson's stop cell: unlike `live.close()`, it cannot fail on a name the student
+    never (re)created, so the `shutdown()` after it always runs. Returns how many closed.
+    """
+    widgets = list(_OPEN)
+    _OPEN.clear()
+    for widget in widgets:
+        try:
+            widget.close()
+        except Exception as err:  # one widget's failure must not keep the rest open
+            print(f'could not close {widget!r}: {err}', file=sys.stderr)
+    return len(widgets)
 
 
 def owned_by_cell(widget: Closable) -> None:
@@ -90,6 +108,7 @@ def owned_by_cell(widget: Closable) -> None:
     20 frames a second, and subscribed, for the rest of the kernel's life (its view is gone
     from the page, so nobody could press a button to stop it).
     """
+    _OPEN.add(widget)
     where = current_cell()
     if where is None:
         return

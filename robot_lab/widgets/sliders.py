@@ -30,6 +30,16 @@ class SetResult(NamedTuple):
     successful: bool
     reason: str
 
+    def __repr__(self) -> str:
+        # The last line of a cell: say what happened, not SetResult(successful=False, ...).
+        return '✓ set' if self.successful else f'✗ refused: {self.reason or "(no reason given)"}'
+
+    def _repr_html_(self) -> str:
+        if self.successful:
+            return '<span style="color:#1a7f37">✓ set</span>'
+        return (f'<span style="color:#cf222e">✗ refused: '
+                f'{html.escape(self.reason or "(no reason given)")}</span>')
+
 
 @dataclass
 class _Control:
@@ -178,8 +188,10 @@ class Sliders:
                 # than squeezing the slider's track to nothing.
                 rows.append(widgets.HBox([control.widget, control.status],
                                          layout=widgets.Layout(flex_flow='row wrap')))
-            rows.append(self.log.widget)
-            self._widget = widgets.VBox(rows)
+            from robot_lab.widgets.canvas import kit_box
+
+            # greyed out and labelled when the kernel restarts; a drag leaves no focus
+            self._widget = kit_box([*rows, self.log.widget])
         return self._widget
 
     def _make_control(self, control: _Control, value: Any) -> Any:
