@@ -1,112 +1,175 @@
-"""Widget speed: plot redraws per second, what drawing costs the kernel, slider round trips.
+"""Widget speed in a real JupyterLab and Chromium: what a live plot costs the kernel.
 
-Runs a real sensor (50 Hz) and controller in their own processes, then measures in this
-process (as a kernel would run them):
-- render: one frame of a two-topic plot (blitted lines + PNG), ms;
-- live: redraws/s the plot's own thread achieves when asked for 20 and for 60;
-- kernel: how late a 10 ms sleep on the main thread wakes up, without and with a live plot
-  drawing at 15 fps (the kernel's responsiveness while the plot runs);
-- slider: one `Sliders.set()` round trip through the node's set_parameters service, ms.
-Each number is the median of several runs. Usage: python bench/bench_widgets.py [--runs N]
+Runs a real sensor (sensor_rate 20) and controller (control_rate 20): two topics at
+20 messages/s. Opens JupyterLab on loopback in headless Chromium (Debian's chromium, never
+a downloaded browser) and, one kernel per variant, shows a live plot of
+`/sensor/temperature` and `/cmd_vel/linear/x`, then measures over `--seconds`:
+
+- the kernel process's CPU (all its threads, % of one core), median of `--runs`;
+- the frame rate the browser draws the plot at (frames counted in the page).
+
+Variants: `session` (the kernel's ROS session, nothing subscribed), `subscribed` (the
+plot's subscriptions, nothing shown: the floor), `anywidget` (the kit's plot: new samples
+sent 20 times a second, an inline canvas script draws) and `bqplot` (the same samples, the
+window's arrays re-sent to bqplot Lines 20 times a second).
+Round 1's PNG frames measured ≈ 19 % of a core at 20 frames/s.
+
+Usage: python bench/bench_widgets.py [--runs N] [--seconds S] [--domain-id D]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import statistics
 import sys
+import tempfile
 import time
 from pathlib import Path
 
-os.environ.setdefault('ROS_DOMAIN_ID', '95')
-os.environ['ROBOT_LAB_HEADLESS'] = '1'
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO / 'tests' / 'browser'))
+
+import browser_lab  # noqa: E402
+
+SETUP = ('import os, robot_lab\nfrom robot_lab.grading import setup\nsetup("00_bench")\n'
+         'print("pid", os.getpid())')
+PATHS = "'/sensor/temperature', '/cmd_vel/linear/x'"
+VARIANTS = {
+    'session': 'robot_lab.session()',
+    'subscribed': f'p = robot_lab.plot({PATHS}, timeout=20)\np.wait_for_samples(5, 20)',
+    'anywidget': f'p = robot_lab.plot({PATHS}, timeout=20)\np',
+    'bqplot': f"""import threading, time, bqplot
+p = robot_lab.plot({PATHS}, timeout=20)
+xs, ys = bqplot.LinearScale(), bqplot.LinearScale()
+lines = [bqplot.Lines(x=[0.0], y=[0.0], scales={{'x': xs, 'y': ys}}) for _ in range(2)]
+fig = bqplot.Figure(marks=lines, axes=[bqplot.Axis(scale=xs), bqplot.Axis(
+    scale=ys, orientation='vertical')], animation_duration=0)
+def feed():
+    while True:
+        now = time.monotonic() - p.t0
+        for line, samples in zip(lines, p.data.values()):
+            window = [(t - now, v) for t, v in samples if t >= now - 10]
+            with line.hold_sync():
+                line.x, line.y = [w[0] for w in window], [w[1] for w in window]
+        time.sleep(0.05)
+threading.Thread(target=feed, daemon=True).start()
+fig""",
+}
+# What shows that each variant is on screen, and how its frames are counted in the page.
+RENDERED = {'session': None, 'subscribed': None, 'anywidget': '.rl-chart', 'bqplot': '.bqplot'}
+COUNT_SVG_FRAMES = """(root, ms) => new Promise(done => {
+    let n = 0, last = -1;
+    const seen = new MutationObserver(() => { n += 1; });
+    seen.observe(root, {attributes: true, subtree: true, attributeFilter: ['d']});
+    setTimeout(() => { seen.disconnect(); done(n / 2); }, ms);  // two lines per frame
+})"""
 
 
-def _start_nodes() -> list[object]:
-    from robot_lab.env import ros_environment
-    from robot_lab.process import spawn
-
-    cli = str(Path(sys.executable).parent / 'robot-lab')
-    env = ros_environment()
-    return [
-        spawn([cli, 'run', 'robot_lab', 'sensor_node', '--ros-args', '-r', '__node:=sensor',
-               '-p', 'sensor_rate:=50'], env=env),
-        spawn([cli, 'run', 'robot_lab', 'controller_node', '--ros-args',
-               '-r', '__node:=controller'], env=env),
-    ]
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
 
 
-def _late_wakeups(seconds: float) -> float:
-    """Median lateness (ms) of 10 ms sleeps on this thread over `seconds`."""
-    late = []
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        before = time.monotonic()
-        time.sleep(0.010)
-        late.append((time.monotonic() - before - 0.010) * 1000)
-    return statistics.median(late)
+def notebook(path: Path, cells: list[str]) -> None:
+    import json
+
+    path.write_text(json.dumps({
+        'cells': [{'cell_type': 'code', 'metadata': {}, 'source': s, 'outputs': [],
+                   'execution_count': None} for s in cells],
+        'metadata': {'kernelspec': {'name': 'robot_lab', 'language': 'python',
+                                    'display_name': 'robot_lab (ROS 2 Jazzy)'}},
+        'nbformat': 4, 'nbformat_minor': 5}))
+
+
+def measure(browser: object, lab: browser_lab.Lab, variant: str,
+            seconds: float) -> tuple[float, float]:
+    """(kernel CPU % of a core, browser frames/s) for one variant, in a fresh kernel."""
+    page = browser.new_page(viewport={'width': 1200, 'height': 900})  # type: ignore[attr-defined]
+    try:
+        nb = browser_lab.Notebook(page, lab, f'{variant}.ipynb')
+        nb.run(0)
+        pid = int(re.search(r'pid (\d+)', nb.text(0)).group(1))  # type: ignore[union-attr]
+        nb.run(1)
+        errors = nb.errors()
+        if errors:
+            raise SystemExit(f'{variant}: {errors}')
+        selector = RENDERED[variant]
+        root = None
+        if selector:
+            root = nb.output(1).locator(selector).first
+            root.wait_for(timeout=30_000)
+            root.scroll_into_view_if_needed()
+        time.sleep(2.0)  # let the first view settle before the measured span
+        start_cpu, start = cpu_seconds(pid), time.monotonic()
+        if variant == 'anywidget':
+            first = browser_lab.frames(root)
+            time.sleep(seconds)
+            fps = (browser_lab.frames(root) - first) / seconds
+        elif variant == 'bqplot':
+            fps = float(root.evaluate(COUNT_SVG_FRAMES, seconds * 1000)) / seconds
+        else:
+            time.sleep(seconds)
+            fps = 0.0
+        cpu = 100.0 * (cpu_seconds(pid) - start_cpu) / (time.monotonic() - start)
+        return cpu, fps
+    finally:
+        page.close()
+        lab.shutdown_kernels()
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--runs', type=int, default=5)
-    runs = parser.parse_args().runs
+    parser.add_argument('--runs', type=int, default=3)
+    parser.add_argument('--seconds', type=float, default=10.0)
+    parser.add_argument('--domain-id', type=int, default=95)
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
 
-    from robot_lab.process import stop
-    from robot_lab.widgets.plot import Plot
-    from robot_lab.widgets.sliders import Sliders
+    from robot_lab.env import ros_environment
+    from robot_lab.process import spawn, stop
 
-    procs = _start_nodes()
+    exe = browser_lab.chromium()
+    if exe is None:
+        raise SystemExit('no chromium: apt-get install -y chromium')
+    os.environ['ROS_DOMAIN_ID'] = str(args.domain_id)
+    cli = str(Path(sys.executable).parent / 'robot-lab')
+    env = ros_environment()
+    procs = [
+        spawn([cli, 'run', 'robot_lab', 'sensor_node', '--ros-args', '-r', '__node:=sensor',
+               '-p', 'sensor_rate:=20'], env=env),
+        spawn([cli, 'run', 'robot_lab', 'controller_node', '--ros-args',
+               '-r', '__node:=controller', '-p', 'control_rate:=20'], env=env),
+    ]
+    scratch = Path(tempfile.mkdtemp(prefix='robot_lab-bench-'))
+    root = scratch / 'course'
+    root.mkdir()
+    for variant, code in VARIANTS.items():
+        notebook(root / f'{variant}.ipynb', [SETUP, code])
+    lab_env = browser_lab.lab_environment(scratch, args.domain_id)
+    results: dict[str, list[tuple[float, float]]] = {v: [] for v in VARIANTS}
     try:
-        plot = Plot('/sensor/temperature', '/cmd_vel/linear/x', window=10.0, timeout=20.0)
-        plot.wait_for_samples(50, timeout=20.0)
-        plot.render_png()  # the first frame builds the figure
-        frames = []
-        for _ in range(runs * 20):
-            t = time.perf_counter()
-            plot.render_png()
-            frames.append((time.perf_counter() - t) * 1000)
-        frame = statistics.median(frames)
-        print(f'render: {frame:.1f} ms per frame (median of {len(frames)}; '
-              f'{1000 / frame:.0f} frames/s possible)')
-        plot.close()
-
-        for fps in (20.0, 60.0):
-            rates = []
-            for _ in range(runs):
-                live = Plot('/sensor/temperature', '/cmd_vel/linear/x', window=10.0, fps=fps)
-                live.start()
-                start_count, t = live.redraws, time.monotonic()
-                time.sleep(2.0)
-                rates.append((live.redraws - start_count) / (time.monotonic() - t))
-                live.close()
-            print(f'live plot asked for {fps:.0f} fps: {statistics.median(rates):.1f} redraws/s '
-                  f'(median of {runs} runs of 2 s)')
-
-        idle = statistics.median(_late_wakeups(1.0) for _ in range(runs))
-        busy = []
-        for _ in range(runs):
-            live = Plot('/sensor/temperature', '/cmd_vel/linear/x', window=10.0, fps=15.0)
-            live.start()
-            busy.append(_late_wakeups(1.0))
-            live.close()
-        print(f'kernel: a 10 ms sleep wakes {idle:.2f} ms late idle, '
-              f'{statistics.median(busy):.2f} ms late while a plot draws at 15 fps')
-
-        sliders = Sliders('/sensor', timeout=20.0)
-        trips = []
-        for i in range(runs * 10):
-            t = time.perf_counter()
-            result = sliders.set('noise_level', 0.1 + (i % 2) * 0.1)
-            trips.append((time.perf_counter() - t) * 1000)
-            assert result.successful, result
-        print(f'slider: set() round trip {statistics.median(trips):.1f} ms '
-              f'(median of {len(trips)})')
-        sliders.close()
+        with browser_lab.jupyter_lab(root, lab_env) as lab, sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=exe, args=browser_lab.CHROMIUM_ARGS)
+            for _ in range(args.runs):
+                for variant in VARIANTS:
+                    results[variant].append(measure(browser, lab, variant, args.seconds))
+            browser.close()
     finally:
         for proc in procs:
-            stop(proc)  # type: ignore[arg-type]
+            stop(proc)
+    print(f'two topics at 20 messages/s, {args.seconds:g} s spans, median of {args.runs} runs')
+    print('variant      kernel CPU (% of a core)   browser frames/s')
+    for variant, runs in results.items():
+        cpu = statistics.median(r[0] for r in runs)
+        fps = statistics.median(r[1] for r in runs)
+        print(f'{variant:<12} {cpu:>10.1f}                 {fps:>8.1f}')
+    kit = results['anywidget']
+    print(f'live plot kernel CPU: {statistics.median(r[0] for r in kit):.1f} % of a core '
+          f"(the plot's subscriptions alone: "
+          f'{statistics.median(r[0] for r in results["subscribed"]):.1f} %)')
+    print(f'live plot browser frame rate: {statistics.median(r[1] for r in kit):.1f} frames/s')
 
 
 if __name__ == '__main__':

@@ -1,0 +1,274 @@
+"""JupyterLab in a real headless Chromium: the server, the page, and what a student sees.
+
+One JupyterLab per test session, on 127.0.0.1 with a token, over a scratch copy of the
+course (notebooks and exercises, their committed outputs cleared), kernels not headless,
+so the widgets draw live. Debian's chromium through Playwright's `executable_path`: a
+browser is never downloaded. Also used by `bench/bench_widgets.py --browser`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import time
+import urllib.request
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parents[2]
+VENV_BIN = REPO / '.venv' / 'bin'
+CHROMIUM_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+                 '--disable-background-networking', '--disable-component-update',
+                 '--disable-sync', '--disable-dev-shm-usage']
+# JupyterLab's news pop-up would cover the lower right corner of every screenshot.
+LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'false'}}
+ERROR_MIME = 'application/vnd.jupyter.error'
+
+
+def chromium() -> str | None:
+    """Debian's chromium, or $ROBOT_LAB_CHROMIUM; None when neither is installed."""
+    for candidate in (os.environ.get('ROBOT_LAB_CHROMIUM'), shutil.which('chromium'),
+                      '/usr/bin/chromium'):
+        if candidate and os.access(candidate, os.X_OK):
+            return candidate
+    return None
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        return int(sock.getsockname()[1])
+
+
+def clear_outputs(path: Path) -> None:
+    """Drop a copy's committed outputs: what the page shows is then this run's."""
+    notebook = json.loads(path.read_text())
+    for cell in notebook['cells']:
+        if cell['cell_type'] == 'code':
+            cell['outputs'] = []
+            cell['execution_count'] = None
+    notebook.get('metadata', {}).pop('widgets', None)
+    path.write_text(json.dumps(notebook, indent=1))
+
+
+def lab_environment(scratch: Path, domain_base: int) -> dict[str, str]:
+    """The kernels' environment: live widgets, lesson domains from `domain_base`."""
+    env = {k: v for k, v in os.environ.items() if k not in {
+        'ROBOT_LAB_TEST_DOMAIN_BASE', 'ROBOT_LAB_HEADLESS', 'CI', 'ROS_DOMAIN_ID',
+        'PYTEST_CURRENT_TEST', 'JUPYTER_PLATFORM_DIRS'}}
+    env.update(ROBOT_LAB_HEADLESS='0', ROBOT_LAB_NOTEBOOK_DOMAIN_BASE=str(domain_base),
+               ROBOT_LAB_WORKSPACE=str(scratch / 'robot_lab_ws'),
+               ROS_AUTOMATIC_DISCOVERY_RANGE=env.get('ROS_AUTOMATIC_DISCOVERY_RANGE',
+                                                     'LOCALHOST'),
+               PATH=os.pathsep.join([str(VENV_BIN), env.get('PATH', '')]))
+    return env
+
+
+class Lab:
+    """A running JupyterLab: its base URL, token and the folder it serves."""
+
+    def __init__(self, base: str, token: str, root: Path, log: Path) -> None:
+        self.base = base
+        self.token = token
+        self.root = root
+        self.log = log
+
+    def api(self, path: str, method: str = 'GET') -> Any:
+        request = urllib.request.Request(f'{self.base}{path}', method=method,
+                                         headers={'Authorization': f'token {self.token}'})
+        body = urllib.request.urlopen(request, timeout=10).read()
+        return json.loads(body) if body else None
+
+    def shutdown_kernels(self) -> None:
+        """Shut every kernel down: the nodes a kernel launched die with it."""
+        for kernel in self.api('/api/kernels'):
+            with suppress(OSError):
+                self.api(f'/api/kernels/{kernel["id"]}', method='DELETE')
+
+    def url(self, path: str, workspace: str) -> str:
+        # A workspace of its own per notebook: JupyterLab restores no other tab (or kernel).
+        return f'{self.base}/lab/workspaces/{workspace}/tree/{path}?token={self.token}'
+
+
+@contextmanager
+def jupyter_lab(root: Path, env: dict[str, str]) -> Iterator[Lab]:
+    """JupyterLab on 127.0.0.1 over `root`; stopped with its kernels at the end."""
+    settings = root.parent / 'lab-settings'
+    for plugin, values in LAB_SETTINGS.items():
+        file = settings / f'{plugin}.jupyterlab-settings'
+        file.parent.mkdir(parents=True, exist_ok=True)
+        file.write_text(json.dumps(values))
+    port = free_port()
+    token = os.urandom(16).hex()
+    log_path = root.parent / 'lab.log'
+    with log_path.open('w') as log:
+        lab = subprocess.Popen(
+            [str(VENV_BIN / 'jupyter'), 'lab', '--allow-root', '--no-browser',
+             '--ip', '127.0.0.1', '--port', str(port), '--ServerApp.port_retries=0',
+             f'--ServerApp.root_dir={root}', f'--IdentityProvider.token={token}'],
+            env={**env, 'JUPYTER_RUNTIME_DIR': str(root.parent / 'runtime'),
+                 'JUPYTERLAB_WORKSPACES_DIR': str(root.parent / 'lab-workspaces'),
+                 'JUPYTERLAB_SETTINGS_DIR': str(settings)},
+            stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+        running = Lab(f'http://127.0.0.1:{port}', token, root, log_path)
+        try:
+            deadline = time.monotonic() + 90
+            while True:
+                try:
+                    running.api('/api/status')
+                    break
+                except OSError:
+                    if lab.poll() is not None or time.monotonic() > deadline:
+                        raise RuntimeError(f'JupyterLab did not start; see {log_path}') \
+                            from None
+                    time.sleep(0.2)  # polling the server's own readiness answer
+            yield running
+        finally:
+            with suppress(OSError):
+                running.shutdown_kernels()
+            lab.send_signal(signal.SIGTERM)
+            try:
+                lab.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                os.killpg(lab.pid, signal.SIGKILL)
+                lab.wait()
+
+
+def wait_until(predicate: Any, timeout: float, step: float = 0.05) -> bool:
+    """Poll the page's state (the browser has no event we can block on from here)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        if predicate():
+            return True
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(step)
+
+
+class Notebook:
+    """One notebook open in JupyterLab; cells addressed by their index in the page."""
+
+    def __init__(self, page: Any, lab: Lab, path: str) -> None:
+        self.page = page
+        self.lab = lab
+        self.path = path
+        page.goto(lab.url(path, re.sub(r'\W', '', path)))
+        page.wait_for_selector('.jp-Notebook .jp-Cell', timeout=90_000)
+        self.cells = page.locator('.jp-NotebookPanel:visible .jp-Notebook .jp-Cell')
+        self.wait_idle()
+
+    def wait_idle(self, timeout: float = 120.0) -> None:
+        """Until the status bar says the kernel is idle (keys pressed before are lost)."""
+        bar = self.page.locator('.jp-StatusBar-Widget')
+        if not wait_until(lambda: any('| Idle' in t for t in bar.all_inner_texts()), timeout,
+                          0.1):
+            raise AssertionError(f'{self.path}: the kernel never became idle')
+
+    def count(self) -> int:
+        return int(self.cells.count())
+
+    def cell(self, index: int) -> Any:
+        return self.cells.nth(index)
+
+    def is_code(self, index: int) -> bool:
+        return 'jp-CodeCell' in (self.cell(index).get_attribute('class') or '')
+
+    def source(self, index: int) -> str:
+        return str(self.cell(index).locator('.jp-InputArea-editor').text_content() or '')
+
+    def select(self, index: int) -> None:
+        cell = self.cell(index)
+        for _ in range(20):
+            cell.scroll_into_view_if_needed()
+            cell.locator('.jp-InputPrompt, .jp-InputArea-prompt').first.click()
+            if 'jp-mod-active' in (cell.get_attribute('class') or ''):
+                return
+        raise AssertionError(f'{self.path}: could not select cell {index}')
+
+    def run(self, index: int, timeout: float = 180.0) -> None:
+        """Run one cell as a student does (select it, Shift+Enter) and wait for it."""
+        self.select(index)
+        self.page.keyboard.press('Escape')  # command mode: Shift+Enter runs, never types
+        self.page.keyboard.press('Shift+Enter')
+        if not self.is_code(index):
+            return
+        prompt = self.cell(index).locator('.jp-InputPrompt')
+        if not wait_until(lambda: re.search(r'\[\d+\]', prompt.inner_text() or '') is not None,
+                          timeout):
+            raise AssertionError(f'{self.path}: cell {index} still running after {timeout:g} s'
+                                 f':\n{self.source(index)[:300]}')
+
+    def run_all(self, timeout: float = 300.0) -> None:
+        """Run ▸ Run All Cells from the menu bar, then wait until every code cell ran."""
+        self.page.locator('.lm-MenuBar-itemLabel:text-is("Run")').click()
+        self.page.locator('.lm-Menu-itemLabel:text-is("Run All Cells")').click()
+        prompts = self.page.locator('.jp-NotebookPanel:visible .jp-CodeCell .jp-InputPrompt')
+
+        def done() -> bool:
+            texts = prompts.all_text_contents()
+            return bool(texts) and all(re.search(r'\[\d+\]', t) for t in texts)
+
+        def stopped() -> bool:  # an error stops Run All: the rest never gets a number
+            return self.errors() != [] and not any('[*]' in t
+                                                   for t in prompts.all_text_contents())
+
+        wait_until(lambda: done() or stopped(), timeout, 0.25)
+
+    def output(self, index: int) -> Any:
+        return self.cell(index).locator('.jp-Cell-outputArea')
+
+    def text(self, index: int) -> str:
+        # textContent, not innerText: JupyterLab skips laying out cells scrolled out of
+        # view (content-visibility), and their innerText is empty.
+        return str(self.output(index).text_content() or '')
+
+    def errors(self) -> list[str]:
+        """Tracebacks and widgets that failed to display, anywhere in the notebook."""
+        scope = self.page.locator('.jp-NotebookPanel:visible')
+        found = [str(e.text_content())[:600] for e in scope.locator(
+            f'.jp-OutputArea-output[data-mime-type="{ERROR_MIME}"]').all()]
+        found += [str(e.text_content())[:300] for e in scope.locator(
+            '.jupyter-widgets:has-text("Error displaying widget")').all()]
+        return found
+
+    def unrun(self) -> list[int]:
+        """Code cells that never ran (Run All stopped before them)."""
+        return [i for i in range(self.count()) if self.is_code(i)
+                and not re.search(r'\[\d+\]', self.cell(i).locator('.jp-InputPrompt')
+                                  .inner_text() or '')]
+
+    def shot(self, locator: Any, path: Path) -> None:
+        locator.scroll_into_view_if_needed()
+        locator.screenshot(path=str(path))
+
+
+def frames(root: Any) -> int:
+    """How many frames a browser-drawn robot_lab widget has drawn (its data-frames)."""
+    return int(root.get_attribute('data-frames') or 0)
+
+
+def param_get(node: str, name: str, domain: int) -> str:
+    """What `robot-lab param get` prints, in the notebook's domain."""
+    env = {**os.environ, 'ROS_DOMAIN_ID': str(domain)}
+    done = subprocess.run([str(VENV_BIN / 'robot-lab'), 'param', 'get', node, name], env=env,
+                          capture_output=True, text=True, timeout=30)
+    return (done.stdout + done.stderr).strip()
+
+
+def drag(page: Any, row: Any, fraction: float) -> None:
+    """Drag a slider's handle with the mouse to `fraction` of its track."""
+    row.scroll_into_view_if_needed()
+    track = row.locator('.noUi-base').bounding_box()
+    handle = row.locator('.noUi-handle').bounding_box()
+    page.mouse.move(handle['x'] + handle['width'] / 2, handle['y'] + handle['height'] / 2)
+    page.mouse.down()
+    page.mouse.move(track['x'] + fraction * track['width'], track['y'] + track['height'] / 2,
+                    steps=12)
+    page.mouse.up()
