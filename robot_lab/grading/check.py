@@ -20,16 +20,19 @@ from robot_lab.errors import RobotLabError
 
 __all__ = [
     'CheckError',
+    'answered',
     'bag_contains',
     'eventually',
     'files_exist',
     'logs_contain',
     'no_errors',
+    'node_starts',
     'nodes_running',
     'package_built',
     'param_equals',
     'param_file_accepted',
     'plot_shows',
+    'setup_py',
     'topic_publishes',
     'topic_rate',
     'topics_exist',
@@ -67,8 +70,26 @@ def eventually(condition: Callable[[], Any], what: str, timeout: float = 5.0,
     _ok(what)
 
 
-def nodes_running(names: Iterable[str], timeout: float = 10.0) -> None:
-    """These nodes are in the graph (`ros2 node list` shows them)."""
+def _deaths(launch: Any) -> list[str]:
+    """`label exited 1: <its last output line>` for each process of `launch` that stopped."""
+    notes = []
+    lines = list(launch.logs()) if launch is not None else []
+    for proc in getattr(launch, 'processes', []):
+        if proc.state == 'running':
+            continue
+        own = [line[len(proc.label) + 3:] for line in lines
+               if line.startswith(f'[{proc.label}] ')]
+        last = own[-1].strip() if own else 'no output'
+        notes.append(f'{proc.label} stopped (exit code {proc.exit_code}): {last}')
+    return notes
+
+
+def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = None) -> None:
+    """These nodes are in the graph (`ros2 node list` shows them).
+
+    Given the `launch` that started them, a failure also says which of its processes
+    stopped and the last line each printed (a node that refused a parameter says why).
+    """
     from robot_lab.graph.api import node_list, wait_for_nodes
 
     wanted = sorted('/' + n.lstrip('/') for n in names)
@@ -77,9 +98,12 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0) -> None:
     except RobotLabError:
         present = node_list(settle=False)
         missing = [n for n in wanted if n not in present]
+        deaths = _deaths(launch)
         raise CheckError(
             f'nodes {", ".join(wanted)} running',
-            f'missing {", ".join(missing)} (running now: {", ".join(present) or "none"})',
+            f'missing {", ".join(missing)} (running now: {", ".join(present) or "none"})'
+            + ''.join(f'; {d}' for d in deaths),
+            'read why it stopped: the last line above names the cause' if deaths else
             'start them (the launch cell above) and look at their output for errors',
         ) from None
     _ok(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
@@ -188,11 +212,22 @@ def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> None
         return _same(got[-1], value)
 
     if not _wait(_probe, timeout, interval=0.2):
+        from robot_lab.graph.api import node_list
+
         last = got[-1] if got else None
+        if isinstance(last, RobotLabError) and full not in node_list(settle=False):
+            raise CheckError(f'{full} {name} = {value!r}', f'{full} is not running',
+                             'start it, and read its output: a node that refuses a value '
+                             'from the parameter file stops at start and says why')
         seen = last.message if isinstance(last, RobotLabError) else f'it is {last!r}'
-        raise CheckError(f'{full} {name} = {value!r}', seen,
-                          'set it (param set, a slider, or the parameter file) and check '
-                          'the node accepted it')
+        hint = 'set it (param set, a slider, or the parameter file) and check the node ' \
+            'accepted it'
+        if isinstance(last, int | float) and not isinstance(last, bool) and \
+                isinstance(value, float) != isinstance(last, float):
+            hint = (f'the node holds {type(last).__name__} {last!r}, the check expects '
+                    f'{type(value).__name__} {value!r}: in YAML `22` is an integer and '
+                    '`22.0` a double')
+        raise CheckError(f'{full} {name} = {value!r}', seen, hint)
     _ok(f'{full} {name} = {value!r}')
 
 
@@ -314,3 +349,302 @@ def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> None:
             'the bag has ' + ', '.join(f'{c} on {t}' for t, c in short.items()),
             'record while the nodes run, for a few seconds')
     _ok('the bag holds ' + ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()))
+
+
+# --- the student's own files -------------------------------------------------------------
+
+# What nbgrader's ClearSolutions leaves where an answer was (`robot-lab course release`).
+_PLACEHOLDERS = ('YOUR CODE HERE', 'raise NotImplementedError')
+
+
+def answered(path: str | Path, what: str,
+             hint: str = 'replace the placeholder lines of your answer cell with your code, '
+                         'then run that cell again') -> None:
+    """`path` holds the student's `what`, not the placeholder a released copy starts with."""
+    file = Path(path)
+    if not file.is_file():
+        raise CheckError(f'{what} in {file.name}', f'there is no {file.name} yet',
+                         'run your answer cell above: it writes the file')
+    for number, line in enumerate(file.read_text(errors='replace').splitlines(), 1):
+        if any(mark in line for mark in _PLACEHOLDERS):
+            raise CheckError(f'{what} in {file.name}',
+                             f'line {number} still holds the placeholder `{line.strip()}`', hint)
+    _ok(f'{file.name} holds {what}')
+
+
+def node_starts(module: str, cls: str, package: str = 'my_robot_system',
+                hint: str = 'read the line named above in your answer cell, fix it, run the '
+                            'cell and then this check again') -> Any:
+    """The student's node class imports afresh, constructs, and spins in the kernel's session.
+
+    The module is reloaded, so an edited and re-run `%%writefile` cell counts without a
+    kernel restart. Returns the node (stop it with `session.remove_node` + `destroy_node`).
+    """
+    import importlib
+    import sys
+    import traceback
+
+    from robot_lab.context import session
+
+    name = f'{package}.{module}'
+    what = f'{cls}() from {module}.py to start'
+    session()  # the context the node joins
+    try:
+        importlib.invalidate_caches()
+        loaded = importlib.reload(sys.modules[name]) if name in sys.modules \
+            else importlib.import_module(name)
+        node = getattr(loaded, cls)()
+    except Exception as err:
+        frames = traceback.extract_tb(err.__traceback__)
+        where = next((f'{Path(f.filename).name} line {f.lineno}' for f in reversed(frames)
+                      if f.filename.endswith(f'{module}.py')), name)
+        text = f'{type(err).__name__}' + (f': {err}' if str(err) else '')
+        if isinstance(err, NotImplementedError):
+            text += ' (the placeholder is still there)'
+        raise CheckError(what, f'{text} at {where}', hint) from None
+    session().add_node(node)
+    _ok(f'{cls} runs as node /{node.get_name()}')
+    return node
+
+
+def _console_scripts(setup_py: Path) -> list[str]:
+    import ast
+
+    tree = ast.parse(setup_py.read_text(errors='replace'), filename=setup_py.name)
+    found: list[str] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Dict):
+            for key, value in zip(node.keys, node.values, strict=True):
+                if isinstance(key, ast.Constant) and key.value == 'console_scripts' \
+                        and isinstance(value, ast.List | ast.Tuple):
+                    found += [' '.join(e.value.split()) for e in value.elts
+                              if isinstance(e, ast.Constant) and isinstance(e.value, str)]
+    return found
+
+
+def setup_py(pkg: str | Path, executables: Mapping[str, str],
+             installs: Mapping[str, str] | None = None) -> None:
+    """setup.py declares `executables` (name -> 'module:function') and installs `installs`.
+
+    `installs` maps a folder to a file it will hold (e.g. 'launch': 'robot.launch.xml');
+    the kit's package checker reads setup.py on a scratch copy that has those files, so
+    data_files are checked before the files exist. Console scripts whose module is not
+    written yet are not findings here (notebook 02 writes the modules).
+    """
+    import shutil
+    import tempfile
+
+    from robot_lab.pkg.doctor import check_package
+
+    folder = Path(pkg)
+    source = folder / 'setup.py'
+    try:
+        declared = _console_scripts(source)
+    except (OSError, SyntaxError) as err:
+        line = getattr(err, 'lineno', None)
+        raise CheckError('a setup.py Python can read',
+                         f'{type(err).__name__}: {err}' + (f' (line {line})' if line else ''),
+                         'fix the line named; a placeholder left in a list is a syntax error'
+                         ) from None
+    want = [f'{name} = {target}' for name, target in executables.items()]
+    missing = [w for w in want if w not in declared]
+    if missing:
+        raise CheckError(f'console_scripts {", ".join(repr(w) for w in want)}',
+                         f'setup.py declares {", ".join(repr(d) for d in declared) or "none"}',
+                         "add one 'name = my_robot_system.module:main' string per node to "
+                         "entry_points={'console_scripts': [...]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        probe = Path(tmp) / folder.resolve().name
+        probe.mkdir()
+        for name in ('package.xml', 'setup.py', 'setup.cfg'):
+            if (folder / name).is_file():
+                shutil.copy(folder / name, probe / name)
+        (probe / 'resource').mkdir()
+        (probe / 'resource' / probe.name).touch()
+        for sub, example in (installs or {}).items():
+            (probe / sub).mkdir()
+            (probe / sub / example).touch()
+        problems = [f for f in check_package(probe).findings
+                    if f.rule.startswith('setup.py') and f.rule != 'setup.py-console-scripts']
+    if problems:
+        raise CheckError('setup.py to install ' + ', '.join(
+            f'{sub}/*' for sub in installs or {}), problems[0].message,
+                         problems[0].fix or "compare data_files with the lab's setup.py")
+    where = ', '.join(f'{sub}/' for sub in installs or {})
+    _ok('setup.py declares ' + ', '.join(executables) + (f' and installs {where}' if where else ''))
+
+
+# --- the student's parameters: descriptors and callbacks ---------------------------------
+
+def stop_node(node: Any) -> None:
+    """Take a node `node_starts` returned out of the kernel's session and destroy it."""
+    from robot_lab.context import session
+
+    session().remove_node(node)
+    node.destroy_node()
+
+
+def param_described(node: str, name: str, low: float | None = None,
+                    high: float | None = None) -> None:
+    """`ros2 param describe` shows a description and, given `low`/`high`, that range."""
+    from robot_lab.graph.api import param_describe
+
+    full = '/' + node.lstrip('/')
+    want = f'{full} {name} described' + (f' with the range {low:g} … {high:g}'
+                                          if low is not None and high is not None else '')
+    try:
+        d = param_describe(full, name)
+    except RobotLabError as err:
+        raise CheckError(want, err.message, 'declare it with declare_parameter(name, default, '
+                                            'ParameterDescriptor(...))') from None
+    rng = 'no range' if d.min_value is None else f'the range {d.min_value:g} … {d.max_value:g}'
+    if not d.description or (low is not None and (d.min_value, d.max_value) != (low, high)):
+        raise CheckError(want, f'its description is {d.description!r} with {rng}',
+                         'pass ParameterDescriptor(description=..., integer_range=[...] or '
+                         'floating_point_range=[...]) as the third argument of declare_parameter')
+    _ok(want)
+
+
+def param_refused(node: str, name: str, value: Any, reason: str = '') -> None:
+    """Setting `name` to `value` is refused (with a reason naming `reason`), value kept."""
+    from robot_lab.graph.api import param_get
+    from robot_lab.graph.parameters import set_parameters
+
+    full = '/' + node.lstrip('/')
+    before = param_get(full, name)
+    (result,) = set_parameters(full, {name: value})
+    after = param_get(full, name)
+    want = f'{full} to refuse {name} = {value!r}' + (f' with a reason about {reason}'
+                                                      if reason else '')
+    if result.successful or not result.reason or reason not in result.reason:
+        seen = ('it accepted it' if result.successful else
+                f'it refused it with the reason {result.reason!r}')
+        raise CheckError(want, seen, 'in your on-set callback return SetParametersResult('
+                                     "successful=False, reason='...') when the value breaks "
+                                     'the rule, before storing anything')
+    if not _same(before, after):
+        raise CheckError(want, f'it refused, but {name} changed from {before!r} to {after!r}',
+                         'validate every value before you store any of them')
+    _ok(f'{full} refuses {name} = {value!r}: {result.reason}')
+
+
+def param_applied(node: str, name: str, value: Any, topic: str,
+                  where: Callable[[Any], bool], description: str,
+                  timeout: float = 5.0) -> None:
+    """Setting `name` to `value` is accepted and then `topic` carries a message `where` likes."""
+    from robot_lab.graph.parameters import set_parameters
+
+    full = '/' + node.lstrip('/')
+    (result,) = set_parameters(full, {name: value})
+    if not result.successful:
+        raise CheckError(f'{full} to accept {name} = {value!r}',
+                         f'it refused: {result.reason or "(no reason given)"}',
+                         'a value in range that breaks no rule must be accepted: return '
+                         'SetParametersResult(successful=True)')
+    try:
+        topic_publishes(topic, where=where, timeout=timeout, description=description)
+    except CheckError as err:
+        raise CheckError(f'{name} = {value!r} to take effect: {topic} {description}',
+                         err.seen, 'store the new value in your callback (self.… = '
+                                   'param.value); reading it in __init__ only is not enough'
+                         ) from None
+
+
+# --- the capstone's deliverable: a package of the student's own --------------------------
+
+def responds(in_topic: str, msg_type: str, values: Mapping[str, Any], out_topic: str,
+             where: Callable[[Any], bool], description: str, timeout: float = 5.0) -> None:
+    """While `values` are published on `in_topic` (10 Hz), `out_topic` carries a match."""
+    import threading
+
+    from robot_lab.graph.api import publish
+
+    stop = threading.Event()
+
+    def _feed() -> None:
+        while not stop.is_set():
+            publish(in_topic, msg_type, dict(values), wait_for_subscriber=0.0)
+            stop.wait(0.1)
+
+    feeder = threading.Thread(target=_feed, daemon=True)
+    feeder.start()
+    try:
+        topic_publishes(out_topic, where=where, timeout=timeout, description=description)
+    except CheckError as err:
+        raise CheckError(f'{out_topic} {description} while {in_topic} carries {dict(values)}',
+                         err.seen, 'compute the command from the message in your callback and '
+                                   'publish it there, once per message') from None
+    finally:
+        stop.set()
+        feeder.join(timeout=2.0)
+
+
+def param_count(path: str | Path, at_least: int) -> None:
+    """The parameter file sets at least `at_least` parameters (all node sections together)."""
+    from robot_lab.params import load_param_file
+
+    sections = load_param_file(path)
+    names = sorted({f'{node}/{name}' for node, values in sections.items() for name in values})
+    if len(names) < at_least:
+        raise CheckError(f'at least {at_least} parameters in {Path(path).name}',
+                         f'it sets {len(names)}: {", ".join(names) or "none"}',
+                         'add the parameters your nodes declare, under their node sections')
+    _ok(f'{Path(path).name} sets {len(names)} parameters')
+
+
+def launch_file_nodes(path: str | Path, nodes: Mapping[str, str]) -> None:
+    """The XML launch file starts each node name with its executable and a parameter file."""
+    import xml.etree.ElementTree as ElementTree
+
+    file = Path(path)
+    try:
+        root = ElementTree.parse(file).getroot()
+    except (OSError, ElementTree.ParseError) as err:
+        raise CheckError(f'an XML launch file {file.name}', f'it cannot be read: {err}',
+                         'write it with the answer cell above; every tag must be closed') \
+            from None
+    found = {el.get('name', ''): el for el in root.iter('node')}
+    for name, exe in nodes.items():
+        el = found.get(name)
+        if el is None or el.get('exec') != exe:
+            seen = ', '.join(f'{n or "(no name)"} runs {e.get("exec")}' for n, e in found.items())
+            raise CheckError(f'<node exec="{exe}" name="{name}"> in {file.name}',
+                             f'it has {seen or "no <node> elements"}',
+                             'one <node pkg="…" exec="…" name="…"> per node')
+        if not any(p.get('from') for p in el.iter('param')):
+            raise CheckError(f'node {name} to load the parameter file',
+                             'it has no <param from="…"/>',
+                             'add <param from="$(find-pkg-share PACKAGE)/config/FILE.yaml"/>')
+    _ok(f'{file.name} starts {", ".join(nodes)}, each with a parameter file')
+
+
+def readme_explains(path: str | Path, commands: Iterable[str]) -> None:
+    """The README exists and shows these commands (build, launch …)."""
+    file = Path(path)
+    text = file.read_text(errors='replace') if file.is_file() else ''
+    missing = [c for c in commands if c not in text]
+    if not text or missing:
+        raise CheckError(f'{file.name} with the commands {", ".join(commands)}',
+                         'there is no README' if not text else f'it lacks {", ".join(missing)}',
+                         'write how to build and launch your package, commands in code blocks')
+    _ok(f'{file.name} shows {", ".join(commands)}')
+
+
+def full_marks(report: str | Path) -> None:
+    """`robot-lab grade -o REPORT` gave every submission in it full marks."""
+    import csv
+
+    grades = Path(report) / 'grades.csv'
+    if not grades.is_file():
+        raise CheckError(f'a grade report in {Path(report).name}/', 'there is no grades.csv',
+                         'run the grading cell above and read its output')
+    with grades.open(newline='') as f:
+        rows = list(csv.DictReader(f))
+    short = [f'{r["student"]}: {r["score"]}/{r["max_score"]}' for r in rows
+             if float(r['score']) < float(r['max_score'])]
+    if not rows or short:
+        lost = [k for r in rows for k, v in r.items()
+                if k not in ('student', 'score', 'max_score') and v in ('0', '0.0')]
+        raise CheckError('full marks from the grader', '; '.join(short) or 'no rows',
+                         f'read the feedback of {", ".join(lost) or "each check"} above')
+    _ok(', '.join(f'{r["student"]}: {r["score"]}/{r["max_score"]}' for r in rows))
