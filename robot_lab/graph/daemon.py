@@ -234,6 +234,62 @@ def stop(timeout: float = 10.0, env: Mapping[str, str] | None = None) -> bool:
 
 # --- the daemon process ------------------------------------------------------------------
 
+# How long a node name may be listed more often than it has endpoints before the daemon
+# calls the extra entries stale: a node just discovered has its name a moment before its
+# endpoints, a node that left takes its endpoints with it.
+STALE_AFTER = 2.5
+
+
+class StaleNames:
+    """Drops node names that stay in a long-lived graph after their node is gone.
+
+    rmw keeps node names per participant from `ros_discovery_info` messages; a message
+    taken after its participant was removed brings the participant back with its nodes,
+    and nothing removes it again (ros2/ros2#1413: `ros2 node list` through the daemon
+    listed /robot and /sensor for 10+ minutes after notebook 06, twice after the next
+    launch, while `--no-daemon` was right). Endpoints leave with their participant, so a
+    name listed more times than it has /parameter_events or /rosout publishers, for longer
+    than STALE_AFTER, is listed only as often as it has them. A fresh session (no daemon)
+    cannot hold such entries and is not filtered.
+    """
+
+    def __init__(self, stale_after: float = STALE_AFTER) -> None:
+        self.stale_after = stale_after
+        self._short_since: dict[str, float] = {}
+        self._lock = threading.Lock()
+
+    def audit(self, listed: list[str], live: Mapping[str, int],
+              now: float | None = None) -> None:
+        """Note which names are listed more often than they have endpoints."""
+        now = time.monotonic() if now is None else now
+        counts: dict[str, int] = {}
+        for name in listed:
+            counts[name] = counts.get(name, 0) + 1
+        with self._lock:
+            for name in list(self._short_since):
+                if counts.get(name, 0) <= live.get(name, 0):
+                    del self._short_since[name]
+            for name, count in counts.items():
+                if count > live.get(name, 0):
+                    self._short_since.setdefault(name, now)
+
+    def filter(self, listed: list[str], live: Mapping[str, int],
+               now: float | None = None) -> list[str]:
+        """`listed` without the entries that have been stale for STALE_AFTER."""
+        now = time.monotonic() if now is None else now
+        self.audit(listed, live, now)
+        with self._lock:
+            stale = {name for name, since in self._short_since.items()
+                     if now - since >= self.stale_after}
+        kept: list[str] = []
+        for name in listed:
+            if name in stale and kept.count(name) >= live.get(name, 0):
+                continue
+            kept.append(name)
+        return kept
+
+
+
 
 class _Server:
     """Answers graph queries from a session that stays warm between them."""
@@ -244,6 +300,7 @@ class _Server:
         self.last_request = time.monotonic()
         self.stopping = threading.Event()
         self.session: Any = None
+        self.stale = StaleNames()
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
         from robot_lab.graph import nodes, services, topics
@@ -254,12 +311,26 @@ class _Server:
         return {
             'ping': lambda r: {'pid': os.getpid(),
                                'age': time.monotonic() - self.session.created},
-            'node_list': lambda r: nodes.node_list(hidden(r), session=self.session),
+            'node_list': lambda r: self.current_nodes(
+                nodes.node_list(hidden(r), session=self.session)),
             'topic_list': lambda r: topics.topic_list(hidden(r), session=self.session),
             'service_list': lambda r: services.service_list_typed(hidden(r),
                                                                   session=self.session),
             'stop': lambda r: self.stopping.set(),
         }
+
+    def current_nodes(self, listed: list[str]) -> list[str]:
+        from robot_lab.graph.nodes import live_instances
+
+        return self.stale.filter(listed, live_instances(self.session))
+
+    def audit(self) -> None:
+        """Watch the graph for stale names between requests (every half second)."""
+        from robot_lab.graph.discovery import full_node_names
+        from robot_lab.graph.nodes import live_instances
+
+        live = live_instances(self.session)
+        self.stale.audit(full_node_names(self.session, include_hidden=True), live)
 
     def handle(self, conn: socket.socket) -> None:
         with conn:
@@ -297,6 +368,7 @@ class _Server:
                     break
                 if self.owner is not None and not process_alive(self.owner):
                     break
+                self.audit()
                 try:
                     conn, _ = listener.socket.accept()
                 except TimeoutError:

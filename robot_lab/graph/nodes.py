@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -19,7 +20,8 @@ from robot_lab.graph.discovery import (
 if TYPE_CHECKING:
     from robot_lab.context import Session
 
-__all__ = ['NodeInfo', 'find_node', 'is_hidden', 'node_info', 'node_list', 'wait_for_nodes']
+__all__ = ['NodeInfo', 'find_node', 'is_hidden', 'live_instances', 'node_info', 'node_list',
+           'wait_for_nodes']
 
 NamesAndTypes = list[tuple[str, list[str]]]
 
@@ -61,6 +63,22 @@ def node_list(include_hidden: bool = False, *, settle: bool = True,
     # Once every announced node is seen, the list is complete: no settling on top.
     return settled(sess, lambda: full_node_names(sess, include_hidden), timeout=timeout,
                    ready_settle=0.0)
+
+
+def live_instances(session: Session) -> Counter[str]:
+    """How many nodes of each full name have endpoints in the graph right now.
+
+    Every rclpy and rclcpp node publishes /parameter_events and /rosout. A node name whose
+    participant has left keeps no endpoints (they go with the participant), so a name
+    listed more often than it has publishers is a stale entry (see graph/daemon.py).
+    """
+    counts: Counter[str] = Counter()
+    for topic in ('/parameter_events', '/rosout'):
+        per_topic = Counter(
+            info.node_namespace.rstrip('/') + '/' + info.node_name
+            for info in session.node.get_publishers_info_by_topic(topic))
+        counts |= per_topic  # the larger count of the two topics
+    return counts
 
 
 def find_node(name: str, include_hidden: bool = False, timeout: float = LOOKUP_TIMEOUT,

@@ -37,6 +37,9 @@ __all__ = [
 ]
 
 CALL_TIMEOUT = 5.0
+# How long a param verb waits for its node to be discovered: ros2param's 5 s, so a node
+# that a cold command has not seen yet is not reported as "Node not found".
+NODE_TIMEOUT = 5.0
 
 # ParameterType value -> ros2param's type string
 _TYPE_STRINGS = {
@@ -60,7 +63,7 @@ def _client(sess: Session, node: str, service: str, srv_type: Any) -> Any:
 def _target(sess: Session, node: str) -> str:
     """The node's full name, waiting briefly for discovery (ros2cli: `Node not found`)."""
     try:
-        return find_node(node, include_hidden=True, session=sess)
+        return find_node(node, include_hidden=True, timeout=NODE_TIMEOUT, session=sess)
     except GraphError:
         raise GraphError(
             f"Node not found: '{absolute_name(node)}'",
