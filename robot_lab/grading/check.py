@@ -648,3 +648,33 @@ def full_marks(report: str | Path) -> None:
         raise CheckError('full marks from the grader', '; '.join(short) or 'no rows',
                          f'read the feedback of {", ".join(lost) or "each check"} above')
     _ok(', '.join(f'{r["student"]}: {r["score"]}/{r["max_score"]}' for r in rows))
+
+
+def command_prints(command: str, pattern: str, seconds: float = 5.0,
+                   cwd: str | Path | None = None) -> None:
+    """`command` (bash, as typed in a terminal) prints a line matching `pattern` within
+    `seconds`; then it gets Ctrl-C, and everything it started is stopped."""
+    import os
+    import signal
+    import subprocess
+
+    if not command.strip():
+        raise CheckError(f'a command that prints {pattern!r}', 'the command is empty',
+                         'write the command line in your answer cell')
+    proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        out, _ = proc.communicate(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGINT)  # the Ctrl-C a terminal would send
+        try:
+            out, _ = proc.communicate(timeout=5.0)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, _ = proc.communicate()
+    lines = out.splitlines()
+    if not any(re.search(pattern, line) for line in lines):
+        tail = '\n'.join(lines[-4:]) or '(no output)'
+        raise CheckError(f'`{command}` to print {pattern!r}', f'it printed:\n{tail}\n',
+                         'read the last line: it names what is missing and how to fix it')
+    _ok(f'`{command}` prints {pattern!r}')
