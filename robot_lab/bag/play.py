@@ -17,7 +17,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
-from robot_lab.bag.read import message_class_for, open_bag
+from robot_lab.bag.read import bag_messages, message_class_for, open_bag
 from robot_lab.errors import BagError
 
 __all__ = ['Player', 'play']
@@ -305,7 +305,7 @@ class Player:
             conns = [c for c in reader.connections if c.topic in self._publishers]
             if not conns:
                 return False
-            for conn, stamp, data in reader.messages(connections=conns, start=first):
+            for conn, stamp, data in bag_messages(reader, conns, start=first):
                 if not self._wait_until(stamp):
                     return False
                 self._publishers[conn.topic].publish(bytes(data))

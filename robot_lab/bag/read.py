@@ -15,7 +15,15 @@ from typing import Any
 
 from robot_lab.errors import BagError, GraphError
 
-__all__ = ['STORAGE_SUFFIXES', 'TopicColumns', 'bag_files', 'decode', 'open_bag', 'read_topic']
+__all__ = [
+    'STORAGE_SUFFIXES',
+    'TopicColumns',
+    'bag_files',
+    'bag_messages',
+    'decode',
+    'open_bag',
+    'read_topic',
+]
 
 STORAGE_SUFFIXES = {'.mcap': 'mcap', '.db3': 'sqlite3'}
 
@@ -112,6 +120,46 @@ def open_bag(path: str | Path) -> Iterator[Any]:
         reader.close()
 
 
+def bag_messages(reader: Any, connections: Sequence[Any], start: int | None = None,
+                 stop: int | None = None) -> Iterator[tuple[Any, int, bytes]]:
+    """(connection, timestamp ns, CDR bytes) of `connections`, in time order.
+
+    Like rosbags' `reader.messages()`, except that a storage file's topic is matched to
+    the metadata's by name and type only, as rosbag2 does. rosbags also demands equal
+    offered-QoS text: rosbag2's own talker test bags (metadata version 4, mcap and
+    sqlite3) list deadline 0 in metadata.yaml and infinite in the storage, so rosbags
+    yielded 0 of their 20 messages (and the kit played none).
+    """
+    import heapq
+
+    storages = getattr(reader.storage, 'storages', None)
+    if storages is None:  # a single .mcap/.db3 file: no metadata.yaml to disagree with
+        yield from reader.messages(connections=connections, start=start, stop=stop)
+        return
+    wanted = {(c.topic, c.msgtype): c for c in connections}
+    decompress = _zstd_decompress() if reader.compression_mode == 'message' else None
+    streams = []
+    for storage in storages:
+        mine = [c for c in storage.connections if (c.topic, c.msgtype) in wanted]
+        if mine:
+            streams.append(storage.messages(mine, start, stop))
+    # Split files are in time order one after the other; merging also copes with overlap.
+    for conn, stamp, data in heapq.merge(*streams, key=lambda item: item[1]):
+        yield (wanted[(conn.topic, conn.msgtype)], stamp,
+               decompress(data) if decompress is not None else data)
+
+
+def _zstd_decompress() -> Any:
+    """zstd.decompress as rosbags imports it (the stdlib's from 3.14, else the backport)."""
+    import importlib
+
+    try:
+        module = importlib.import_module('compression.zstd')
+    except ImportError:
+        module = importlib.import_module('backports.zstd')
+    return module.decompress
+
+
 def decode(msgtype: str, data: bytes, bag: Path | str = '', topic: str = '') -> Any:
     """CDR bytes from a bag -> the rclpy message (this environment's generated class)."""
     from rclpy.serialization import deserialize_message
@@ -183,7 +231,7 @@ def read_topic(
 
         start = reader.start_time
         out = TopicColumns(name, msgtype, columns={p: [] for p in paths})
-        for _conn, stamp, data in reader.messages(connections=conns):
+        for _conn, stamp, data in bag_messages(reader, conns):
             msg = deserialize_message(bytes(data), cls)
             out.stamps_ns.append(stamp)
             out.t.append((stamp - start) / 1e9)
