@@ -6,6 +6,7 @@ messages; rosbag2 (and now the kit) match by topic name and type."""
 from __future__ import annotations
 
 import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -13,6 +14,7 @@ import pytest
 import robot_lab
 from robot_lab.bag.read import bag_messages, open_bag
 from robot_lab.context import session
+from robot_lab.errors import BagError
 
 INFINITE = {'sec': 2147483647, 'nsec': 4294967295}
 
@@ -86,3 +88,19 @@ def test_a_bag_whose_metadata_qos_differs_is_read_and_played(
         sess.node.destroy_subscription(sub)
     assert player.error is None and player.played == 10
     assert got == [f'Hello, world! {i}' for i in range(10)]
+
+
+def test_play_delay_waits_before_the_first_message(tmp_path: Path, ros_domain: int) -> None:
+    bag = tmp_path / 'delayed'
+    _write_bag(bag, 'mcap', 2)
+    player = robot_lab.play(bag, delay=1.0)
+    started = time.monotonic()
+    first = None
+    while first is None and time.monotonic() - started < 10:
+        if player.played:
+            first = time.monotonic() - started
+        time.sleep(0.01)
+    assert player.wait(timeout=10) and player.played == 2
+    assert first is not None and first >= 1.0  # rosbag2's --delay: sleep, then play
+    with pytest.raises(BagError, match='less than zero'):
+        robot_lab.play(bag, delay=-1)

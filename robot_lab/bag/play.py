@@ -62,6 +62,7 @@ class Player:
         loop: bool = False,
         topics: Iterable[str] | None = None,
         start_offset: float = 0.0,
+        delay: float = 0.0,
         domain_id: int | None = None,
         log: Callable[[str], None] | None = None,
         node_name: str = NODE_NAME,
@@ -78,7 +79,10 @@ class Player:
         self.only = (
             None if topics is None else [t if t.startswith('/') else '/' + t for t in topics]
         )
+        if delay < 0:
+            raise BagError(f'Value {delay} is less than zero.', fix='--delay 0 or more')
         self.start_offset = start_offset
+        self.delay = float(delay)  # seconds before play, each loop (rosbag2's --delay)
         self.domain_id = domain_id
         self.node_name = node_name
         self._log_fn = log
@@ -283,6 +287,8 @@ class Player:
             first = self.start_ns + int(self.start_offset * 1e9)
             while not self._stop:
                 with self._cond:
+                    if self.delay > 0 and self._cond.wait_for(lambda: self._stop, self.delay):
+                        break  # stopped during the delay
                     self._anchor_bag = first
                     self._anchor_wall = time.monotonic()
                     self._position_ns = first
@@ -343,16 +349,18 @@ def play(
     loop: bool = False,
     topics: Iterable[str] | None = None,
     start_offset: float = 0.0,
+    delay: float = 0.0,
     domain_id: int | None = None,
     log: Callable[[str], None] | None = None,
 ) -> Player:
     """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
 
     `player.wait()` blocks until it has played everything; `pause()`, `resume()`,
-    `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0.
+    `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0. `delay` waits that
+    many seconds before playing (each loop), as `ros2 bag play --delay`.
     """
     player = Player(
-        bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset,
+        bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset, delay=delay,
         domain_id=domain_id, log=log,
     )
     return player.start()

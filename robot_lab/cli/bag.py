@@ -74,6 +74,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       'the beginning on reaching the end and plays indefinitely.')
     play.add_argument('--topics', nargs='+', default=None, metavar='topic',
                       help='Space-delimited list of topics to play.')
+    play.add_argument('-d', '--delay', type=_not_negative_float, default=0.0,
+                      help='Sleep duration before play (each loop), in seconds. Negative '
+                      'durations invalid.')
     play.add_argument('--start-offset', type=_not_negative_float, default=0.0,
                       help='Start the playback player this many seconds into the bag file.')
 
@@ -141,7 +144,7 @@ def _play(args: argparse.Namespace) -> int:
     _interrupt_on_sigterm()
     player = Player(
         args.bag_path, rate=args.rate, loop=args.loop, topics=args.topics,
-        start_offset=args.start_offset, log=_err,
+        start_offset=args.start_offset, delay=args.delay, log=_err,
     )
     player.start()
     try:
