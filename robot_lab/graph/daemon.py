@@ -301,6 +301,9 @@ class _Server:
         self.stopping = threading.Event()
         self.session: Any = None
         self.stale = StaleNames()
+        # (node name, pid) the launchers of this graph announced -> when last seen.
+        self.announced: dict[tuple[str, int], float] = {}
+        self.graph = graph_dir()
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
         from robot_lab.graph import nodes, services, topics
@@ -319,17 +322,47 @@ class _Server:
             'stop': lambda r: self.stopping.set(),
         }
 
-    def current_nodes(self, listed: list[str]) -> list[str]:
-        from robot_lab.graph.nodes import live_instances
+    def _live(self) -> tuple[dict[str, int], dict[str, int]]:
+        """Per name: instances that are alive, and instances whose process has ended.
 
-        return self.stale.filter(listed, live_instances(self.session))
+        The launchers' files (expected.py) say which process runs which node; the daemon
+        remembers them, so a node whose process has ended (killed, crashed, its launcher
+        killed with -9) leaves the list at once, not when its DDS lease runs out.
+        """
+        from robot_lab.graph.nodes import node_instances
+
+        ended = {(name, pid & 0xFFFF) for (name, pid) in self.announced
+                 if not process_alive(pid)}
+        live: dict[str, int] = {}
+        gone: dict[str, int] = {}
+        for name, pids in node_instances(self.session).items():
+            dead = sum(1 for pid in pids if (name, pid) in ended)
+            live[name], gone[name] = len(pids) - dead, dead
+        return live, gone
+
+    def current_nodes(self, listed: list[str]) -> list[str]:
+        live, gone = self._live()
+        kept: list[str] = []
+        for name in listed:
+            if gone.get(name, 0) > 0:
+                gone[name] -= 1
+                continue
+            kept.append(name)
+        return self.stale.filter(kept, live)
 
     def audit(self) -> None:
-        """Watch the graph for stale names between requests (every half second)."""
+        """Between requests (every half second): remember the launchers' nodes, watch the
+        graph for stale names."""
         from robot_lab.graph.discovery import full_node_names
-        from robot_lab.graph.nodes import live_instances
+        from robot_lab.graph.expected import announced_nodes
 
-        live = live_instances(self.session)
+        now = time.monotonic()
+        for pair in announced_nodes(self.graph):
+            self.announced[pair] = now
+        for pair, seen in list(self.announced.items()):
+            if now - seen > 60.0:  # ended long ago: its DDS lease has run out too
+                del self.announced[pair]
+        live, _gone = self._live()
         self.stale.audit(full_node_names(self.session, include_hidden=True), live)
 
     def handle(self, conn: socket.socket) -> None:

@@ -19,7 +19,8 @@ import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-__all__ = ['LaunchAnnouncement', 'expected_nodes', 'graph_dir', 'graph_key', 'process_alive']
+__all__ = ['LaunchAnnouncement', 'announced_nodes', 'expected_nodes', 'graph_dir', 'graph_key',
+           'process_alive']
 
 # What decides whether two processes share a graph (and so a daemon and these files).
 _GRAPH_VARIABLES = (
@@ -121,18 +122,13 @@ class LaunchAnnouncement:
             self._path.unlink()
 
 
-def expected_nodes(directory: Path) -> set[str] | None:
-    """Full names of the nodes that running launches of this graph have up right now.
-
-    `directory` is the graph's `graph_dir()`. None while a launch is still reading its
-    launch file (its nodes are coming, which ones is not known yet).
-    """
-    names: set[str] = set()
+def _announcements(directory: Path) -> list[tuple[Path, int, list[tuple[str, int]] | None]]:
+    """(file, launcher pid, [(name, pid)] or None while starting) of each launch file."""
+    found: list[tuple[Path, int, list[tuple[str, int]] | None]] = []
     try:
         files = list(directory.glob('launch-*.json'))
     except OSError:
-        return names
-    starting = False
+        return found
     for path in files:
         try:
             data = json.loads(path.read_text(encoding='utf-8'))
@@ -141,6 +137,25 @@ def expected_nodes(directory: Path) -> set[str] | None:
             nodes = None if listed is None else [(str(n['name']), int(n['pid'])) for n in listed]
         except (OSError, ValueError, KeyError, TypeError):
             continue
+        found.append((path, launcher, nodes))
+    return found
+
+
+def announced_nodes(directory: Path) -> list[tuple[str, int]]:
+    """(full name, pid) of every node the launch files list, running or not: the graph
+    daemon remembers them, so it can drop a node the moment its process is gone."""
+    return [pair for _path, _launcher, nodes in _announcements(directory) for pair in nodes or ()]
+
+
+def expected_nodes(directory: Path) -> set[str] | None:
+    """Full names of the nodes that running launches of this graph have up right now.
+
+    `directory` is the graph's `graph_dir()`. None while a launch is still reading its
+    launch file (its nodes are coming, which ones is not known yet).
+    """
+    names: set[str] = set()
+    starting = False
+    for path, launcher, nodes in _announcements(directory):
         if not process_alive(launcher):
             with contextlib.suppress(OSError):
                 path.unlink()  # the launcher was killed; its children died with it

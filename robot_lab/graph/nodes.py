@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -20,8 +19,15 @@ from robot_lab.graph.discovery import (
 if TYPE_CHECKING:
     from robot_lab.context import Session
 
-__all__ = ['NodeInfo', 'find_node', 'is_hidden', 'live_instances', 'node_info', 'node_list',
-           'wait_for_nodes']
+__all__ = [
+    'NodeInfo',
+    'find_node',
+    'is_hidden',
+    'node_info',
+    'node_instances',
+    'node_list',
+    'wait_for_nodes',
+]
 
 NamesAndTypes = list[tuple[str, list[str]]]
 
@@ -65,20 +71,27 @@ def node_list(include_hidden: bool = False, *, settle: bool = True,
                    ready_settle=0.0)
 
 
-def live_instances(session: Session) -> Counter[str]:
-    """How many nodes of each full name have endpoints in the graph right now.
+def node_instances(session: Session) -> dict[str, list[int | None]]:
+    """Each node name's instances that have endpoints now, as their process ids' low 16 bits.
 
-    Every rclpy and rclcpp node publishes /parameter_events and /rosout. A node name whose
+    Every rclpy and rclcpp node publishes /parameter_events and /rosout. A node whose
     participant has left keeps no endpoints (they go with the participant), so a name
     listed more often than it has publishers is a stale entry (see graph/daemon.py).
+    Fast DDS writes the low 16 bits of the process id into GUID prefix bytes 4-5, which
+    tells which process an instance lives in (None for other RMWs).
     """
-    counts: Counter[str] = Counter()
+    found: dict[str, list[int | None]] = {}
     for topic in ('/parameter_events', '/rosout'):
-        per_topic = Counter(
-            info.node_namespace.rstrip('/') + '/' + info.node_name
-            for info in session.node.get_publishers_info_by_topic(topic))
-        counts |= per_topic  # the larger count of the two topics
-    return counts
+        per_topic: dict[str, list[int | None]] = {}
+        for info in session.node.get_publishers_info_by_topic(topic):
+            gid = bytes(info.endpoint_gid)
+            pid = int.from_bytes(gid[4:6], 'little') if gid[:2] == b'\x01\x0f' else None
+            name = info.node_namespace.rstrip('/') + '/' + info.node_name
+            per_topic.setdefault(name, []).append(pid)
+        for name, pids in per_topic.items():
+            if len(pids) > len(found.get(name, ())):
+                found[name] = pids
+    return found
 
 
 def find_node(name: str, include_hidden: bool = False, timeout: float = LOOKUP_TIMEOUT,
