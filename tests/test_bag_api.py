@@ -97,7 +97,7 @@ def test_record_handle_with_duration_and_sqlite(start, tmp_path: Path) -> None:
     assert rec.stop() == tmp_path / 'timed'
     assert 1.5 <= rec.elapsed < 5.0
     info = robot_lab.bag_info(tmp_path / 'timed')
-    assert info.storage_id == 'sqlite3' and info.files == ['timed.db3']
+    assert info.storage_id == 'sqlite3' and info.files == ['timed_0.db3']
     assert info.message_count == rec.total >= 8  # 10 Hz for 1.5 s, after discovery
 
 

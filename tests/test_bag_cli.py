@@ -77,8 +77,8 @@ def bags(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Path]]:
 
 def test_record_writes_an_mcap_bag_in_rosbag2_format(bags: dict[str, Path]) -> None:
     bag = bags['mcap']
-    assert sorted(p.name for p in bag.iterdir()) == ['metadata.yaml', 'system.mcap']
-    assert (bag / 'system.mcap').read_bytes()[:8] == b'\x89MCAP0\r\n'
+    assert sorted(p.name for p in bag.iterdir()) == ['metadata.yaml', 'system_0.mcap']
+    assert (bag / 'system_0.mcap').read_bytes()[:8] == b'\x89MCAP0\r\n'
     meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
     assert meta['version'] == 9
     assert meta['storage_identifier'] == 'mcap'
@@ -102,7 +102,7 @@ def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
     labels = ['Files:', 'Bag size:', 'Storage id:', 'ROS Distro:', 'Duration:', 'Start:',
               'End:', 'Messages:', 'Topic information:']
     assert [line[:19].rstrip() for line in lines[1:10]] == labels
-    assert lines[1] == 'Files:             system.mcap'
+    assert lines[1] == 'Files:             system_0.mcap'
     assert lines[3] == 'Storage id:        mcap'
     assert re.fullmatch(r'Duration:          [23]\.\d{9}s', lines[5])
     assert re.fullmatch(r'Start:             \w{3} [ \d]\d \d{4} \d\d:\d\d:\d\d\.\d{9} '
@@ -124,7 +124,7 @@ def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
 
 
 def test_info_of_the_single_mcap_file_matches_the_folder(bags: dict[str, Path]) -> None:
-    file = bags['mcap'] / 'system.mcap'
+    file = bags['mcap'] / 'system_0.mcap'
     single = run_cli('bag', 'info', str(file))
     folder = run_cli('bag', 'info', str(bags['mcap']))
     assert single.returncode == 0, single.stderr
@@ -150,7 +150,7 @@ def test_rosbags_reads_what_was_recorded(bags: dict[str, Path]) -> None:
     # mcap channel metadata carries what rosbag2's mcap reader looks for.
     from rosbags.rosbag2.storage_mcap import McapReader
 
-    reader = McapReader(bags['mcap'] / 'system.mcap')
+    reader = McapReader(bags['mcap'] / 'system_0.mcap')
     reader.open()
     try:
         metas = [ch.metadata for ch in reader.channels.values()]
@@ -166,7 +166,7 @@ def test_mcap_reference_reader_validates_the_file(bags: dict[str, Path]) -> None
     """The MCAP maintainers' reader (the spec rosbag2_storage_mcap's C++ library follows)."""
     from mcap.reader import make_reader
 
-    with (bags['mcap'] / 'system.mcap').open('rb') as f:
+    with (bags['mcap'] / 'system_0.mcap').open('rb') as f:
         reader = make_reader(f, validate_crcs=True)
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
@@ -265,7 +265,7 @@ def test_seed_db3_single_file_info_and_play(bags: dict[str, Path]) -> None:
     """`ros2 bag info/play my_recording.db3`, as the seed runs it."""
     from std_msgs.msg import String
 
-    db3 = bags['sqlite3'] / 'seed.db3'
+    db3 = bags['sqlite3'] / 'seed_0.db3'
     assert db3.is_file()
     info = run_cli('bag', 'info', str(db3))
     assert info.returncode == 0, info.stderr

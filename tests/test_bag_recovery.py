@@ -110,6 +110,6 @@ def test_kill_9_then_info_explains_and_reindex_recovers(
     if storage == 'mcap':  # the repaired file is complete again: summary, indexes, footer
         from mcap.reader import make_reader
 
-        with (bag / f'{bag.name}.mcap').open('rb') as f:
+        with (bag / f'{bag.name}_0.mcap').open('rb') as f:
             summary = make_reader(f, validate_crcs=True).get_summary()
         assert summary is not None and summary.statistics.message_count == len(numbers)

@@ -161,7 +161,7 @@ def _reindex_mcap(folder: Path, file: Path) -> ReindexReport:
             writer.write(conn, stamp, data)
             report.counts[conn.topic] += 1
         writer.close()
-        produced = staging / f'{folder.name}.mcap'
+        produced = staging / f'{folder.name}_0.mcap'  # BagWriter names it as rosbag2 does
         os.replace(produced, file)
         meta_doc = yaml.safe_load((staging / 'metadata.yaml').read_text())
         info = meta_doc['rosbag2_bagfile_information']

@@ -122,6 +122,13 @@ def message_definition(msgtype: str) -> tuple[str, str]:
         return '', ''
 
 
+def _first_file_name(file: Path) -> Path:
+    """Rename a new storage file `<bag>.ext` to rosbag2's `<bag>_0.ext`; the new path."""
+    renamed = file.with_name(f'{file.stem}_0{file.suffix}')
+    os.replace(file, renamed)
+    return renamed
+
+
 def _mcap_storage_class() -> type:
     from io import BytesIO
 
@@ -131,6 +138,12 @@ def _mcap_storage_class() -> type:
         """rosbags' mcap storage plus rosbag2's `topic_type_hash` and on-demand flushing."""
 
         type_hashes: dict[str, str] = {}
+
+        def __init__(self, path: Path, compression: Any) -> None:
+            super().__init__(path, compression)
+            # rosbag2 names the first file <bag>_0.mcap (rosbags: <bag>.mcap); metadata.yaml
+            # lists self.path. The open handle survives the rename.
+            self.path = _first_file_name(self.path)
 
         def add_connection(self, connection: Any, offered_qos_profiles: str) -> None:
             # The same channel record rosbag2_storage_mcap writes: two metadata entries.
@@ -172,6 +185,7 @@ def _sqlite_storage_class() -> type:
             # The recorder opens the bag in the caller's thread and writes in its own.
             self.conn.commit()
             self.conn.close()
+            self.path = _first_file_name(self.path)  # <bag>_0.db3, as rosbag2 names it
             self.conn = sqlite3.connect(f'file:{self.path}', uri=True, check_same_thread=False)
             self.cursor = self.conn.cursor()
             self.cursor.execute('UPDATE schema SET ros_distro = ?', (_DISTRO,))
