@@ -1,0 +1,195 @@
+"""The student's JupyterLab is a lab bench: ROS terminals, the course copy as its root.
+
+`./kit start` / `./kit lab` run JupyterLab with config/jupyter/jupyter_server_config.py:
+its terminals run bash with config/jupyter/ros_terminal.bashrc, which must give a working
+ROS 2 shell even when the PATH it inherits lost the kit's venv (Debian's /etc/profile does
+that to a login shell), in the student's own ROS domain, starting in the course folder.
+These tests start the real shell, a real Jupyter server and a real terminal over its
+websocket, and run `./kit course` on a scratch home. No browser (bench/browser_check.py).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import hashlib
+import json
+import os
+import re
+import socket
+import subprocess
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from robot_lab.process import spawn, stop
+
+ROOT = Path(__file__).resolve().parents[1]
+VENV = Path(os.environ.get('ROBOT_LAB_VENV', ROOT / '.venv'))
+CONFIG = ROOT / 'config' / 'jupyter' / 'jupyter_server_config.py'
+RCFILE = ROOT / 'config' / 'jupyter' / 'ros_terminal.bashrc'
+# What a login shell's /etc/profile leaves on Debian: no venv.
+LOGIN_PATH = '/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin'
+
+
+def _clean_env(tmp_path: Path, **extra: str) -> dict[str, str]:
+    home = tmp_path / 'home'
+    home.mkdir(exist_ok=True)
+    env = {'PATH': LOGIN_PATH, 'HOME': str(home), 'TERM': 'dumb', 'LANG': 'C.UTF-8',
+           'ROBOT_LAB_DOMAIN_REGISTRY': str(tmp_path / 'domains.json')}
+    env.update(extra)
+    return env
+
+
+def _notebook_domain(env: dict[str, str]) -> int:
+    """The domain a notebook's setup() picks for this user (no ROS_DOMAIN_ID set)."""
+    out = subprocess.run(
+        [str(VENV / 'bin' / 'python'), '-c',
+         'from robot_lab.grading.course import _domain; print(_domain("00_welcome"))'],
+        env=env, capture_output=True, text=True, timeout=60, check=True)
+    return int(out.stdout.strip())
+
+
+def test_terminal_rcfile_makes_a_ros_shell(tmp_path: Path) -> None:
+    course = tmp_path / 'course'
+    course.mkdir()
+    env = _clean_env(tmp_path, ROBOT_LAB_VENV=str(VENV))
+    probe = ('echo "ros2=$(command -v ros2)"; echo "colcon=$(command -v colcon)"; '
+             'echo "pwd=$PWD"; echo "domain=$ROS_DOMAIN_ID"; '
+             'echo "range=$ROS_AUTOMATIC_DISCOVERY_RANGE"; echo "ws=$ROBOT_LAB_WORKSPACE"')
+    shell = subprocess.run(['/bin/bash', '--rcfile', str(RCFILE), '-i', '-c', probe],
+                           cwd=course, env=env, capture_output=True, text=True, timeout=60)
+    assert shell.returncode == 0, shell.stderr
+    seen = dict(line.split('=', 1) for line in shell.stdout.splitlines() if '=' in line)
+    assert seen['ros2'] == str(VENV / 'bin' / 'ros2'), shell.stdout
+    assert seen['colcon'] == str(VENV / 'bin' / 'colcon'), shell.stdout
+    assert Path(seen['pwd']).resolve() == course.resolve()
+    assert seen['range'] == 'LOCALHOST'
+    assert seen['ws'] == f'{env["HOME"]}/robot_lab_ws'
+    # The same domain the student's notebooks use, so `ros2 node list` here sees them.
+    assert seen['domain'].isdigit(), shell.stdout
+    assert int(seen['domain']) == _notebook_domain(env)
+    assert 'ROS 2 Jazzy terminal (robot_lab)' in shell.stdout
+
+
+def test_terminal_keeps_a_domain_the_student_set(tmp_path: Path) -> None:
+    env = _clean_env(tmp_path, ROBOT_LAB_VENV=str(VENV), ROS_DOMAIN_ID='42',
+                     ROBOT_LAB_QUIET='1')
+    shell = subprocess.run(['/bin/bash', '--rcfile', str(RCFILE), '-i', '-c',
+                            'echo "domain=$ROS_DOMAIN_ID"'],
+                           env=env, capture_output=True, text=True, timeout=60)
+    assert shell.stdout.strip().splitlines()[-1] == 'domain=42'
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+def _wait_for_server(url: str, proc: subprocess.Popen[bytes], timeout: float = 90.0) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if proc.poll() is not None:
+            out = proc.stdout.read().decode(errors='replace') if proc.stdout else ''
+            pytest.fail(f'jupyter server exited with {proc.returncode}:\n{out[-2000:]}')
+        try:
+            with urllib.request.urlopen(url, timeout=2) as reply:
+                if reply.status == 200:
+                    return
+        except (urllib.error.URLError, ConnectionError, TimeoutError):
+            time.sleep(0.2)
+    pytest.fail(f'jupyter server did not answer {url} within {timeout:g} s')
+
+
+async def _terminal_says(ws_url: str, command: str, pattern: str, timeout: float) -> str:
+    from tornado.websocket import websocket_connect
+
+    conn = await websocket_connect(ws_url)
+    try:
+        conn.write_message(json.dumps(['stdin', command + '\r']))
+        seen = ''
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            message = await asyncio.wait_for(conn.read_message(), deadline - time.monotonic())
+            if message is None:
+                break
+            kind, *rest = json.loads(message)
+            if kind == 'stdout':
+                seen += str(rest[0])
+                found = re.search(pattern, seen)
+                if found:
+                    return found.group(0)
+        raise AssertionError(f'terminal never printed {pattern!r}; it printed:\n{seen[-2000:]}')
+    finally:
+        conn.close()
+
+
+def test_jupyter_terminal_is_a_ros_terminal_in_the_course_folder(tmp_path: Path) -> None:
+    """A real server with the kit's config: its terminal has ros2, the domain, the course."""
+    course = tmp_path / 'course'
+    course.mkdir()
+    port, token = _free_port(), 'robot-lab-bench-test'
+    env = _clean_env(tmp_path, ROBOT_LAB_COURSE=str(course),
+                     JUPYTER_CONFIG_DIR=str(tmp_path / 'jupyter_config'),
+                     JUPYTER_DATA_DIR=str(tmp_path / 'jupyter_data'),
+                     JUPYTER_RUNTIME_DIR=str(tmp_path / 'jupyter_runtime'))
+    cmd = [str(VENV / 'bin' / 'jupyter-server'), f'--config={CONFIG}',
+           f'--ServerApp.root_dir={course}', f'--ServerApp.port={port}',
+           '--ServerApp.port_retries=0', f'--IdentityProvider.token={token}',
+           '--ServerApp.open_browser=False']
+    if os.getuid() == 0:
+        cmd.append('--allow-root')
+    server = spawn(cmd, env=env)
+    try:
+        base = f'http://127.0.0.1:{port}'
+        _wait_for_server(f'{base}/api/status?token={token}', server)
+        request = urllib.request.Request(f'{base}/api/terminals?token={token}', method='POST',
+                                         data=b'{}', headers={'Content-Type': 'application/json'})
+        with urllib.request.urlopen(request, timeout=30) as reply:
+            name = json.loads(reply.read())['name']
+        said = asyncio.run(_terminal_says(
+            f'ws://127.0.0.1:{port}/terminals/websocket/{name}?token={token}',
+            'echo "RL|$(command -v ros2)|$PWD|$ROS_DOMAIN_ID|END"',
+            r'RL\|/[^|\s]*\|/[^|\s]*\|\d+\|END', timeout=60))
+        _, ros2, cwd, domain, _ = said.split('|')
+        assert ros2 == str(VENV / 'bin' / 'ros2')
+        assert Path(cwd).resolve() == course.resolve()
+        assert int(domain) == _notebook_domain(env)
+    finally:
+        stop(server)
+
+
+def _kit_home(tmp_path: Path) -> tuple[dict[str, str], Path, Path]:
+    """A scratch home and a venv that `./kit` sees as set up (links to the real one)."""
+    venv = tmp_path / 'venv'
+    (venv / 'bin').mkdir(parents=True)
+    for exe in (VENV / 'bin').iterdir():
+        (venv / 'bin' / exe.name).symlink_to(exe)
+    (venv / 'pyvenv.cfg').write_bytes((VENV / 'pyvenv.cfg').read_bytes())
+    want = hashlib.sha256((ROOT / 'setup.py').read_bytes() + (ROOT / 'package.xml').read_bytes())
+    (venv / '.robot_lab-setup').write_text(want.hexdigest()[:16] + '\n')
+    course, workspace = tmp_path / 'home' / 'robot_lab_course', tmp_path / 'home' / 'robot_lab_ws'
+    return _clean_env(tmp_path, ROBOT_LAB_VENV=str(venv)), course, workspace
+
+
+def test_kit_course_writes_the_students_copy_and_keeps_their_changes(tmp_path: Path) -> None:
+    env, course, workspace = _kit_home(tmp_path)
+    first = subprocess.run([str(ROOT / 'kit'), 'course'], env=env, capture_output=True,
+                           text=True, timeout=120)
+    assert first.returncode == 0, first.stderr
+    welcome = sorted(course.rglob('00_welcome.ipynb'))
+    assert welcome, f'no 00_welcome.ipynb under {course}: {first.stderr}'
+    assert sorted(course.rglob('ex01_create_package.ipynb')), 'the exercises are not reachable'
+    link = course / 'robot_lab_ws'
+    assert link.is_symlink() and link.resolve() == workspace.resolve()
+    # The student's work survives the next start.
+    welcome[0].write_text(welcome[0].read_text() + ' ')
+    changed = welcome[0].read_text()
+    again = subprocess.run([str(ROOT / 'kit'), 'course'], env=env, capture_output=True,
+                           text=True, timeout=120)
+    assert again.returncode == 0, again.stderr
+    assert welcome[0].read_text() == changed
