@@ -16,6 +16,7 @@ robot_lab.env, ...), must have no cycle either.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent.parent / 'robot_lab'
@@ -67,6 +68,7 @@ def _imports(tree: ast.AST, module: str, is_package: bool) -> list[tuple[str, li
     return found
 
 
+@functools.cache
 def import_graph() -> dict[str, set[str]]:
     """robot_lab module -> the robot_lab modules it imports."""
     modules = _modules()

@@ -1,27 +1,22 @@
 """`robot-lab launch <pkg> <file> [name:=value …]`: the `ros2 launch` equivalent.
 
-Also `robot-lab launch <path> [name:=value …]`, `--show-args` and `--print`. The whole
-launch file is resolved and its parameter files checked before anything starts, so an
-error is one line and exit code 1 with no process left behind.
+Also `robot-lab launch <path> [name:=value …]`, `--show-args` and `--print` (the parsed
+description, nothing evaluated). The whole launch file is resolved and its parameter files
+checked before anything starts, so an error is one line and exit code 1 with no process
+left behind.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import shlex
 import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from robot_lab.launch.description import (
-    Action,
     LaunchArgument,
     LaunchPlan,
-    LogAction,
-    ProcessSpec,
-    ShutdownAction,
-    TimerAction,
 )
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.runner import run_supervisor
@@ -90,43 +85,6 @@ def format_arguments(arguments: list[LaunchArgument]) -> str:
     return '\n'.join(lines)
 
 
-def format_plan(plan: LaunchPlan) -> str:
-    """Every action of the plan, each process with the full command line it would run."""
-    from robot_lab.env import ros_environment
-
-    lines = [f'# {plan.source}']
-    base = ros_environment()
-
-    def walk(actions: list[Action], indent: str) -> None:
-        for action in actions:
-            if isinstance(action, ProcessSpec):
-                lines.append(f'{indent}{action.label}: {shlex.join(action.cmd)}')
-                details = [f'output={action.output}']
-                if action.cwd:
-                    details.append(f'cwd={action.cwd}')
-                if action.respawn:
-                    details.append(f'respawn (delay {action.respawn_delay:g} s)')
-                if action.on_exit:
-                    details.append(f'on_exit={action.on_exit}')
-                changed = {k: v for k, v in action.env.items() if base.get(k) != v}
-                removed = sorted(k for k in base if action.env and k not in action.env)
-                if changed:
-                    details.append('env: ' + ' '.join(f'{k}={v}' for k, v in changed.items()))
-                if removed:
-                    details.append('unset: ' + ' '.join(removed))
-                lines.append(f'{indent}    ' + ', '.join(details))
-            elif isinstance(action, LogAction):
-                lines.append(f'{indent}log [{action.level}]: {action.message}')
-            elif isinstance(action, TimerAction):
-                lines.append(f'{indent}timer after {action.period:g} s:')
-                walk(action.actions, indent + '    ')
-            elif isinstance(action, ShutdownAction):
-                lines.append(f'{indent}shutdown' + (f': {action.reason}' if action.reason else ''))
-
-    walk(plan.actions, '')
-    return '\n'.join(lines)
-
-
 def main(args: argparse.Namespace) -> int:
     from robot_lab.launch.describe import (
         describe_launch,
@@ -139,8 +97,13 @@ def main(args: argparse.Namespace) -> int:
         print(format_arguments(launch_arguments(source, file)))
         return 0
     if args.print:
-        plan = describe_launch(source, file, parse_launch_arguments(argv))
-        print(format_plan(plan))
+        # like ros2 launch --print: the parsed description, nothing evaluated or written
+        from robot_lab.launch.describe import find_launch_file, load_description
+        from robot_lab.launch.introspect import format_description
+
+        parse_launch_arguments(argv)  # a malformed one is still an error
+        path = find_launch_file(source, file)
+        print(format_description(load_description(path), path))
         return 0
     # First thing, before the launch file is read: the graph daemon's socket, and word that
     # a launch is starting, so a `node list` typed from now on waits for its nodes and a
@@ -183,7 +146,7 @@ def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
     from robot_lab.graph import daemon
 
     check_param_files(plan)
-    output = LaunchOutput(sys.stdout, debug=debug)
+    output = LaunchOutput(sys.stdout, debug=debug, log_dir=plan.log_dir)
     supervisor = Supervisor(plan, output, noninteractive=noninteractive,
                             graph_daemon=not daemon.disabled(),
                             graph_listener=graph_listener, announcement=announcement)

@@ -64,6 +64,8 @@ class LaunchStep:
     file: Path | None = None
     line: int | None = None
     condition: Condition | None = None
+    launch_name = 'Action'  # what launch calls it (for --print)
+    runs_children_later = False  # a timer's or handler's actions: not part of this scope now
 
     def locate(self, file: Path | None, line: int | None) -> None:
         self.file, self.line = file, line
@@ -80,6 +82,8 @@ class LaunchStep:
 
 class DescriptionStep(LaunchStep):
     """A LaunchDescription: its entities, in order, in the current scope."""
+
+    launch_name = 'LaunchDescription'
 
     def __init__(self, entities: Sequence[LaunchStep]) -> None:
         self.entities = list(entities)

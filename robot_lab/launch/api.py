@@ -63,7 +63,7 @@ class LaunchHandle:
                  start_timeout: float = 30.0) -> None:
         self.plan = plan
         self.key = key if key is not None else str(Path(plan.source).resolve())
-        self.output = LaunchOutput(None)
+        self.output = LaunchOutput(None, log_dir=plan.log_dir)
         self.returncode: int | None = None
         self._error: BaseException | None = None
         self._supervisor = Supervisor(plan, self.output, noninteractive=True)

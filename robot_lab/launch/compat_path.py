@@ -12,11 +12,13 @@ from __future__ import annotations
 import importlib.machinery
 import os
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ['COMPAT_DIR', 'compat_api', 'real_launch_installed']
+from robot_lab.errors import LaunchError
+
+__all__ = ['COMPAT_DIR', 'COMPOSABLE_FIX', 'compat_api', 'real_launch_installed', 'unsupported']
 
 COMPAT_DIR = Path(__file__).with_name('compat')
 _COMPAT_MODULES = ('launch', 'launch_ros', 'launch_xml', 'launch_yaml')
@@ -55,3 +57,27 @@ def compat_api() -> Iterator[None]:
             os.environ.pop('AMENT_PREFIX_PATH', None)
         else:
             os.environ['AMENT_PREFIX_PATH'] = saved_ament
+
+
+def unsupported(module: str, name: str, available: Sequence[str] = ()) -> Exception:
+    """What `from launch.actions import X` gets for an X robot_lab does not provide.
+
+    One LaunchError at the launch file's import line (no raw ImportError/AttributeError);
+    dunder lookups stay AttributeErrors so Python's own protocols keep working.
+    """
+    if name.startswith('__'):
+        return AttributeError(f'module {module!r} has no attribute {name!r}')
+    from robot_lab.launch.action import caller_line
+
+    file, line = caller_line()
+    return LaunchError(
+        f"{module}.{name} is not supported by robot_lab's launcher",
+        file=file, line=line,
+        fix=COMPOSABLE_FIX if 'Composable' in name or 'Container' in name else
+        'run this file with a full ROS 2 install (ros2 launch), or do without it'
+        + (f'; {module} here has: {", ".join(sorted(available))}' if available else ''))
+
+
+COMPOSABLE_FIX = (
+    'composable nodes need rclcpp_components containers, which are C++ and not on PyPI: '
+    'start each component as its own Node(package=..., executable=...) instead')

@@ -23,6 +23,11 @@ class Condition:
     def evaluate(self, context: LaunchContext) -> bool:
         return condition_value(perform(self.expression, context)) != self.negate
 
+    def describe(self) -> str:
+        """For --print: the expression, never evaluated."""
+        kind = 'UnlessCondition' if self.negate else 'IfCondition'
+        return f"{kind}({' + '.join(s.describe() for s in self.expression)})"
+
 
 class EqualsCondition(Condition):
     """LaunchConfigurationEquals / NotEquals."""
@@ -33,3 +38,8 @@ class EqualsCondition(Condition):
     def evaluate(self, context: LaunchContext) -> bool:
         value = None if self.value is None else perform(self.value, context)
         return (context.configurations.get(self.name) == value) != self.negate
+
+    def describe(self) -> str:
+        kind = 'LaunchConfigurationNotEquals' if self.negate else 'LaunchConfigurationEquals'
+        value = 'None' if self.value is None else ' + '.join(s.describe() for s in self.value)
+        return f'{kind}({self.name!r}, {value})'

@@ -7,12 +7,15 @@ are LaunchErrors located at the action being executed.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
+from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import LaunchError, ParamFileError, RobotLabError
 from robot_lab.launch.description import Action, LaunchArgument
+from robot_lab.launch.output import make_log_dir
 from robot_lab.launch.substitutions import Substitution, SubstitutionFailure
 
 if TYPE_CHECKING:
@@ -35,7 +38,7 @@ class LaunchContext:
         # launch keeps these three in its launch configurations; so do we (scoped the same)
         self.ros: dict[str, Any] = {'ros_namespace': None, 'global_params': None,
                                     'ros_remaps': None}
-        self._scopes: list[tuple[dict[str, str], dict[str, Any], dict[str, str]]] = []
+        self._scopes: list[tuple[str, dict[str, str], dict[str, Any], dict[str, str]]] = []
         self.files: list[Path] = []
         self.sink: list[Action] = []
         self.arguments: list[LaunchArgument] = []
@@ -43,6 +46,9 @@ class LaunchContext:
         self._file_override: Path | None = None
         # how an include reads its file (describe.py sets it: actions never import frontends)
         self.load_description: Callable[[Path], DescriptionStep] = _no_loader
+        # what LocalSubstitution and event-handler functions read (`event` while handling one)
+        self.locals = SimpleNamespace()
+        self.made_log_dir: Path | None = None
 
     # what substitutions and OpaqueFunctions see
     @property
@@ -56,11 +62,52 @@ class LaunchContext:
     def perform_substitution(self, substitution: Substitution) -> str:
         return substitution.perform(self)
 
-    def push(self) -> None:
-        self._scopes.append((dict(self.configurations), dict(self.ros), dict(self.environment)))
+    def log_dir(self) -> Path:
+        """`$(log_dir)`: the launch's log directory, made on first use (the plan keeps it)."""
+        if self.made_log_dir is None:
+            self.made_log_dir = make_log_dir()
+        return self.made_log_dir
 
-    def pop(self) -> None:
-        self.configurations, self.ros, self.environment = self._scopes.pop()
+    def snapshot(self) -> LaunchContext:
+        """A copy that later changes to either side do not reach (for deferred actions)."""
+        copy = LaunchContext(self.configurations, self.environment)
+        copy.initial_environment = dict(self.initial_environment)
+        copy.ros = {key: list(value) if isinstance(value, list) else value
+                    for key, value in self.ros.items()}
+        copy.files = list(self.files)
+        copy.source, copy._file_override = self.source, self._file_override
+        copy.load_description = self.load_description
+        copy.locals = SimpleNamespace(**vars(self.locals))
+        copy.made_log_dir = self.made_log_dir
+        return copy
+
+    def push(self, what: str = 'all') -> None:
+        """A scope (group: 'all'; Push*Configurations/Environment: one of them)."""
+        self._scopes.append((what, dict(self.configurations), dict(self.ros),
+                             dict(self.environment)))
+
+    def pop(self, what: str = 'all') -> None:
+        kinds = [kind for kind, *_ in self._scopes]
+        if what not in kinds:
+            raise self.error(f'Pop{what.capitalize()} without a matching Push',
+                             fix='pair every Pop... with a Push... before it')
+        index = len(kinds) - 1 - kinds[::-1].index(what)
+        _, configurations, ros, environment = self._scopes.pop(index)
+        if what in ('all', 'configurations'):
+            self.configurations, self.ros = configurations, ros
+        if what in ('all', 'environment'):
+            self.environment = environment
+
+    @contextmanager
+    def located(self, where: tuple[Path, int | None] | None) -> Iterator[None]:
+        """Errors inside are located at `where` (a `<param>` inside its `<node>`)."""
+        if where is None:
+            yield
+            return
+        try:
+            yield
+        except (SubstitutionFailure, ValueError, TypeError, OSError) as err:
+            raise LaunchError(str(err), file=where[0], line=where[1]) from None
 
     def where(self) -> str | None:
         """'file:line' of the action being executed, for ProcessSpec.source and friends."""

@@ -147,7 +147,8 @@ def describe_launch(
     arguments: dict[str, LaunchArgument] = {}
     for argument in context.arguments:  # an included file may declare the same name again
         arguments.setdefault(argument.name, argument)
-    return LaunchPlan(source=path, actions=context.sink, arguments=list(arguments.values()))
+    return LaunchPlan(source=path, actions=context.sink, arguments=list(arguments.values()),
+                      log_dir=context.made_log_dir)
 
 
 def launch_arguments(source: str | Path, file: str | None = None) -> list[LaunchArgument]:

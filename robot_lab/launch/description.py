@@ -7,12 +7,16 @@ launch file is checked completely before any process starts.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TypeAlias
+from typing import Any, TypeAlias
+
+from robot_lab.launch.events import EventKind
 
 __all__ = [
     'Action',
+    'EventHandlerSpec',
     'LaunchArgument',
     'LaunchPlan',
     'LogAction',
@@ -43,6 +47,7 @@ class ProcessSpec:
     executable: str = ''
     param_files: list[str] = field(default_factory=list)
     source: str | None = None
+    origin: Any = field(default=None, repr=False)  # the action it came from (event targets)
 
 
 @dataclass
@@ -71,7 +76,27 @@ class ShutdownAction:
     source: str | None = None
 
 
-Action: TypeAlias = ProcessSpec | LogAction | TimerAction | ShutdownAction
+@dataclass
+class EventHandlerSpec:
+    """RegisterEventHandler: when `event` happens to a process of `target` (None: any),
+    `respond(event)` resolves the handler's actions then, in the context they were
+    registered in, and the supervisor runs what it returns."""
+
+    event: EventKind
+    target: Any
+    respond: Callable[[Any], list[Action]] = field(repr=False)
+    description: str = ''
+    source: str | None = None
+
+    def matches(self, origin: Any) -> bool:
+        if self.target is None:
+            return True
+        if callable(self.target) and not hasattr(self.target, 'execute'):
+            return bool(self.target(origin))  # a matcher function, as launch allows
+        return self.target is origin
+
+
+Action: TypeAlias = ProcessSpec | LogAction | TimerAction | ShutdownAction | EventHandlerSpec
 
 
 @dataclass
@@ -91,6 +116,7 @@ class LaunchPlan:
     source: Path
     actions: list[Action]
     arguments: list[LaunchArgument]
+    log_dir: Path | None = None  # made while resolving ($(log_dir)); the output uses it
 
     def processes(self) -> list[ProcessSpec]:
         """Every process, including those inside timers, in start order."""

@@ -12,7 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.substitutions import Substitution, Text, parse_substitution
+from robot_lab.launch.substitution_grammar import parse_substitution
+from robot_lab.launch.substitutions import Substitution, Text
 
 __all__ = ['Entity', 'env_pairs', 'literal_or_subs', 'required', 'split_cmdline', 'sub_attr']
 

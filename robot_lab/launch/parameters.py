@@ -14,10 +14,11 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from robot_lab.errors import ParamFileError
+from robot_lab.errors import LaunchError, ParamFileError
 from robot_lab.launch.action import Subs, subs
 from robot_lab.launch.entity import Entity, literal_or_subs
-from robot_lab.launch.substitutions import Substitution, coerce, parse_substitution, perform
+from robot_lab.launch.substitution_grammar import parse_substitution
+from robot_lab.launch.substitutions import Substitution, SubstitutionFailure, coerce, perform
 from robot_lab.params import load_param_file
 
 if TYPE_CHECKING:
@@ -32,6 +33,7 @@ class ParamValue:
 
     value: Any
     value_type: str | None = None
+    where: tuple[Path, int | None] | None = None  # the `<param>` it came from
 
 
 @dataclass
@@ -40,6 +42,7 @@ class ParamFileRef:
 
     path: Subs
     allow_substs: bool = False
+    where: tuple[Path, int | None] | None = None
 
 
 def substituted_param_file(path: str, context: LaunchContext) -> str:
@@ -132,8 +135,16 @@ def flatten_params(params: Mapping[Any, Any], context: LaunchContext,
         full = f'{prefix}.{name}' if prefix else name
         if isinstance(value, Mapping):
             out.update(flatten_params(value, context, full))
-        else:
+            continue
+        try:
             out[full] = param_value(value, context, full)
+        except (SubstitutionFailure, ValueError, TypeError) as err:
+            where = getattr(value, 'where', None)
+            if where is None:
+                raise
+            message = str(err) if str(err).startswith('parameter ') else \
+                f'parameter {full}: {err}'
+            raise LaunchError(message, file=where[0], line=where[1]) from None
     return out
 
 
@@ -143,33 +154,42 @@ def parse_param_entities(items: list[Entity]) -> list[Any]:
     def nested(entries: list[Entity]) -> dict[str, Any]:
         out: dict[str, Any] = {}
         for param in entries:
-            name = param.attr('name', optional=False)
-            type_name = param.attr('type')
-            if type_name is not None and type_name not in (
-                    'str', 'bool', 'float', 'int', 'yaml', 'list_of_str', 'list_of_bool',
-                    'list_of_float', 'list_of_int'):
-                raise ValueError(f"Got invalid type identifier '{type_name}'")
-            value = param.attr('value', 'any')
-            if value is not None:
-                value = param.typed_value(value, type_name)
-            children = param.entities('param')
-            param.assert_parsed()
-            if value is not None and children:
-                raise RuntimeError('nested parameters and value attributes are mutually exclusive')
-            if type_name is not None and children:
-                raise RuntimeError('nested parameters and type attributes are mutually exclusive')
-            if value is not None:
-                # parse_if_substitutions: text with substitutions is evaluated at launch
-                if isinstance(value, list):
-                    value = [literal_or_subs(v) for v in value]
-                else:
-                    value = literal_or_subs(value)
-                out[name] = ParamValue(value, type_name)
-            elif children:
-                out[name] = nested(children)
-            else:
-                raise RuntimeError('either a value attribute or nested params are needed')
+            try:
+                one(param, out)
+            except LaunchError:
+                raise
+            except (ValueError, TypeError, RuntimeError, AttributeError,
+                    SubstitutionFailure) as err:  # located at the <param>, not its <node>
+                raise param.fail(str(err)) from None
         return out
+
+    def one(param: Entity, out: dict[str, Any]) -> None:
+        name = param.attr('name', optional=False)
+        type_name = param.attr('type')
+        if type_name is not None and type_name not in (
+                'str', 'bool', 'float', 'int', 'yaml', 'list_of_str', 'list_of_bool',
+                'list_of_float', 'list_of_int'):
+            raise ValueError(f"Got invalid type identifier '{type_name}'")
+        value = param.attr('value', 'any')
+        if value is not None:
+            value = param.typed_value(value, type_name)
+        children = param.entities('param')
+        param.assert_parsed()
+        if value is not None and children:
+            raise RuntimeError('nested parameters and value attributes are mutually exclusive')
+        if type_name is not None and children:
+            raise RuntimeError('nested parameters and type attributes are mutually exclusive')
+        if value is not None:
+            # parse_if_substitutions: text with substitutions is evaluated at launch
+            if isinstance(value, list):
+                value = [literal_or_subs(v) for v in value]
+            else:
+                value = literal_or_subs(value)
+            out[name] = ParamValue(value, type_name, (param.file, param.line))
+        elif children:
+            out[name] = nested(children)
+        else:
+            raise RuntimeError('either a value attribute or nested params are needed')
 
     result: list[Any] = []
     for param in items:
@@ -180,7 +200,8 @@ def parse_param_entities(items: list[Entity]) -> list[Any]:
             raise RuntimeError('name and from attributes are mutually exclusive')
         if source is not None:
             param.assert_parsed()
-            result.append(ParamFileRef(parse_substitution(source), bool(allow)))
+            result.append(ParamFileRef(parse_substitution(source), bool(allow),
+                                       (param.file, param.line)))
         else:
             if allow is not None:
                 raise RuntimeError("'allow_substs' can only be used together with 'from' attribute")

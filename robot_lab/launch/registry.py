@@ -16,7 +16,8 @@ from robot_lab.errors import LaunchError
 from robot_lab.launch.action import DescriptionStep, LaunchStep
 from robot_lab.launch.conditions import Condition
 from robot_lab.launch.entity import Entity
-from robot_lab.launch.substitutions import SubstitutionFailure, parse_substitution
+from robot_lab.launch.substitution_grammar import parse_substitution
+from robot_lab.launch.substitutions import SubstitutionFailure
 
 __all__ = ['TAGS', 'parse_entity', 'parse_root', 'register']
 

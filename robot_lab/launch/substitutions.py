@@ -17,14 +17,13 @@ import shutil
 import socket
 import subprocess
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Protocol
 
 import yaml
 
 __all__ = [
-    'SUBSTITUTIONS',
     'Substitution',
     'SubstitutionContext',
     'SubstitutionError',
@@ -32,7 +31,6 @@ __all__ = [
     'Text',
     'coerce',
     'condition_value',
-    'parse_substitution',
     'perform',
 ]
 
@@ -61,7 +59,12 @@ class Substitution:
         raise NotImplementedError
 
     def describe(self) -> str:
-        return type(self).__name__
+        """What --print shows: the class and its arguments, nothing performed."""
+        args = []
+        for value in vars(self).values():
+            if isinstance(value, list) and all(isinstance(v, Substitution) for v in value):
+                args.append(' + '.join(v.describe() for v in value) or "''")
+        return f'{type(self).__name__}({", ".join(args)})'
 
 
 Subs = list[Substitution]
@@ -274,6 +277,37 @@ class FileContent(Substitution):
             raise SubstitutionFailure(f'File not found: {path}') from None
 
 
+class LaunchLogDir(Substitution):
+    """`$(log_dir)`: this launch's log directory (made when first asked for)."""
+
+    def perform(self, context: SubstitutionContext) -> str:
+        log_dir = getattr(context, 'log_dir', None)
+        if log_dir is None:
+            raise SubstitutionFailure('LaunchLogDir used outside of a launch')
+        return str(log_dir())
+
+
+class LocalSubstitution(Substitution):
+    """LocalSubstitution('event.reason'): a value of the context's locals (in an event
+    handler: the event being handled)."""
+
+    def __init__(self, expression: str, description: str | None = None) -> None:
+        self.expression, self.description = expression, description
+
+    def perform(self, context: SubstitutionContext) -> str:
+        value: Any = getattr(context, 'locals', None)
+        for part in self.expression.split('.'):
+            if not hasattr(value, part):
+                raise SubstitutionFailure(
+                    f"LocalSubstitution('{self.expression}'): '{part}' is not in the "
+                    "context's locals (event.* exists only inside an event handler)")
+            value = getattr(value, part)
+        return str(value)
+
+    def describe(self) -> str:
+        return self.description or f"LocalVar('{self.expression}')"
+
+
 class PathJoin(Substitution):
     """PathJoinSubstitution (Python API only)."""
 
@@ -283,209 +317,12 @@ class PathJoin(Substitution):
     def perform(self, context: SubstitutionContext) -> str:
         return os.path.join(*(perform(part, context) for part in self.parts))
 
-
-def _bool(subs: Subs, context: SubstitutionContext) -> bool:
-    value = coerce(perform(subs, context), 'bool')
-    assert isinstance(value, bool)
-    return value
-
-
-class IfElse(Substitution):
-    """`$(if cond then [else])`."""
-
-    def __init__(self, condition: Subs, if_value: Subs, else_value: Subs | None = None) -> None:
-        self.condition, self.if_value, self.else_value = condition, if_value, else_value or []
-
-    def perform(self, context: SubstitutionContext) -> str:
-        chosen = self.if_value if _bool(self.condition, context) else self.else_value
-        return perform(chosen, context)
-
-
-class Not(Substitution):
-    """`$(not value)`."""
-
-    def __init__(self, value: Subs) -> None:
-        self.value = value
-
-    def perform(self, context: SubstitutionContext) -> str:
-        return str(not _bool(self.value, context)).lower()
-
-
-class And(Substitution):
-    """`$(and a b)`."""
-
-    def __init__(self, left: Subs, right: Subs) -> None:
-        self.left, self.right = left, right
-
-    def perform(self, context: SubstitutionContext) -> str:
-        return str(_bool(self.left, context) and _bool(self.right, context)).lower()
-
-
-class Or(And):
-    """`$(or a b)`."""
-
-    def perform(self, context: SubstitutionContext) -> str:
-        return str(_bool(self.left, context) or _bool(self.right, context)).lower()
-
-
-def _is_bool(text: str) -> bool:
-    return text.lower() in ('true', 'false', '1', '0')
-
-
-def _is_float(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
-class Equals(Substitution):
-    """`$(equals a b)`: booleans and numbers compared by value, else as text."""
-
-    def __init__(self, left: Subs, right: Subs) -> None:
-        self.left, self.right = left, right
-
-    def perform(self, context: SubstitutionContext) -> str:
-        left, right = perform(self.left, context), perform(self.right, context)
-        if _is_bool(left) and _is_bool(right):
-            same = (left.lower() in ('true', '1')) == (right.lower() in ('true', '1'))
-        elif _is_float(left) and _is_float(right):
-            same = math.isclose(float(left), float(right))
-        else:
-            same = left == right
-        return str(same).lower()
-
-
-def _arity(name: str, low: int, high: int) -> Callable[[list[Subs]], None]:
-    def check(args: list[Subs]) -> None:
-        if not low <= len(args) <= high:
-            count = str(low) if low == high else f'{low} or {high}' if high == low + 1 \
-                else f'{low} to {high}'
-            plural = 'argument' if count == '1' else 'arguments'
-            raise ValueError(f'{name} substitution expects {count} {plural}')
-    return check
+    def describe(self) -> str:
+        parts = (' + '.join(sub.describe() for sub in part) for part in self.parts)
+        return f'PathJoinSubstitution([{", ".join(parts)}])'
 
 
 # frontend name -> (factory, allowed argument counts)
-SUBSTITUTIONS: dict[str, tuple[Callable[..., Substitution], int, int]] = {
-    'var': (LaunchConfiguration, 1, 2),
-    'env': (EnvironmentVariable, 1, 2),
-    'eval': (PythonExpression, 1, 2),
-    'command': (Command, 1, 2),
-    'anon': (AnonName, 1, 1),
-    'dirname': (ThisLaunchFileDir, 0, 0),
-    'filename': (ThisLaunchFile, 0, 0),
-    'find-exec': (FindExecutable, 1, 1),
-    'find-pkg-share': (FindPackageShare, 1, 1),
-    'find-pkg-prefix': (FindPackagePrefix, 1, 1),
-    'exec-in-pkg': (ExecutableInPackage, 2, 2),
-    'file-content': (FileContent, 1, 1),
-    'if': (IfElse, 2, 3),
-    'not': (Not, 1, 1),
-    'and': (And, 2, 2),
-    'or': (Or, 2, 2),
-    'equals': (Equals, 2, 2),
-}
-
-
-class _Reader:
-    """Recursive descent over launch's substitution grammar."""
-
-    def __init__(self, text: str) -> None:
-        self.text = text
-        self.pos = 0
-
-    def peek(self, count: int = 1) -> str:
-        return self.text[self.pos:self.pos + count]
-
-    def error(self, message: str) -> ValueError:
-        return ValueError(f'{message} in {self.text!r} at column {self.pos + 1}')
-
-    def scan(self, quote: str | None, stops: str = '') -> tuple[Subs, bool]:
-        """Text (with `\\` escapes) and nested `$(...)` up to a character in `stops`.
-
-        The stop character is not consumed; the flag says whether one was reached (False:
-        the text ended). The top level, unquoted arguments and quoted strings all read
-        with this one loop and differ only in where they stop.
-        """
-        parts: Subs = []
-        buffer: list[str] = []
-
-        def flush() -> None:
-            if buffer:
-                parts.append(Text(''.join(buffer)))
-                buffer.clear()
-
-        while self.pos < len(self.text):
-            char = self.peek()
-            if self.peek(2) == '$(':
-                flush()
-                parts.append(self.substitution(quote))
-            elif char == '\\' and self.pos + 1 < len(self.text):
-                buffer.append(self.text[self.pos + 1])
-                self.pos += 2
-            elif char in stops:
-                flush()
-                return parts, True
-            else:
-                buffer.append(char)
-                self.pos += 1
-        flush()
-        return parts, False
-
-    def template(self) -> Subs:
-        """Top level: anything is text except `$(`."""
-        return self.scan(None)[0]
-
-    def substitution(self, quote: str | None) -> Substitution:
-        self.pos += 2  # '$('
-        start = self.pos
-        while self.pos < len(self.text) and (
-            self.peek().isalnum() or self.peek() in '_-'
-        ):
-            self.pos += 1
-        name = self.text[start:self.pos]
-        if not name or not name[0].isalpha():
-            raise self.error('expected a substitution name after "$("')
-        args: list[Subs] = []
-        while self.peek() == ' ':
-            while self.peek() == ' ':
-                self.pos += 1
-            if self.peek() == ')':
-                break
-            args.append(self.value(quote))
-        if self.peek() != ')':
-            raise self.error(f'expected ")" to close $({name}')
-        self.pos += 1
-        if name not in SUBSTITUTIONS:
-            raise ValueError(f'Unknown substitution: {name}')
-        factory, low, high = SUBSTITUTIONS[name]
-        _arity(name, low, high)(args)
-        return factory(*args)
-
-    def value(self, quote: str | None) -> Subs:
-        if quote is None and self.peek() in ('"', "'"):
-            return self.quoted(self.peek())
-        parts, _ = self.scan(quote, ' ()"\'')
-        if not parts:
-            raise self.error('expected a substitution argument')
-        return parts
-
-    def quoted(self, quote: str) -> Subs:
-        self.pos += 1
-        parts, closed = self.scan(quote, quote)
-        if not closed:
-            raise self.error(f'unterminated {quote} quote')
-        self.pos += 1
-        return parts or [Text('')]
-
-
-def parse_substitution(text: str) -> Subs:
-    """`'$(find-pkg-share p)/config/$(var f)'` -> substitutions; ValueError if malformed."""
-    if not text:
-        return [Text('')]
-    return _Reader(text).template()
 
 
 def is_literal(subs: Subs) -> bool:

@@ -31,12 +31,15 @@ from robot_lab.errors import ParamFileError
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
 from robot_lab.launch.description import (
     Action,
+    EventHandlerSpec,
     LaunchPlan,
     LogAction,
     ProcessSpec,
     ShutdownAction,
     TimerAction,
 )
+from robot_lab.launch.event_router import EventRouter
+from robot_lab.launch.events import Shutdown
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.process import spawn
 
@@ -131,6 +134,8 @@ class Supervisor:
             warn=lambda message: self.output.launcher('WARNING', 'launch', message))
         self.records: list[ProcessRecord] = [ProcessRecord(spec) for spec in plan.processes()]
         self._by_spec = {id(r.spec): r for r in self.records}
+        self._labels = len(self.records)  # processes an event handler starts count on
+        self.events = EventRouter(self._execute, self._handler_failed, self._request)
         self.started = threading.Event()  # the plan's first actions have been executed
         self.finished = threading.Event()
         self.is_shutdown = False
@@ -200,7 +205,10 @@ class Supervisor:
                 self._drain_requests()
                 self._run_due()
                 if self._idle():
-                    break
+                    if self.is_shutdown and not self._requests:
+                        break
+                    self._shutdown(due_to_sigint=False, reason='idle')  # OnShutdown handlers
+                    continue
                 self._wait(self._next_timeout())
         finally:
             self.started.set()
@@ -269,18 +277,33 @@ class Supervisor:
 
     def _execute(self, actions: list[Action]) -> None:
         for action in actions:
-            if self.is_shutdown:
-                return
             if isinstance(action, ProcessSpec):
-                self._start(self._by_spec[id(action)])
+                record = self._by_spec.get(id(action)) or self._adopt(action)
+                self._start(record)
+            elif isinstance(action, EventHandlerSpec):
+                self.events.register(action)
             elif isinstance(action, LogAction):
                 level = action.level.upper()
                 self.output.launcher(level if level in _LEVELS else 'INFO', 'launch.user',
                                      action.message)
-            elif isinstance(action, TimerAction):
+            elif isinstance(action, TimerAction) and not self.is_shutdown:
                 self._at(max(0.0, action.period), self._timer_callback(action.actions))
             elif isinstance(action, ShutdownAction):
                 self._shutdown(due_to_sigint=False, reason=action.reason)
+
+    def _adopt(self, spec: ProcessSpec) -> ProcessRecord:
+        """A process an event handler asked for: numbered after those of the plan."""
+        self._labels += 1
+        spec.label = f'{spec.label}-{self._labels}'
+        record = ProcessRecord(spec)
+        self.records.append(record)
+        self._by_spec[id(spec)] = record
+        return record
+
+    def _handler_failed(self, message: str) -> None:
+        self.output.launcher('ERROR', 'launch', message)
+        self.returncode = 1
+        self._shutdown(due_to_sigint=False, reason='an event handler failed')
 
     def _timer_callback(self, actions: list[Action]) -> Callable[[], None]:
         return lambda: self._execute(actions)
@@ -330,6 +353,7 @@ class Supervisor:
             except OSError:
                 record.pidfd = None
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
+        self.events.started(spec, popen.pid, env)
         self._announce()
         if self.graph_daemon and self.started.is_set():
             self._start_graph_daemons()  # a node started by a timer, maybe in a new graph
@@ -353,6 +377,8 @@ class Supervisor:
         for raw in complete:
             self.output.child(record.label, stream, record.spec.output,
                               raw.rstrip(b'\r').decode('utf-8', errors='replace'))
+            if record.pid is not None and self.events.wants('process_io'):
+                self.events.output(record.spec, record.pid, stream, raw.rstrip(b'\r'))
         record.partial[stream] = rest
 
     def _close_stream(self, record: ProcessRecord, stream: str, fd: int) -> None:
@@ -412,6 +438,7 @@ class Supervisor:
                 'ERROR', record.label,
                 f"process has died [pid {popen.pid}, exit code {code}, cmd '{cmd}'].",
             )
+        self.events.exited(record.spec, popen.pid, code)
         if self.is_shutdown or record.stopping:
             return
         if record.spec.on_exit == 'shutdown':
@@ -438,6 +465,8 @@ class Supervisor:
         self.is_shutdown = True
         if reason:
             self.output.launcher('DEBUG', 'launch', f'shutting down: {reason}')
+        self.events.emit('shutdown', None, lambda: Shutdown(
+            'ctrl-c (SIGINT)' if due_to_sigint else reason or 'reason not given', due_to_sigint))
         self._graph.stop_daemons()  # it exits while the nodes do
         for item in self._schedule:
             if item.keeps_alive:

@@ -9,6 +9,7 @@ from __future__ import annotations
 from robot_lab.launch.actions import (  # noqa: F401  (imported to register their tags)
     arguments,
     environment,
+    event_handlers,
     execute_process,
     group,
     include,
@@ -19,4 +20,5 @@ from robot_lab.launch.actions import (  # noqa: F401  (imported to register thei
     ros_globals,
     shutdown,
     timer,
+    unavailable,
 )

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, opt_subs, subs
@@ -21,6 +21,8 @@ __all__ = ['DeclareArgumentStep', 'SetConfigurationStep']
 
 @register('arg')
 class DeclareArgumentStep(LaunchStep):
+    launch_name = 'DeclareLaunchArgument'
+
     def __init__(self, name: str, default: Any = None, description: str = '',
                  choices: Sequence[str] | None = None) -> None:
         self.name = name
@@ -66,6 +68,8 @@ class DeclareArgumentStep(LaunchStep):
 class SetConfigurationStep(LaunchStep):
     """`<let>` / SetLaunchConfiguration."""
 
+    launch_name = 'SetLaunchConfiguration'
+
     def __init__(self, name: Any, value: Any) -> None:
         self.name, self.value = subs(name), subs(value)
 
@@ -75,3 +79,67 @@ class SetConfigurationStep(LaunchStep):
     @classmethod
     def parse(cls, e: Entity) -> LaunchStep:
         return cls(required(e, 'name'), required(e, 'value'))
+
+
+@register('reset')
+class ResetConfigurationsStep(LaunchStep):
+    """`<reset>` / ResetLaunchConfigurations: clear the configurations, `<keep>` some.
+
+    launch_ros keeps the ROS namespace, global parameters and remaps among the launch
+    configurations, so they are cleared too.
+    """
+
+    launch_name = 'ResetLaunchConfigurations'
+
+    def __init__(self, keep: Mapping[Any, Any] | None = None) -> None:
+        self.keep = None if keep is None else [(subs(k), subs(v)) for k, v in keep.items()]
+
+    def execute(self, context: LaunchContext) -> None:
+        kept = {perform(k, context): perform(v, context) for k, v in self.keep or []}
+        context.configurations.clear()
+        context.configurations.update(kept)
+        context.ros = {key: None for key in context.ros}
+
+    @classmethod
+    def parse(cls, e: Entity) -> LaunchStep:
+        keeps = e.entities('keep')
+        if keeps is None:
+            return cls()
+        keep = {tuple(required(k, 'name')): required(k, 'value') for k in keeps}
+        for k in keeps:
+            k.assert_parsed()
+        return cls({tuple(k): v for k, v in keep.items()})
+
+
+@register('unset')
+class UnsetConfigurationStep(LaunchStep):
+    """`<unset>` / UnsetLaunchConfiguration."""
+
+    launch_name = 'UnsetLaunchConfiguration'
+
+    def __init__(self, name: Any) -> None:
+        self.name = subs(name)
+
+    def execute(self, context: LaunchContext) -> None:
+        context.configurations.pop(perform(self.name, context), None)
+
+    @classmethod
+    def parse(cls, e: Entity) -> LaunchStep:
+        return cls(required(e, 'name'))
+
+
+class ScopeStep(LaunchStep):
+    """Push/PopLaunchConfigurations, Push/PopEnvironment, ResetEnvironment (Python only)."""
+
+    def __init__(self, operation: str, what: str) -> None:
+        self.operation, self.what = operation, what
+        self.launch_name = {'push': 'Push', 'pop': 'Pop', 'reset': 'Reset'}[operation] + (
+            'LaunchConfigurations' if what == 'configurations' else 'Environment')
+
+    def execute(self, context: LaunchContext) -> None:
+        if self.operation == 'reset':
+            context.environment = dict(context.initial_environment)
+        elif self.operation == 'push':
+            context.push(self.what)
+        else:
+            context.pop(self.what)

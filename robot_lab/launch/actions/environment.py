@@ -8,7 +8,8 @@ from typing import TYPE_CHECKING, Any
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import coerce, parse_substitution, perform
+from robot_lab.launch.substitution_grammar import parse_substitution
+from robot_lab.launch.substitutions import coerce, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext

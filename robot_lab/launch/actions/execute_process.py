@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, Subs, subs
+from robot_lab.launch.actions.event_handlers import EventHandler, RegisterEventHandlerStep
 from robot_lab.launch.description import (
     ProcessSpec,
 )
@@ -36,6 +37,8 @@ class ProcessOptions:
     sigkill_timeout: Any = 5.0
     shell: bool = False
     on_exit: str | None = None
+    # on_exit=[actions] or a function(event, context): an OnProcessExit handler on itself
+    on_exit_handler: Any = None
     env: list[tuple[Subs, Subs]] | None = None
     additional_env: list[tuple[Subs, Subs]] = field(default_factory=list)
 
@@ -43,6 +46,8 @@ class ProcessOptions:
 @register('executable')
 class ExecuteStep(LaunchStep):
     """`<executable>` / ExecuteProcess."""
+
+    launch_name = 'ExecuteProcess'
 
     def __init__(self, cmd: Sequence[Any], options: ProcessOptions) -> None:
         self.cmd = [subs(part) for part in cmd]
@@ -81,6 +86,7 @@ class ExecuteStep(LaunchStep):
                                   else opts.sigkill_timeout),
             shell=opts.shell,
             source=context.where(),
+            origin=self,
             **extra,
         )
 
@@ -90,6 +96,14 @@ class ExecuteStep(LaunchStep):
             raise context.error('empty command line', fix='give cmd="program args..."')
         spec = self._spec(context, cmd, executable=os.path.basename(cmd[0]))
         context.sink.append(spec)
+        self.register_on_exit(context)
+
+    def register_on_exit(self, context: LaunchContext) -> None:
+        """`on_exit=[...]`: launch registers an OnProcessExit handler for this action."""
+        if self.options.on_exit_handler is None:
+            return
+        handler = EventHandler('process_exit', self, {'on_exit': self.options.on_exit_handler})
+        RegisterEventHandlerStep(handler).execute(context)
 
     @classmethod
     def parse(cls, e: Entity) -> LaunchStep:

@@ -20,6 +20,8 @@ __all__ = ['GroupStep']
 class GroupStep(LaunchStep):
     """`<group>` / GroupAction: scoped by default (configurations and environment)."""
 
+    launch_name = 'GroupAction'
+
     def __init__(self, actions: Sequence[LaunchStep], scoped: bool = True, forwarding: bool = True,
                  keep: Mapping[Any, Any] | None = None) -> None:
         self.actions = list(actions)

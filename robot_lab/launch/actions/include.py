@@ -24,6 +24,8 @@ __all__ = ['IncludeStep', 'declared_arguments']
 class IncludeStep(LaunchStep):
     """`<include>` / IncludeLaunchDescription: not scoped; arguments become configurations."""
 
+    launch_name = 'IncludeLaunchDescription'
+
     def __init__(self, path: Any, arguments: Iterable[tuple[Any, Any]] = (),
                  loader: Callable[[Path], DescriptionStep] | None = None) -> None:
         self.path = subs(path)

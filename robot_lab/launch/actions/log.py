@@ -20,6 +20,8 @@ __all__ = ['LogStep']
 
 @register('log')
 class LogStep(LaunchStep):
+    launch_name = 'LogInfo'
+
     def __init__(self, message: Any, level: str = 'INFO') -> None:
         self.message, self.level = subs(message), level
 

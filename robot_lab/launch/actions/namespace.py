@@ -20,6 +20,8 @@ __all__ = ['PushNamespaceStep']
 class PushNamespaceStep(LaunchStep):
     """`<push-ros-namespace>` / PushROSNamespace: relative values nest, absolute replace."""
 
+    launch_name = 'PushROSNamespace'
+
     def __init__(self, namespace: Any) -> None:
         self.namespace = subs(namespace)
 

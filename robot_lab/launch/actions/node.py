@@ -40,6 +40,8 @@ __all__ = ['NodeStep']
 class NodeStep(ExecuteStep):
     """`<node>` / launch_ros.actions.Node: the command line launch_ros builds."""
 
+    launch_name = 'Node'
+
     def __init__(self, executable: Any, package: Any = None, name: Any = None,
                  namespace: Any = None, exec_name: Any = None,
                  parameters: Sequence[Any] | None = None,
@@ -100,7 +102,8 @@ class NodeStep(ExecuteStep):
                 param_files.append(entry)
         for entry in self.parameters:
             if isinstance(entry, ParamFileRef):
-                file = str(Path(perform(entry.path, context)))  # as ParameterFile.evaluate
+                with context.located(entry.where):  # an error names the <param>'s line
+                    file = str(Path(perform(entry.path, context)))  # as ParameterFile.evaluate
                 if entry.allow_substs:
                     file = substituted_param_file(file, context)
                 check_param_file(file, context)
@@ -123,6 +126,7 @@ class NodeStep(ExecuteStep):
         spec = self._spec(context, cmd, node_name=full_name, package=package,
                           executable=executable, param_files=param_files)
         context.sink.append(spec)
+        self.register_on_exit(context)
 
     @classmethod
     def parse(cls, e: Entity) -> LaunchStep:

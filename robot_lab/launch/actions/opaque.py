@@ -18,6 +18,8 @@ __all__ = ['OpaqueStep']
 class OpaqueStep(LaunchStep):
     """OpaqueFunction: called with the context; the actions it returns run in place."""
 
+    launch_name = 'OpaqueFunction'
+
     def __init__(self, function: Callable[..., Any], args: Sequence[Any] | None = None,
                  kwargs: Mapping[str, Any] | None = None) -> None:
         self.function, self.args, self.kwargs = function, list(args or []), dict(kwargs or {})

@@ -14,7 +14,7 @@ from robot_lab.launch.substitutions import perform
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['GlobalRosStep']
+__all__ = ['GlobalRosStep', 'SetUseSimTimeStep']
 
 
 @register('set_parameter', 'set_parameters_from_file', 'set_remap')
@@ -52,3 +52,23 @@ class GlobalRosStep(LaunchStep):
         if e.type_name == 'set_parameters_from_file':
             return cls('file', required(e, 'filename'))
         return cls('remap', required(e, 'from'), required(e, 'to'))
+
+
+@register('set_use_sim_time')
+class SetUseSimTimeStep(GlobalRosStep):
+    """`<set_use_sim_time value=...>` / SetUseSimTime: `use_sim_time` for later nodes in scope.
+
+    Jazzy's launch_ros sets it on the launcher's own ROS node; robot_lab's launcher has none,
+    so it does what the action is used for: every node started after it in its scope gets
+    the parameter (as `SetParameter('use_sim_time', value)` does).
+    """
+
+    launch_name = 'SetUseSimTime'
+
+    def __init__(self, value: Any) -> None:
+        value = value if isinstance(value, bool) else ParamValue(subs(value), 'bool')
+        super().__init__('parameter', 'use_sim_time', value)
+
+    @classmethod
+    def parse(cls, e: Entity) -> LaunchStep:
+        return cls(required(e, 'value'))

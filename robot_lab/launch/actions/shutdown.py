@@ -20,6 +20,8 @@ __all__ = ['ShutdownStep']
 
 @register('shutdown')
 class ShutdownStep(LaunchStep):
+    launch_name = 'Shutdown'
+
     def __init__(self, reason: Any = '') -> None:
         self.reason = subs(reason)
 

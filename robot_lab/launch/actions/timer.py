@@ -11,7 +11,8 @@ from robot_lab.launch.description import (
 )
 from robot_lab.launch.entity import Entity
 from robot_lab.launch.registry import parse_entity, register
-from robot_lab.launch.substitutions import parse_substitution, perform
+from robot_lab.launch.substitution_grammar import parse_substitution
+from robot_lab.launch.substitutions import perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -22,6 +23,9 @@ __all__ = ['TimerStep']
 @register('timer')
 class TimerStep(LaunchStep):
     """`<timer period>` / TimerAction: its actions resolved now, started later."""
+
+    launch_name = 'TimerAction'
+    runs_children_later = True
 
     def __init__(self, period: Any, actions: Sequence[LaunchStep]) -> None:
         self.period = period if isinstance(period, float | int) else subs(period)

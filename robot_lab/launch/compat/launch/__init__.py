@@ -6,6 +6,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from robot_lab.launch.action import LaunchStep
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
 from robot_lab.launch.context import LaunchContext
 from robot_lab.launch.substitutions import Substitution
@@ -47,3 +48,7 @@ class LaunchDescription:
 
     def describe_sub_entities(self) -> list[Any]:
         return list(self.entities)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch', name, __all__)

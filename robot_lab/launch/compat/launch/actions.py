@@ -7,8 +7,19 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 from robot_lab.launch.action import LaunchStep, as_step
-from robot_lab.launch.actions.arguments import DeclareArgumentStep, SetConfigurationStep
+from robot_lab.launch.actions.arguments import (
+    DeclareArgumentStep,
+    ResetConfigurationsStep,
+    ScopeStep,
+    SetConfigurationStep,
+    UnsetConfigurationStep,
+)
 from robot_lab.launch.actions.environment import EnvironmentStep
+from robot_lab.launch.actions.event_handlers import (
+    EmitEventStep,
+    EventHandler,
+    RegisterEventHandlerStep,
+)
 from robot_lab.launch.actions.execute_process import ExecuteStep, ProcessOptions
 from robot_lab.launch.actions.group import GroupStep
 from robot_lab.launch.actions.include import IncludeStep
@@ -16,6 +27,7 @@ from robot_lab.launch.actions.log import LogStep
 from robot_lab.launch.actions.opaque import OpaqueStep
 from robot_lab.launch.actions.shutdown import ShutdownStep
 from robot_lab.launch.actions.timer import TimerStep
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
 
 from .substitutions import opt, subs
@@ -23,16 +35,25 @@ from .substitutions import opt, subs
 __all__ = [
     'AppendEnvironmentVariable',
     'DeclareLaunchArgument',
+    'EmitEvent',
     'ExecuteProcess',
     'GroupAction',
     'IncludeLaunchDescription',
     'LogInfo',
     'OpaqueFunction',
+    'PopEnvironment',
+    'PopLaunchConfigurations',
+    'PushEnvironment',
+    'PushLaunchConfigurations',
+    'RegisterEventHandler',
+    'ResetEnvironment',
+    'ResetLaunchConfigurations',
     'SetEnvironmentVariable',
     'SetLaunchConfiguration',
     'Shutdown',
     'TimerAction',
     'UnsetEnvironmentVariable',
+    'UnsetLaunchConfiguration',
 ]
 
 
@@ -91,18 +112,19 @@ def process_options(
     respawn_max_retries: int = -1, on_exit: Any = None, **_: Any,
 ) -> ProcessOptions:
     """ExecuteProcess's keyword arguments (emulate_tty, output_format, ... are accepted)."""
-    exit_action = None
+    exit_action, exit_handler = None, None
     if on_exit is not None:
         actions = on_exit if isinstance(on_exit, list | tuple) else [on_exit]
-        if not all(isinstance(a, ShutdownStep) for a in actions):
-            raise TypeError('robot_lab supports on_exit=Shutdown() only')
-        exit_action = 'shutdown'
+        if all(isinstance(a, ShutdownStep) and a.condition is None for a in actions):
+            exit_action = 'shutdown'
+        else:
+            exit_handler = on_exit  # actions, or a function(event, context)
     return ProcessOptions(
         cwd=opt(cwd), name=opt(name), prefix=opt(prefix), output=opt(output),
         respawn=respawn if isinstance(respawn, bool) else subs(respawn),
         respawn_delay=respawn_delay, respawn_max_retries=respawn_max_retries,
         sigterm_timeout=sigterm_timeout, sigkill_timeout=sigkill_timeout, shell=shell,
-        on_exit=exit_action,
+        on_exit=exit_action, on_exit_handler=exit_handler,
         env=None if env is None else [(subs(k), subs(v)) for k, v in env.items()],
         additional_env=[(subs(k), subs(v)) for k, v in (additional_env or {}).items()],
     )
@@ -161,3 +183,63 @@ class Shutdown(ShutdownStep):
                  condition: Condition | None = None) -> None:
         super().__init__(reason)
         _place(self, condition)
+
+
+class RegisterEventHandler(RegisterEventHandlerStep):
+    def __init__(self, event_handler: EventHandler, *, condition: Condition | None = None,
+                 **_: Any) -> None:
+        super().__init__(event_handler)
+        _place(self, condition)
+
+
+class EmitEvent(EmitEventStep):
+    def __init__(self, *, event: Any, condition: Condition | None = None, **_: Any) -> None:
+        super().__init__(event)
+        _place(self, condition)
+
+
+class ResetLaunchConfigurations(ResetConfigurationsStep):
+    def __init__(self, launch_configurations: Mapping[Any, Any] | None = None, *,
+                 condition: Condition | None = None) -> None:
+        super().__init__(launch_configurations)
+        _place(self, condition)
+
+
+class UnsetLaunchConfiguration(UnsetConfigurationStep):
+    def __init__(self, name: Any, *, condition: Condition | None = None) -> None:
+        super().__init__(name)
+        _place(self, condition)
+
+
+class PushLaunchConfigurations(ScopeStep):
+    def __init__(self, *, condition: Condition | None = None) -> None:
+        super().__init__('push', 'configurations')
+        _place(self, condition)
+
+
+class PopLaunchConfigurations(ScopeStep):
+    def __init__(self, *, condition: Condition | None = None) -> None:
+        super().__init__('pop', 'configurations')
+        _place(self, condition)
+
+
+class PushEnvironment(ScopeStep):
+    def __init__(self, *, condition: Condition | None = None) -> None:
+        super().__init__('push', 'environment')
+        _place(self, condition)
+
+
+class PopEnvironment(ScopeStep):
+    def __init__(self, *, condition: Condition | None = None) -> None:
+        super().__init__('pop', 'environment')
+        _place(self, condition)
+
+
+class ResetEnvironment(ScopeStep):
+    def __init__(self, *, condition: Condition | None = None) -> None:
+        super().__init__('reset', 'environment')
+        _place(self, condition)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch.actions', name, __all__)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition, EqualsCondition
 
 __all__ = [
@@ -33,3 +34,7 @@ class LaunchConfigurationEquals(EqualsCondition):
 class LaunchConfigurationNotEquals(EqualsCondition):
     def __init__(self, launch_configuration_name: str, expected_value: Any) -> None:
         super().__init__(launch_configuration_name, expected_value, negate=True)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch.conditions', name, __all__)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from robot_lab.launch.compat_path import unsupported
+
 from .substitutions import subs
 
 __all__ = [
@@ -31,3 +33,7 @@ class FrontendLaunchDescriptionSource(LaunchDescriptionSource):
 
 class AnyLaunchDescriptionSource(LaunchDescriptionSource):
     pass
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch.launch_description_sources', name, __all__)

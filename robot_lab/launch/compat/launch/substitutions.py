@@ -6,12 +6,16 @@ import os
 from collections.abc import Iterable
 from typing import Any
 
+from robot_lab.launch import boolean_substitutions as boolean
 from robot_lab.launch import substitutions as core
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.substitutions import Substitution, SubstitutionFailure
 
 __all__ = [
+    'AllSubstitution',
     'AndSubstitution',
     'AnonName',
+    'AnySubstitution',
     'Command',
     'EnvironmentVariable',
     'EqualsSubstitution',
@@ -19,6 +23,9 @@ __all__ = [
     'FindExecutable',
     'IfElseSubstitution',
     'LaunchConfiguration',
+    'LaunchLogDir',
+    'LocalSubstitution',
+    'NotEqualsSubstitution',
     'NotSubstitution',
     'OrSubstitution',
     'PathJoinSubstitution',
@@ -113,26 +120,52 @@ class FileContent(core.FileContent):
         super().__init__(subs(path))
 
 
-class NotSubstitution(core.Not):
+class NotSubstitution(boolean.Not):
     def __init__(self, value: Any) -> None:
         super().__init__(subs(value))
 
 
-class AndSubstitution(core.And):
+class AndSubstitution(boolean.And):
     def __init__(self, left: Any, right: Any) -> None:
         super().__init__(subs(left), subs(right))
 
 
-class OrSubstitution(core.Or):
+class OrSubstitution(boolean.Or):
     def __init__(self, left: Any, right: Any) -> None:
         super().__init__(subs(left), subs(right))
 
 
-class EqualsSubstitution(core.Equals):
+class EqualsSubstitution(boolean.Equals):
     def __init__(self, left: Any, right: Any) -> None:
         super().__init__(subs(left), subs(right))
 
 
-class IfElseSubstitution(core.IfElse):
+class IfElseSubstitution(boolean.IfElse):
     def __init__(self, condition: Any, if_value: Any = '', else_value: Any = '') -> None:
         super().__init__(subs(condition), subs(if_value), subs(else_value))
+
+
+class NotEqualsSubstitution(boolean.NotEquals):
+    def __init__(self, left: Any, right: Any) -> None:
+        super().__init__(subs(left), subs(right))
+
+
+class AnySubstitution(boolean.Any):
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*(subs(arg) for arg in args))
+
+
+class AllSubstitution(boolean.All):
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*(subs(arg) for arg in args))
+
+
+class LaunchLogDir(core.LaunchLogDir):
+    pass
+
+
+LocalSubstitution = core.LocalSubstitution
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch.substitutions', name, __all__)

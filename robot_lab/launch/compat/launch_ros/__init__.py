@@ -2,6 +2,14 @@
 
 from __future__ import annotations
 
+from typing import Any
+
+from robot_lab.launch.compat_path import unsupported
+
 from . import actions, parameter_descriptions, substitutions
 
 __all__ = ['actions', 'parameter_descriptions', 'substitutions']
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros', name, __all__)

@@ -8,9 +8,10 @@ from typing import Any
 
 from robot_lab.launch.actions.namespace import PushNamespaceStep
 from robot_lab.launch.actions.node import NodeStep
-from robot_lab.launch.actions.ros_globals import GlobalRosStep
+from robot_lab.launch.actions.ros_globals import GlobalRosStep, SetUseSimTimeStep
 from robot_lab.launch.compat.launch.actions import _place, process_options
 from robot_lab.launch.compat.launch.substitutions import subs
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
 from robot_lab.launch.parameters import ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
@@ -22,6 +23,7 @@ __all__ = [
     'SetParameter',
     'SetParametersFromFile',
     'SetRemap',
+    'SetUseSimTime',
 ]
 
 
@@ -106,3 +108,13 @@ class SetRemap(GlobalRosStep):
         _place(self, condition)
 
 
+
+
+class SetUseSimTime(SetUseSimTimeStep):
+    def __init__(self, value: Any, *, condition: Condition | None = None) -> None:
+        super().__init__(value)
+        _place(self, condition)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros.actions', name, __all__)

@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from robot_lab.launch.compat.launch_ros.parameter_descriptions import (
     Parameter,
     ParameterFile,
     ParameterValue,
 )
+from robot_lab.launch.compat_path import unsupported
 
 __all__ = ['Parameter', 'ParameterFile', 'ParameterValue']
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros.descriptions', name, __all__)

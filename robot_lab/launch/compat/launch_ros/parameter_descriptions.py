@@ -6,6 +6,7 @@ import typing
 from typing import Any
 
 from robot_lab.launch.compat.launch.substitutions import subs
+from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.parameters import ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
 
@@ -49,3 +50,7 @@ class Parameter:
     def __init__(self, name: Any, value: Any, *, value_type: Any = None) -> None:
         self.name = name
         self.value = ParameterValue(value, value_type=value_type)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros.parameter_descriptions', name, __all__)

@@ -6,20 +6,36 @@ from typing import Any
 
 from robot_lab.launch import substitutions as core
 from robot_lab.launch.compat.launch.substitutions import subs
+from robot_lab.launch.compat_path import unsupported
 
 __all__ = ['ExecutableInPackage', 'FindPackagePrefix', 'FindPackageShare']
-
-
-class FindPackageShare(core.FindPackageShare):
-    def __init__(self, package: Any) -> None:
-        super().__init__(subs(package))
 
 
 class FindPackagePrefix(core.FindPackagePrefix):
     def __init__(self, package: Any) -> None:
         super().__init__(subs(package))
 
+    def find(self, package_name: str) -> str:
+        """launch_ros's FindPackage.find: the path now, outside any launch context."""
+        from robot_lab.pkg.index import package_prefix
+
+        return str(package_prefix(package_name))
+
+
+class FindPackageShare(core.FindPackageShare):
+    def __init__(self, package: Any) -> None:
+        super().__init__(subs(package))
+
+    def find(self, package_name: str) -> str:
+        from robot_lab.pkg.index import package_share
+
+        return str(package_share(package_name))
+
 
 class ExecutableInPackage(core.ExecutableInPackage):
     def __init__(self, executable: Any, package: Any) -> None:
         super().__init__(subs(executable), subs(package))
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros.substitutions', name, __all__)

@@ -1,0 +1,16 @@
+"""launch.events: the events a launch file can name (Shutdown to emit, the rest to read)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robot_lab.launch.compat_path import unsupported
+from robot_lab.launch.events import ExecutionComplete, Shutdown
+
+from . import process
+
+__all__ = ['ExecutionComplete', 'Shutdown', 'process']
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch.events', name, __all__)

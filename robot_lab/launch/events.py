@@ -1,0 +1,80 @@
+"""Launch events: what the supervisor reports to event handlers, as launch names them.
+
+`launch.events.process.ProcessStarted/ProcessExited/ProcessIO`,
+`launch.events.ExecutionComplete` and `launch.events.Shutdown` carry the same attributes
+here, so an `on_exit=lambda event, context: ...` or `LocalSubstitution('event.reason')`
+written for ROS 2 reads them unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+__all__ = [
+    'EventKind',
+    'ExecutionComplete',
+    'ProcessEvent',
+    'ProcessExited',
+    'ProcessIO',
+    'ProcessStarted',
+    'Shutdown',
+]
+
+EventKind = Literal['process_start', 'process_exit', 'process_io', 'execution_complete',
+                    'shutdown']
+
+
+@dataclass
+class ProcessEvent:
+    """What every process event tells: which action, which process."""
+
+    action: Any  # the ExecuteProcess/Node action the process came from
+    name: str  # its label, `sensor_node-1`
+    cmd: list[str]
+    cwd: str | None
+    env: dict[str, str] = field(repr=False)
+    pid: int
+
+
+@dataclass
+class ProcessStarted(ProcessEvent):
+    """launch.events.process.ProcessStarted."""
+
+
+@dataclass
+class ProcessExited(ProcessEvent):
+    """launch.events.process.ProcessExited."""
+
+    returncode: int = 0
+
+
+@dataclass
+class ProcessIO(ProcessEvent):
+    """launch.events.process.ProcessIO: one line of output (`text` ends with a newline)."""
+
+    text: bytes = b''
+    fd: int = 1
+
+    @property
+    def from_stdout(self) -> bool:
+        return self.fd == 1
+
+    @property
+    def from_stderr(self) -> bool:
+        return self.fd == 2
+
+
+@dataclass
+class ExecutionComplete:
+    """launch.events.ExecutionComplete: an action (here: a process) has finished."""
+
+    action: Any
+
+
+@dataclass
+class Shutdown:
+    """launch.events.Shutdown: the launch is asked to end (EmitEvent(event=Shutdown()))."""
+
+    reason: str = 'reason not given'
+    due_to_sigint: bool = False

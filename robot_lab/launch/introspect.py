@@ -1,0 +1,84 @@
+"""`ros2 launch --print`: the parsed description as a tree, with nothing evaluated.
+
+Like launch's LaunchIntrospector this only looks at the actions a frontend built: no
+substitution is performed, no package looked up, no parameter file written, no required
+argument needed. Each action shows its launch name and its arguments; substitutions show
+as what they would read (`LaunchConfiguration('robot_name')`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+from robot_lab.launch.action import LaunchStep
+from robot_lab.launch.substitutions import Substitution
+
+__all__ = ['describe_value', 'format_description']
+
+_SKIP = {'file', 'line', 'condition', 'loader', 'options'}
+
+
+def describe_value(value: Any) -> str:
+    """A value of an action as --print shows it; substitutions are never performed."""
+    if isinstance(value, Substitution):
+        return value.describe()
+    if isinstance(value, list) and value and all(isinstance(v, Substitution) for v in value):
+        return ' + '.join(v.describe() for v in value)
+    if isinstance(value, LaunchStep):
+        return _name(value)
+    if isinstance(value, dict):
+        return '{' + ', '.join(f'{describe_value(k)}: {describe_value(v)}'
+                               for k, v in value.items()) + '}'
+    if isinstance(value, list | tuple):
+        return '[' + ', '.join(describe_value(v) for v in value) + ']'
+    if type(value).__name__ in ('ParamValue', 'ParameterValue'):
+        return describe_value(value.value)
+    if hasattr(value, '__dataclass_fields__'):
+        fields = ', '.join(f'{k}={describe_value(v)}' for k, v in vars(value).items()
+                           if v not in (None, [], {}))
+        return f'{type(value).__name__}({fields})'
+    if callable(value):
+        return getattr(value, '__qualname__', repr(value))
+    return repr(value)
+
+
+def _name(step: LaunchStep) -> str:
+    return getattr(step, 'launch_name', None) or type(step).__name__
+
+
+def _line(step: LaunchStep) -> str:
+    children = {id(c) for c in step.children()}
+    parts = []
+    for key, value in vars(step).items():
+        if key.startswith('_') or key in _SKIP or value is None or value == [] or \
+                value == {}:
+            continue
+        if isinstance(value, list) and value and all(id(v) in children for v in value):
+            continue  # shown below as the tree
+        parts.append(f'{key}={describe_value(value)}')
+    options = getattr(step, 'options', None)
+    if options is not None:
+        defaults = type(options)()
+        parts += [f'{k}={describe_value(v)}' for k, v in vars(options).items()
+                  if v != getattr(defaults, k) and v not in (None, [])]
+    if step.condition is not None:
+        parts.append(f'condition={step.condition.describe()}')
+    where = f'  # {Path(step.file).name}:{step.line}' if step.file and step.line else ''
+    return f'{_name(step)}({", ".join(parts)}){where}'
+
+
+def format_description(root: LaunchStep, source: Path) -> str:
+    """The whole tree: `LaunchDescription <file>`, then one line per action."""
+    lines = [f'LaunchDescription {source}']
+
+    def walk(steps: Iterable[LaunchStep], prefix: str) -> None:
+        items = list(steps)
+        for index, step in enumerate(items):
+            last = index == len(items) - 1
+            lines.append(prefix + ('└── ' if last else '├── ') + _line(step))
+            walk(step.children(), prefix + ('    ' if last else '│   '))
+
+    walk(root.children(), '')
+    return '\n'.join(lines)
