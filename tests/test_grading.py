@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import shutil
 import subprocess
 from collections.abc import Iterator
@@ -27,7 +28,7 @@ from robot_lab.grading.exercises import (
     build_exercises,
     exercise_notebook,
     read_notebook,
-    strip_solution,
+    student_notebook,
 )
 from robot_lab.grading.grade import TOKEN_VAR, GradeResult, grade
 from robot_lab.process import spawn, stop
@@ -67,28 +68,48 @@ def _submission(tmp_path: Path, name: str, edits: dict[str, str]) -> Path:
 # --- generating exercises -------------------------------------------------------------
 
 
-def test_fences_become_placeholders() -> None:
-    code = 'x = 1\nif x:\n    # BEGIN SOLUTION\n    y = x + 1\n    # END SOLUTION\nprint(y)'
-    assert strip_solution('code', code) == (
-        'x = 1\nif x:\n    # YOUR CODE HERE\n    raise NotImplementedError()\nprint(y)')
-    xml = '%%writefile a.xml\n<launch>\n<!-- BEGIN SOLUTION -->\n<node/>\n<!-- END SOLUTION -->'
-    assert strip_solution('code', xml) == '%%writefile a.xml\n<launch>\n<!-- YOUR CODE HERE -->'
-    yaml_cell = '%%writefile p.yaml\n# BEGIN SOLUTION\na: 1\n# END SOLUTION'
-    assert strip_solution('code', yaml_cell) == '%%writefile p.yaml\n# YOUR CODE HERE'
-    text = 'Why?\n<!-- BEGIN SOLUTION -->\nBecause.\n<!-- END SOLUTION -->'
-    assert strip_solution('markdown', text) == 'Why?\n_YOUR ANSWER HERE_'
-    # Text that merely mentions the fence is left alone.
-    assert strip_solution('code', "print('BEGIN SOLUTION')") == "print('BEGIN SOLUTION')"
+def _answer(source: str, cell_type: str = 'code', grade: bool = False) -> Any:
+    cell = (nbformat.v4.new_code_cell(source) if cell_type == 'code'
+            else nbformat.v4.new_markdown_cell(source))
+    cell.metadata['nbgrader'] = {'grade': grade, 'solution': True, 'locked': False,
+                                 'grade_id': f'a{abs(hash(source))}', 'schema_version': 3,
+                                 **({'points': 1} if grade else {})}
+    return cell
+
+
+def _student_copy(tmp_path: Path, *cells: Any) -> list[str]:
+    nb = nbformat.v4.new_notebook()
+    nb.metadata['kernelspec'] = {'name': 'python3', 'language': 'python'}
+    nb.cells = list(cells)
+    (tmp_path / 'src.ipynb').write_text(nbformat.writes(nb))
+    return [c.source for c in student_notebook(tmp_path / 'src.ipynb').cells]
+
+
+def test_answers_become_nbgraders_stub(tmp_path: Path) -> None:
+    code = 'x = 1\nif x:\n    ### BEGIN SOLUTION\n    y = x + 1\n    ### END SOLUTION\nprint(y)'
+    xml = ('%%writefile a.xml\n<launch>\n<!-- ### BEGIN SOLUTION -->\n<node/>\n'
+           '<!-- ### END SOLUTION -->\n</launch>')
+    assert _student_copy(tmp_path, _answer(code), _answer(xml),
+                         _answer('Because.', 'markdown', grade=True)) == [
+        'x = 1\nif x:\n    # YOUR CODE HERE\n    raise NotImplementedError()\nprint(y)',
+        '%%writefile a.xml\n<launch>\n# YOUR CODE HERE\nraise NotImplementedError()\n</launch>',
+        'YOUR ANSWER HERE',
+    ]
 
 
 @pytest.mark.parametrize('source', [
-    '# BEGIN SOLUTION\nx = 1',
-    'x = 1\n# END SOLUTION',
-    '# BEGIN SOLUTION\n# BEGIN SOLUTION\n# END SOLUTION',
+    '### BEGIN SOLUTION\nx = 1',
+    '### BEGIN SOLUTION\n### BEGIN SOLUTION\n### END SOLUTION',
 ])
-def test_unbalanced_fences_are_refused(source: str) -> None:
-    with pytest.raises(RobotLabError, match='SOLUTION'):
-        strip_solution('code', source, where='ex.ipynb (cell 3)')
+def test_unbalanced_fences_are_refused(tmp_path: Path, source: str) -> None:
+    with pytest.raises(RobotLabError, match='nbgrader refused the notebook'):
+        _student_copy(tmp_path, _answer(source))
+
+
+def test_answer_outside_a_solution_cell_is_refused(tmp_path: Path) -> None:
+    plain = nbformat.v4.new_code_cell('### BEGIN SOLUTION\nx = 1\n### END SOLUTION')
+    with pytest.raises(RobotLabError, match='non-solution cell'):
+        _student_copy(tmp_path, plain)
 
 
 def test_exercises_are_up_to_date_with_solutions() -> None:
@@ -103,6 +124,11 @@ def test_exercises_are_up_to_date_with_solutions() -> None:
             assert 'BEGIN SOLUTION' not in cell.source, f'{path.name}: {cell["id"]}'
             if cell.cell_type == 'code':
                 assert cell.outputs == [] and cell.execution_count is None
+                # nbgrader's metadata on every code cell, checks locked, checksums computed
+                meta = cell.metadata['nbgrader']
+                assert meta['grade_id'] == cell['id'] and meta['checksum'], cell['id']
+                if meta['grade']:
+                    assert meta['locked'] and cell.metadata['editable'] is False
 
 
 def test_check_reports_drift_and_build_fixes_it(tmp_path: Path) -> None:
@@ -143,7 +169,7 @@ def unanswered() -> Iterator[Any]:
     while the solutions are graded in the foreground; the last test collects the results.
     """
     base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
-    first = (base + 80) % 98 + 1  # three domains, all <= 101
+    first = (base + 6) % 98 + 1  # three domains after the test modules' and the forgeries'
     proc = spawn([str(BIN / 'robot-lab'), 'grade', str(REPO / 'exercises'), '--json',
                   '-j', '3', '--domain-id', str(first), '--timeout', '30'],
                  stderr=subprocess.DEVNULL)
@@ -211,7 +237,8 @@ def test_edited_check_cell_is_replaced_by_the_solutions(tmp_path: Path) -> None:
     nb.cells[0].source = 'x = 41'
     nb.cells[1].source = 'pass'
     nb.cells.append(nbformat.v4.new_code_cell('pass'))  # a check of their own: not counted
-    nb.cells[-1].metadata.update({'tags': ['grade'], 'robot_lab': {'points': 5}})
+    nb.cells[-1].metadata['nbgrader'] = {'grade': True, 'solution': False, 'locked': True,
+                                         'grade_id': 'mine', 'points': 5, 'schema_version': 3}
     path = tmp_path / 'submission.ipynb'  # any file name: the exercise is in the metadata
     path.write_text(nbformat.writes(nb) + '\n')
     result = grade(path, cell_timeout=10, solutions_dir=solutions, workspace=tmp_path / 'ws')
@@ -228,9 +255,11 @@ def _notebook(tmp_path: Path, name: str, cells: list[tuple[str, str, int]]) -> P
     for cell_id, source, points in cells:
         cell = nbformat.v4.new_code_cell(source)
         cell['id'] = cell_id
-        if points:
-            cell.metadata['tags'] = ['grade']
-            cell.metadata['robot_lab'] = {'points': points}
+        answer = cell_id.startswith('answer')  # the student's to write; the rest is locked
+        cell.metadata['nbgrader'] = {'grade': bool(points), 'solution': answer,
+                                     'locked': not answer,
+                                     'grade_id': cell_id, 'schema_version': 3,
+                                     **({'points': points} if points else {})}
         nb.cells.append(cell)
     path = tmp_path / f'{name}.ipynb'
     path.write_text(nbformat.writes(nb) + '\n')
@@ -250,7 +279,7 @@ def test_hanging_cells_are_interrupted_and_stray_processes_killed(tmp_path: Path
                  'time.sleep(600)', 0),
         ('never-reached', 'assert True', 3),
     ])
-    result = grade(path, cell_timeout=2, workspace=tmp_path / 'ws')
+    result = grade(path, cell_timeout=2, workspace=tmp_path / 'ws', solutions_dir=tmp_path)
     assert _scores(result) == {'first': 1, 'after-interrupt': 2, 'never-reached': 0}
     assert result.status == 'timeout'
     assert 'cell 4 ran past 2 s and did not stop when interrupted' in result.detail
@@ -269,7 +298,7 @@ def test_kernel_crash_is_reported(tmp_path: Path) -> None:
         ('crash', 'import os, signal\nos.kill(os.getpid(), signal.SIGKILL)', 0),
         ('second', 'assert True', 1),
     ])
-    result = grade(path, cell_timeout=20, workspace=tmp_path / 'ws')
+    result = grade(path, cell_timeout=20, workspace=tmp_path / 'ws', solutions_dir=tmp_path)
     assert result.status == 'kernel died', result.table()
     assert result.detail.startswith('the kernel died while running cell 1')
     assert _scores(result) == {'first': 1, 'second': 0}
@@ -282,7 +311,8 @@ def test_whole_notebook_time_is_bounded(tmp_path: Path) -> None:
         ('slow', 'import time\ntime.sleep(60)', 0),
         ('second', 'assert True', 1),
     ])
-    result = grade(path, cell_timeout=30, total_timeout=5, workspace=tmp_path / 'ws')
+    result = grade(path, cell_timeout=30, total_timeout=5, workspace=tmp_path / 'ws',
+                   solutions_dir=tmp_path)
     assert result.status == 'timeout', result.table()
     assert result.detail.startswith('the notebook ran past 5 s in total, before cell 2')
     assert _scores(result) == {'first': 1, 'second': 0}
@@ -292,7 +322,8 @@ def test_whole_notebook_time_is_bounded(tmp_path: Path) -> None:
 def test_grade_cli_prints_table_and_json(tmp_path: Path) -> None:
     _notebook(tmp_path, 'tiny', [('ok', 'assert True', 2),
                                         ('bad', "assert 2 + 2 == 5, 'arithmetic'", 3)])
-    as_json = run_cli('grade', str(tmp_path), '--json')  # a folder of one submission
+    # a folder of one submission, graded against itself as the instructor's copy
+    as_json = run_cli('grade', str(tmp_path), '--json', '--solutions', str(tmp_path))
     assert as_json.returncode == 0, as_json.stderr
     data = json.loads(as_json.stdout)
     assert data['score'] == 2 and data['max_score'] == 5
@@ -317,3 +348,100 @@ def test_unanswered_exercises_score_zero(unanswered: Any) -> None:
         assert all(c['message'] for c in result['checks']), (name, result['checks'])
         assert result['leftovers'] == [], (name, result['leftovers'])
     assert [p for p in started if p.is_running() and p.status() != psutil.STATUS_ZOMBIE] == []
+
+
+# --- forgeries: a submission that answers nothing earns nothing --------------------------
+
+_PATCH_HELPERS = ('# forged: every checking helper passes\n'
+                  'import robot_lab.grading.check as helpers\n'
+                  'for name in helpers.__all__:\n'
+                  '    if name != "CheckError":\n'
+                  '        setattr(helpers, name, lambda *args, **kwargs: None)\n')
+_SWALLOW = ('# forged: IPython swallows every error\n'
+            'import sys\n'
+            'get_ipython().set_custom_exc((BaseException,), lambda *args, **kwargs: None)\n'
+            'sys.excepthook = lambda *args: None\n')
+
+
+def _forge(exercise: Path, first_cell: str = '', checks: str | None = None,
+           strip: bool = False, rename: str | None = None) -> Any:
+    """The handed-out exercise, answering nothing, with one kind of forgery."""
+    nb = read_notebook(exercise)
+    if first_cell:
+        nb.cells.insert(0, nbformat.v4.new_code_cell(first_cell))
+    for cell in nb.cells:
+        if checks is not None and cell.get('metadata', {}).get('nbgrader', {}).get('grade'):
+            cell.source = checks
+        if strip:
+            cell.metadata = {}
+    if strip:
+        nb.metadata.pop('robot_lab', None)
+    if rename:
+        nb.metadata['robot_lab']['exercise'] = rename
+    return nb
+
+
+def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> None:
+    # A tiny exercise (no ROS, fast) and the real ex04, whose checks ask running nodes.
+    solutions = tmp_path / 'solutions'
+    solutions.mkdir()
+    shutil.copy(REPO / 'solutions' / 'ex04_parameters.ipynb', solutions)
+    _notebook(solutions, 'tiny', [
+        ('setup', 'from robot_lab.grading import check', 0),
+        ('answer', '### BEGIN SOLUTION\nx = 42\n### END SOLUTION', 0),
+        ('check-helper', "check.eventually(lambda: x == 42, 'x is 42', timeout=0.2)", 2),
+        ('check-assert', "assert x == 42, 'x is not 42'", 3),
+    ])
+    build_exercises(solutions, tmp_path / 'exercises')
+    tiny = tmp_path / 'exercises' / 'tiny.ipynb'
+    ex04 = tmp_path / 'exercises' / 'ex04_parameters.ipynb'
+    forged = {
+        # Both at once: either defence failing alone would give marks.
+        'patch-and-swallow/ex04_parameters': _forge(ex04, _PATCH_HELPERS + _SWALLOW),
+        'patch-helpers/tiny': _forge(tiny, _PATCH_HELPERS),
+        'swallow-errors/tiny': _forge(tiny, _SWALLOW),
+        'checks-pass/tiny': _forge(tiny, checks='pass'),
+        'stripped/tiny': _forge(tiny, checks='pass', strip=True),
+        'renamed/tiny': _forge(tiny, checks='pass', rename='tiny_v2'),
+    }
+    class_dir = tmp_path / 'class'
+    for name, nb in forged.items():
+        (class_dir / name).parent.mkdir(parents=True, exist_ok=True)
+        (class_dir / f'{name}.ipynb').write_text(nbformat.writes(nb) + '\n')
+    base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
+    done = run_cli('grade', str(class_dir), '--json', '-j', '2', '--solutions', str(solutions),
+                   '--domain-id', str(base + 4), '--timeout', '20',
+                   '--executed', str(tmp_path / 'executed'), timeout=300)
+    assert done.returncode == 0, done.stderr
+    results = {f'{r["student"]}/{r["exercise"]}': r for r in json.loads(done.stdout)}
+    assert sorted(results) == sorted(forged), sorted(results)
+    for name, r in results.items():
+        assert r['score'] == 0, (name, r['checks'])
+        if name == 'renamed/tiny':
+            assert r['status'] == 'error' and r['checks'] == []
+            assert "refused: its metadata names exercise 'tiny_v2'" in r['detail']
+        else:
+            assert r['status'] == 'completed' and r['max_score'] > 0, (name, r['detail'])
+    # The checks ran the real helpers and said why they failed.
+    messages = [c['message'] for c in results['patch-and-swallow/ex04_parameters']['checks']]
+    assert messages[0].startswith('CheckError: ✗ expected robot_params.yaml'), messages
+    swallowed = [c['message'] for c in results['swallow-errors/tiny']['checks']]
+    assert swallowed == ["NameError: name 'x' is not defined"] * 2, swallowed
+    # One executed notebook per student, named after the exercise.
+    kept = sorted(str(p.relative_to(tmp_path / 'executed'))
+                  for p in (tmp_path / 'executed').rglob('*.ipynb'))
+    assert kept == sorted(f'{n}.graded.ipynb' for n in forged if n != 'renamed/tiny'), kept
+
+
+_MACHINE_PATH = re.compile(r'(?<![\w.~])/(root|home|tmp|work|Users|var/folders)/')
+_EMAIL = re.compile(r'[\w.+-]+@(?!example\.(com|org|net)\b)[\w-]+(\.[\w-]+)+')
+
+
+@pytest.mark.parametrize('path', [*SOLUTIONS, *sorted((REPO / 'exercises').glob('*.ipynb'))],
+                         ids=lambda p: f'{p.parent.name}/{p.name}')
+def test_committed_notebooks_hold_no_machine_paths_or_emails(path: Path) -> None:
+    # What a run left in the file must not show where it ran or who ran it. Placeholder
+    # addresses in reserved example domains (RFC 2606, package.xml's maintainer) are fine.
+    text = path.read_text()
+    assert not _MACHINE_PATH.search(text), _MACHINE_PATH.search(text)
+    assert not _EMAIL.search(text), _EMAIL.search(text)

@@ -1,15 +1,18 @@
-"""Exercises generated from solutions, so the two never drift apart.
+"""Exercises generated from solutions by nbgrader's own preprocessors, so the two never drift.
 
-An instructor edits only `solutions/*.ipynb`. In a solution, the answer sits between two
-fence lines, `# BEGIN SOLUTION` and `# END SOLUTION` (any comment syntax: `<!-- BEGIN
-SOLUTION -->` in markdown or XML). `build_exercises()` writes `exercises/*.ipynb` with each
-fenced block replaced by a placeholder and every output cleared; graded check cells (tag
-`grade`) are kept as they are, so students can run them.
+An instructor edits only `solutions/*.ipynb`, which are nbgrader *source* notebooks: every
+cell that matters carries nbgrader's metadata (`nbgrader: {grade, solution, locked,
+grade_id, points, schema_version: 3}`) and answers sit between `### BEGIN SOLUTION` and
+`### END SOLUTION` lines (`<!-- ### BEGIN SOLUTION -->` in an XML file). So the same files
+work in nbgrader unchanged (`nbgrader generate_assignment`, `autograde`), and
+`build_exercises()` writes `exercises/*.ipynb` with the pipeline `generate_assignment`
+runs: cells locked, answers replaced by nbgrader's stub, outputs cleared, checksums
+computed. The course notebooks' student copies (robot_lab.grading.release) use the same
+`student_notebook()`.
 """
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,28 +24,21 @@ from nbformat import NotebookNode
 from robot_lab.errors import RobotLabError
 
 __all__ = [
-    'GRADE_TAG',
     'Check',
     'ExerciseFile',
     'build_exercises',
     'exercise_name',
     'exercise_notebook',
+    'grade_id',
     'graded_checks',
     'kit_root',
     'notebook_text',
     'read_notebook',
-    'strip_solution',
+    'student_notebook',
 ]
 
-GRADE_TAG = 'grade'
-# A fence is a line of its own, in a comment of the cell's language (#, <!-- -->, //).
-_BEGIN = re.compile(r'^(?P<indent>\s*)(?P<open>#+|<!--|//)\s*BEGIN SOLUTION\s*(?P<close>-->)?\s*$')
-_END = re.compile(r'^\s*(#+|<!--|//)\s*END SOLUTION\s*(-->)?\s*$')
-CODE_PLACEHOLDER = 'YOUR CODE HERE'
-ANSWER_PLACEHOLDER = '_YOUR ANSWER HERE_'
 
-
-# nbformat is unannotated: typed handles on the three calls used here.
+# nbformat is unannotated: typed handles on the calls used here.
 _read: Callable[..., NotebookNode] = nbformat.read
 _writes: Callable[..., str] = nbformat.writes
 new_code_cell: Callable[..., NotebookNode] = nbformat.v4.new_code_cell
@@ -63,80 +59,52 @@ def kit_root() -> Path:
     return Path(__file__).resolve().parents[2]
 
 
+def _nbgrader(cell: NotebookNode) -> dict[str, Any]:
+    meta = cell.get('metadata', {}).get('nbgrader', {})
+    return meta if isinstance(meta, dict) else {}
+
+
+def grade_id(cell: NotebookNode) -> str | None:
+    """The cell's nbgrader grade_id, if it is an nbgrader cell."""
+    value = _nbgrader(cell).get('grade_id')
+    return value if isinstance(value, str) and value else None
+
+
 @dataclass(frozen=True)
 class Check:
-    """One graded check cell: its cell id (also its name), points and source."""
+    """One autograded check cell: its grade_id (also its name), points and source."""
 
     cell_id: str
     points: float
     source: str
 
 
-def _points(cell: NotebookNode, where: str) -> float:
-    meta = cell.get('metadata', {}).get('robot_lab', {})
-    points = meta.get('points')
-    if not isinstance(points, int | float) or isinstance(points, bool) or points <= 0:
-        raise RobotLabError(
-            f'graded cell {cell.get("id")!r} has no positive "points"', file=where,
-            fix='give it metadata {"tags": ["grade"], "robot_lab": {"points": 2}}',
-        )
-    return float(points)
-
-
 def graded_checks(nb: NotebookNode, where: str = '<notebook>') -> list[Check]:
-    """The notebook's check cells (code cells tagged `grade`), in order."""
+    """The notebook's autograded test cells (nbgrader `grade` code cells), in order.
+
+    Manually graded answers (nbgrader's markdown `grade` + `solution` cells) are not
+    checks: a person reads them in nbgrader's formgrader.
+    """
     checks = []
-    for cell in nb.cells:
-        if cell.cell_type == 'code' and GRADE_TAG in cell.get('metadata', {}).get('tags', []):
-            checks.append(Check(str(cell.get('id', '')), _points(cell, where), cell.source))
+    for index, cell in enumerate(nb.cells):
+        meta = _nbgrader(cell)
+        if cell.cell_type != 'code' or not meta.get('grade') or meta.get('solution'):
+            continue
+        points, name = meta.get('points'), grade_id(cell)
+        if (name is None or not isinstance(points, int | float) or isinstance(points, bool)
+                or points <= 0):
+            raise RobotLabError(
+                f'graded cell {index} (id {cell.get("id")!r}) has no grade_id or no '
+                'positive points', file=where,
+                fix='give it metadata {"nbgrader": {"grade": true, "solution": false, '
+                '"locked": true, "grade_id": "check-x", "points": 2, "schema_version": 3}}',
+            )
+        checks.append(Check(name, float(points), cell.source))
     return checks
 
 
-def _placeholder(cell_type: str, source: str, indent: str, opener: str, closer: str) -> list[str]:
-    if cell_type == 'markdown':
-        return [indent + ANSWER_PLACEHOLDER]
-    comment = f'{indent}{opener} {CODE_PLACEHOLDER}' + (f' {closer}' if closer else '')
-    if opener.startswith('#') and not source.lstrip().startswith('%%'):
-        # Python: the cell must fail loudly until answered, not pass silently.
-        return [comment, f'{indent}raise NotImplementedError()']
-    return [comment]  # a %%writefile cell: the file gets a comment in its own syntax
-
-
-def strip_solution(cell_type: str, source: str, where: str = '<cell>') -> str:
-    """`source` with each fenced solution block replaced by its placeholder."""
-    out: list[str] = []
-    inside: re.Match[str] | None = None
-    for number, line in enumerate(source.split('\n'), start=1):
-        begin = _BEGIN.match(line)
-        if inside is None:
-            if begin:
-                inside = begin
-                continue
-            if _END.match(line):
-                raise RobotLabError(
-                    f'END SOLUTION without BEGIN SOLUTION at line {number} of the cell',
-                    file=where, fix='add the matching BEGIN SOLUTION line above it',
-                )
-            out.append(line)
-        elif begin:
-            raise RobotLabError(
-                f'BEGIN SOLUTION inside another solution block at line {number} of the cell',
-                file=where, fix='close the first block with END SOLUTION (blocks do not nest)',
-            )
-        elif _END.match(line):
-            out.extend(_placeholder(cell_type, source, inside['indent'], inside['open'],
-                                    inside['close'] or ''))
-            inside = None
-    if inside is not None:
-        raise RobotLabError(
-            'BEGIN SOLUTION without END SOLUTION', file=where,
-            fix='close the block with an END SOLUTION line',
-        )
-    return '\n'.join(out)
-
-
 def exercise_name(path: str | Path, nb: NotebookNode | None = None) -> str:
-    """The exercise a notebook belongs to: its metadata, else the file name."""
+    """The exercise a notebook says it belongs to: its metadata, else the file name."""
     if nb is not None:
         name = nb.get('metadata', {}).get('robot_lab', {}).get('exercise')
         if isinstance(name, str) and name:
@@ -144,20 +112,45 @@ def exercise_name(path: str | Path, nb: NotebookNode | None = None) -> str:
     return Path(path).stem
 
 
-def exercise_notebook(solution: str | Path) -> NotebookNode:
-    """The exercise for one solution notebook: answers replaced, outputs cleared."""
-    path = Path(solution)
+def _preprocessors() -> list[Any]:
+    """generate_assignment's pipeline, minus the database and header steps."""
+    from nbgrader.preprocessors import (  # type: ignore[import-untyped]
+        CheckCellMetadata,
+        ClearHiddenTests,
+        ClearMarkScheme,
+        ClearOutput,
+        ClearSolutions,
+        ComputeChecksums,
+        LockCells,
+    )
+
+    # nbconvert's ClearOutput also drops run timings, which only make diffs noisy.
+    clear = ClearOutput(remove_metadata_fields={'collapsed', 'scrolled', 'execution'})
+    return [LockCells(), ClearSolutions(), clear, CheckCellMetadata(), ClearHiddenTests(),
+            ClearMarkScheme(), ComputeChecksums(), CheckCellMetadata()]
+
+
+def student_notebook(source: str | Path) -> NotebookNode:
+    """The student copy of an nbgrader source notebook: what generate_assignment releases."""
+    path = Path(source)
     nb = read_notebook(path)
-    where = str(path)
-    graded_checks(nb, where)  # refuse a check cell without points before handing it out
-    for index, cell in enumerate(nb.cells):
-        cell_where = f'{where} (cell {index}, id {cell.get("id")})'
-        if cell.cell_type in ('code', 'markdown'):
-            cell.source = strip_solution(cell.cell_type, cell.source, cell_where)
-        if cell.cell_type == 'code':
-            cell.outputs = []
-            cell.execution_count = None
-            cell.metadata.pop('execution', None)
+    graded_checks(nb, str(path))  # refuse a check cell without points before handing it out
+    resources: dict[str, Any] = {}
+    try:
+        for step in _preprocessors():
+            nb, resources = step.preprocess(nb, resources)
+    except Exception as err:  # nbgrader raises RuntimeError/ValidationError with a message
+        raise RobotLabError(f'nbgrader refused the notebook: {err}', file=path,
+                            fix='every answer between ### BEGIN SOLUTION and ### END SOLUTION '
+                            'in a cell marked as a solution (nbgrader metadata), blocks '
+                            'closed and not nested') from None
+    return nb
+
+
+def exercise_notebook(solution: str | Path) -> NotebookNode:
+    """The exercise for one solution notebook, named in its metadata for the grader."""
+    path = Path(solution)
+    nb = student_notebook(path)
     meta: dict[str, Any] = nb.metadata.setdefault('robot_lab', {})
     meta['exercise'] = path.stem
     meta['generated_from'] = f'solutions/{path.name}'

@@ -2,8 +2,9 @@
 
 The submission runs top to bottom in a fresh kernel of this venv (nbclient), in a scratch
 folder that is also its ROBOT_LAB_WORKSPACE, so student packages never land in the kit.
-When the exercise's solution is known, its check cells replace the submission's (matched
-by cell id): a student cannot grade themselves by editing a check. A check that raises
+It is graded against the instructor's copy of its exercise only (robot_lab.grading
+.answer_key: locked and check cells restored by grade_id, each check judged by its own
+execution); a notebook of no known exercise is refused. A check that fails
 scores 0 with its error; a cell that hangs is interrupted after `cell_timeout` s; a kernel
 that dies or stops answering ends the run with the checks not reached at 0. Every
 process the kernel started carries a token in its environment and is killed at the end
@@ -16,7 +17,6 @@ import contextlib
 import json
 import os
 import queue
-import re
 import signal
 import subprocess
 import sys
@@ -33,15 +33,14 @@ from typing import Any
 from nbformat import NotebookNode
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.exercises import (
-    GRADE_TAG,
-    Check,
-    exercise_name,
-    graded_checks,
-    kit_root,
-    notebook_text,
-    read_notebook,
+from robot_lab.grading.answer_key import (
+    AnswerKey,
+    check_output,
+    identify,
+    judge,
+    student_of,
 )
+from robot_lab.grading.exercises import exercise_name, notebook_text, read_notebook
 
 __all__ = [
     'CheckResult',
@@ -56,7 +55,6 @@ TOKEN_VAR = 'ROBOT_LAB_GRADE_RUN'
 _KERNEL = 'robot_lab_grade'
 _GRACE = 10.0  # after an interrupt, how long a cell has to stop before the kernel is killed
 _DOMAIN_BASES = ('ROBOT_LAB_TEST_DOMAIN_BASE', 'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE')
-_ANSI = re.compile(r'\x1b\[[0-9;]*m')
 
 
 @dataclass
@@ -67,7 +65,8 @@ class CheckResult:
     points: float
     max_points: float
     passed: bool
-    message: str = ''
+    message: str = ''  # why it failed
+    output: str = ''  # what it printed (its ✓ lines), bounded
 
 
 @dataclass
@@ -76,6 +75,7 @@ class GradeResult:
 
     notebook: str
     exercise: str
+    student: str = ''
     checks: list[CheckResult] = field(default_factory=list)
     status: str = 'completed'  # 'completed' | 'timeout' | 'kernel died' | 'error'
     detail: str = ''
@@ -111,6 +111,8 @@ class GradeResult:
 
     def table(self) -> str:
         """The per-check table the CLI prints, then the summary line."""
+        if self.status == 'error' and not self.checks:
+            return f'{self.notebook}: not graded: {self.detail}'
         width = max([len(c.check) for c in self.checks] + [5])
         lines = [f'{self.notebook}', f'  {"check":<{width}}  points  result']
         for c in self.checks:
@@ -136,43 +138,16 @@ def submissions(paths: list[str | Path]) -> list[Path]:
     for raw in paths:
         path = Path(raw)
         if path.is_dir():
-            found.extend(sorted(p for p in path.glob('*.ipynb')
-                                if not p.name.endswith('.graded.ipynb')))
+            found.extend(sorted(p for p in path.rglob('*.ipynb')
+                                if not p.name.endswith('.graded.ipynb')
+                                and not any(part.startswith('.')
+                                            for part in p.relative_to(path).parts)))
         elif path.is_file():
             found.append(path)
         else:
             raise RobotLabError('no such submission', file=path,
                                 fix='give a .ipynb file or a folder of them')
     return found
-
-
-def _canonical(nb: NotebookNode, exercise: str, solutions_dir: Path | None,
-               where: str) -> list[Check]:
-    """The checks that count: the solution's when known, else the submission's own."""
-    solution = (solutions_dir or kit_root() / 'solutions') / f'{exercise}.ipynb'
-    if not solution.is_file():
-        return graded_checks(nb, where)
-    checks = graded_checks(read_notebook(solution), str(solution))
-    by_id = {c.cell_id: c for c in checks}
-    for cell in nb.cells:
-        tags = cell.get('metadata', {}).get('tags', [])
-        if cell.get('id') in by_id and cell.cell_type == 'code':
-            check = by_id[cell['id']]
-            cell.source = check.source
-            cell.metadata['tags'] = sorted({*tags, GRADE_TAG})
-            cell.metadata.setdefault('robot_lab', {})['points'] = check.points
-        elif GRADE_TAG in tags:  # a check the student added: it runs but does not count
-            cell.metadata['tags'] = [t for t in tags if t != GRADE_TAG]
-    return checks
-
-
-def _error_of(cell: NotebookNode) -> str | None:
-    for output in cell.get('outputs', []):
-        if output.get('output_type') == 'error':
-            value = _ANSI.sub('', str(output.get('evalue', ''))).strip()
-            name = str(output.get('ename', 'Error'))
-            return f'{name}: {value}' if value else name
-    return None
 
 
 def _kernel_spec_dir(work: Path) -> Path:
@@ -262,11 +237,18 @@ def grade(
     except (OSError, ValueError) as err:
         raise RobotLabError(f'cannot read the notebook: {err}', file=path,
                             fix='submit the .ipynb file as Jupyter saved it') from None
-    exercise = exercise_name(path, nb)
-    checks = _canonical(nb, exercise, Path(solutions_dir) if solutions_dir else None, str(path))
-    result = GradeResult(str(path), exercise)
-    outcome: dict[str, str | None] = {}  # cell id -> None (passed) or the reason it failed
+    exercise = identify(path, nb, solutions_dir)
+    key = AnswerKey.load(exercise, solutions_dir)
+    checks = key.checks
+    at = key.impose(nb)  # check id -> cell index
+    by_index = {index: c for c in checks for cid, index in at.items() if cid == c.cell_id}
+    result = GradeResult(str(path), exercise, student_of(path, exercise))
+    outcome: dict[str, str | None] = {}  # check id -> None (passed) or the reason it failed
     token = uuid.uuid4().hex
+    replies: dict[int, dict[str, Any]] = {}
+
+    def on_executed(cell: NotebookNode, cell_index: int, execute_reply: Any) -> None:
+        replies[cell_index] = dict(execute_reply or {})
     started = time.monotonic()
     known: list[Any] = []
     with _scratch(workspace) as work, tempfile.TemporaryDirectory(prefix='robot_lab_kernel_') as k:
@@ -280,7 +262,7 @@ def grade(
         client = NotebookClient(
             nb, km=km, kernel_name=_KERNEL, timeout=None, allow_errors=True,
             interrupt_on_timeout=False, shutdown_kernel='graceful', record_timing=False,
-            resources={'metadata': {'path': str(work)}},
+            resources={'metadata': {'path': str(work)}}, on_cell_executed=on_executed,
         )
         env = ros_environment({TOKEN_VAR: token, 'ROBOT_LAB_WORKSPACE': str(work),
                                'MPLBACKEND': 'Agg'})
@@ -308,12 +290,22 @@ def grade(
                             result.detail = (f'the notebook ran past {_number(total_timeout or 0)}'
                                              f' s in total, before cell {current}')
                             break
-                    with _Watchdog(km, budget, min(cell_timeout, _GRACE)) as watchdog:
-                        client.execute_cell(cell, current)
+                    check = by_index.get(current)
+                    nonce = uuid.uuid4().hex
+                    if check is not None:
+                        cell.source = AnswerKey.guarded(check, nonce)
+                    try:
+                        with _Watchdog(km, budget, min(cell_timeout, _GRACE)) as watchdog:
+                            client.execute_cell(cell, current)
+                    finally:
+                        if check is not None:
+                            cell.source = check.source
                     known = _kernel_tree(km, known)
-                    outcome[cell.get('id', '')] = (
-                        f'timed out after {budget:.3g} s (interrupted)' if watchdog.interrupted
-                        else _error_of(cell))
+                    if check is not None:
+                        outcome[check.cell_id] = (
+                            f'timed out after {budget:.3g} s (interrupted)'
+                            if watchdog.interrupted
+                            else judge(cell, nonce, replies.get(current)))
         except DeadKernelError:
             if watchdog is not None and watchdog.killed:
                 result.status = 'timeout'
@@ -324,8 +316,8 @@ def grade(
                 result.status = 'kernel died'
                 result.detail = f'the kernel died while running cell {current}'
                 why = 'the kernel died running this cell'
-            if 0 <= current < len(nb.cells):
-                outcome[nb.cells[current].get('id', '')] = why
+            if current in by_index:
+                outcome[by_index[current].cell_id] = why
         except RuntimeError as err:  # the kernel did not start
             result.status = 'error'
             result.detail = f'the kernel did not start: {err}'
@@ -337,20 +329,17 @@ def grade(
             Path(executed).write_text(notebook_text(nb))
     for check in checks:
         if check.cell_id not in outcome:
-            why = 'check cell missing from the submission' if not _has_cell(nb, check) else \
+            why = 'check cell missing from the submission' if check.cell_id not in at else \
                 f'not run ({result.status})'
             result.checks.append(CheckResult(check.cell_id, 0, check.points, False, why))
             continue
         error = outcome[check.cell_id]
         passed = error is None
         result.checks.append(CheckResult(check.cell_id, check.points if passed else 0,
-                                         check.points, passed, error or ''))
+                                         check.points, passed, error or '',
+                                         check_output(nb.cells[at[check.cell_id]])))
     result.elapsed = round(time.monotonic() - started, 2)
     return result
-
-
-def _has_cell(nb: NotebookNode, check: Check) -> bool:
-    return any(cell.get('id') == check.cell_id for cell in nb.cells)
 
 
 def _log_tail(path: Path, lines: int = 5) -> str:
@@ -427,19 +416,18 @@ def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = N
     """Grade several submissions, `jobs` at a time; results in submission order.
 
     `on_result` is called as each one finishes; `executed_dir` receives each executed
-    notebook as NAME.graded.ipynb.
+    notebook as STUDENT/EXERCISE.graded.ipynb (one file per submission, never overwritten
+    by the next student's).
 
     Submissions graded at the same time never share a ROS domain: job slot k uses
     `domain_id` (default: ROS_DOMAIN_ID) + k, so one student's nodes never answer another's
     checks. With jobs > 1 each submission is graded by a child `robot-lab grade --json`.
     """
     found = submissions(paths)
-    out = Path(executed_dir) if executed_dir is not None else None
-    if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
+    targets = _executed_paths(found, executed_dir, kwargs.get('solutions_dir'))
 
     def executed(path: Path) -> Path | None:
-        return out / f'{path.stem}.graded.ipynb' if out is not None else None
+        return targets.get(path)
 
     base = domain_id if domain_id is not None else int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
     if jobs <= 1 or len(found) <= 1:
@@ -449,8 +437,7 @@ def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = N
                 results.append(grade(path, domain_id=domain_id, executed=executed(path),
                                      **kwargs))
             except RobotLabError as err:  # one unreadable file must not stop the batch
-                results.append(GradeResult(str(path), exercise_name(path), status='error',
-                                           detail=err.message))
+                results.append(_refused(path, str(err)))
             if on_result is not None:
                 on_result(results[-1])
         return results
@@ -492,6 +479,38 @@ def _grade_in_child(path: Path, domain: int, cell_timeout: float = 60.0,
     try:
         return GradeResult.from_dict(json.loads(out))
     except (ValueError, KeyError, TypeError):
-        return GradeResult(str(path), exercise_name(path), status='error',
-                           detail=f'the grader for this submission exited {child.returncode}: '
-                           + err.decode(errors='replace').strip()[-300:])
+        said = err.decode(errors='replace').strip()
+        if child.returncode == 1 and said and '\n' not in said:  # refused: the CLI's one line
+            return _refused(path, said)
+        return _refused(path, f'the grader for this submission exited {child.returncode}: '
+                        + said[-300:])
+
+
+def _refused(path: Path, why: str) -> GradeResult:
+    """A submission that was not graded (unreadable, or of no known exercise)."""
+    return GradeResult(str(path), exercise_name(path), student_of(path, path.stem),
+                       status='error', detail=why)
+
+
+def _executed_paths(found: list[Path], executed_dir: str | Path | None,
+                    solutions_dir: str | Path | None) -> dict[Path, Path]:
+    """Where each executed notebook goes: DIR/<student>/<exercise>.graded.ipynb, unique."""
+    from robot_lab.grading.report import safe_name
+
+    if executed_dir is None:
+        return {}
+    out = Path(executed_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    targets: dict[Path, Path] = {}
+    for path in found:
+        try:
+            exercise = identify(path, read_notebook(path), solutions_dir)
+        except (RobotLabError, OSError, ValueError):
+            continue  # refused: nothing runs, nothing to keep
+        folder = out / safe_name(student_of(path, exercise))
+        target, n = folder / f'{exercise}.graded.ipynb', 2
+        while target in targets.values():
+            target, n = folder / f'{exercise}-{n}.graded.ipynb', n + 1
+        folder.mkdir(parents=True, exist_ok=True)
+        targets[path] = target
+    return targets
