@@ -37,6 +37,7 @@ VERBS: dict[str, str] = {
     'daemon': 'daemon',
     'demo': 'demo',
     'exercises': 'exercises',
+    'course': 'course',
     'grade': 'grade',
 }
 

@@ -2,8 +2,8 @@
 
 `from robot_lab.grading import check, setup`: `setup('04_parameters')` in a notebook's
 first cell, `check.nodes_running([...])` and friends after each step.
-For instructors: `build_exercises()` and `grade_many()` (loaded on first use: nbformat is
-slow to import, and notebooks only need the checks). One submission:
+For instructors: `build_exercises()`, `grade_many()` and `release_course()` (loaded on
+first use: nbformat is slow to import, and notebooks only need the checks). One submission:
 `robot_lab.grading.grade.grade(path)` (the module shares the function's name).
 """
 
@@ -23,6 +23,7 @@ __all__ = [
     'build_exercises',
     'check',
     'grade_many',
+    'release_course',
     'setup',
 ]
 
@@ -30,6 +31,7 @@ _LAZY = {
     'GradeResult': 'robot_lab.grading.grade',
     'build_exercises': 'robot_lab.grading.exercises',
     'grade_many': 'robot_lab.grading.grade',
+    'release_course': 'robot_lab.grading.release',
 }
 
 
