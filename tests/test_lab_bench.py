@@ -184,6 +184,8 @@ def test_kit_course_writes_the_students_copy_and_keeps_their_changes(tmp_path: P
     welcome = sorted(course.rglob('00_welcome.ipynb'))
     assert welcome, f'no 00_welcome.ipynb under {course}: {first.stderr}'
     assert sorted(course.rglob('ex01_create_package.ipynb')), 'the exercises are not reachable'
+    package = (course / 'notebooks' / '01_create_package.ipynb').read_text()
+    assert 'raise NotImplementedError()' in package and 'BEGIN SOLUTION' not in package
     link = course / 'robot_lab_ws'
     assert link.is_symlink() and link.resolve() == workspace.resolve()
     # The student's work survives the next start.
