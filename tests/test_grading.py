@@ -9,6 +9,7 @@ clear result, with no process left behind.
 from __future__ import annotations
 
 import contextlib
+import csv
 import json
 import os
 import re
@@ -403,6 +404,7 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
         'checks-pass/tiny': _forge(tiny, checks='pass'),
         'stripped/tiny': _forge(tiny, checks='pass', strip=True),
         'renamed/tiny': _forge(tiny, checks='pass', rename='tiny_v2'),
+        'model/tiny': read_notebook(solutions / 'tiny.ipynb'),  # the answer: full marks
     }
     class_dir = tmp_path / 'class'
     for name, nb in forged.items():
@@ -411,10 +413,12 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
     base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
     done = run_cli('grade', str(class_dir), '--json', '-j', '2', '--solutions', str(solutions),
                    '--domain-id', str(base + 4), '--timeout', '20',
-                   '--executed', str(tmp_path / 'executed'), timeout=300)
+                   '--executed', str(tmp_path / 'executed'), '-o', str(tmp_path / 'out'),
+                   timeout=300)
     assert done.returncode == 0, done.stderr
     results = {f'{r["student"]}/{r["exercise"]}': r for r in json.loads(done.stdout)}
     assert sorted(results) == sorted(forged), sorted(results)
+    assert results.pop('model/tiny')['score'] == 5
     for name, r in results.items():
         assert r['score'] == 0, (name, r['checks'])
         if name == 'renamed/tiny':
@@ -431,6 +435,24 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
     kept = sorted(str(p.relative_to(tmp_path / 'executed'))
                   for p in (tmp_path / 'executed').rglob('*.ipynb'))
     assert kept == sorted(f'{n}.graded.ipynb' for n in forged if n != 'renamed/tiny'), kept
+    # -o OUT: the gradebook, feedback and Gradescope results, one per student.
+    with (tmp_path / 'out' / 'grades.csv').open() as f:
+        rows = {row['student']: row for row in csv.DictReader(f)}
+    assert sorted(rows) == sorted(name.split('/')[0] for name in forged)
+    assert rows['model'] == {'student': 'model', 'score': '5', 'max_score': '5',
+                             'tiny/check-helper': '2', 'tiny/check-assert': '3',
+                             'ex04_parameters/check-file-loads': '0',
+                             'ex04_parameters/check-sensor-values': '0',
+                             'ex04_parameters/check-controller-threshold': '0'}
+    assert {row['score'] for name, row in rows.items() if name != 'model'} == {'0'}
+    for student in rows:
+        feedback = (tmp_path / 'out' / 'feedback' / f'{student}.md').read_text()
+        assert feedback.startswith(f'# Feedback for {student}')
+        gradescope = json.loads((tmp_path / 'out' / 'results' / f'{student}.json').read_text())
+        assert gradescope['score'] == float(rows[student]['score'])
+    assert "refused: its metadata names exercise 'tiny_v2'" in (
+        tmp_path / 'out' / 'feedback' / 'renamed.md').read_text()
+    assert 'x is 42' in (tmp_path / 'out' / 'feedback' / 'model.md').read_text()
 
 
 _MACHINE_PATH = re.compile(r'(?<![\w.~])/(root|home|tmp|work|Users|var/folders)/')

@@ -40,7 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--solutions', metavar='DIR',
                         help="Solutions whose check cells are used (default: the kit's)")
     parser.add_argument('--executed', metavar='DIR',
-                        help='Also save each executed notebook there as NAME.graded.ipynb')
+                        help='Also save each executed notebook there as '
+                        'STUDENT/EXERCISE.graded.ipynb')
     parser.add_argument('--executed-as', metavar='FILE', help=argparse.SUPPRESS)
 
 
@@ -106,5 +107,13 @@ def main(args: argparse.Namespace) -> int:
     elif len(results) > 1:
         print()
         for r in results:
-            print(r.summary())
+            print(f'{r.student}: {r.summary()}' if r.student else r.summary())
+    if args.out and not args.executed_as:
+        from robot_lab.grading.grade import student_reports
+        from robot_lab.grading.report import write_outputs
+
+        reports = student_reports(results)
+        write_outputs(args.out, reports)
+        print(f'wrote {args.out}/grades.csv, feedback/ and results/ for {len(reports)} '
+              'student(s)', file=sys.stderr if args.json else sys.stdout)
     return 0

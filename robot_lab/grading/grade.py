@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from nbformat import NotebookNode
 
@@ -42,12 +42,16 @@ from robot_lab.grading.answer_key import (
 )
 from robot_lab.grading.exercises import exercise_name, notebook_text, read_notebook
 
+if TYPE_CHECKING:
+    from robot_lab.grading.report import StudentReport
+
 __all__ = [
     'CheckResult',
     'GradeResult',
     'grade',
     'grade_many',
     'leftover_processes',
+    'student_reports',
     'submissions',
 ]
 
@@ -514,3 +518,29 @@ def _executed_paths(found: list[Path], executed_dir: str | Path | None,
         folder.mkdir(parents=True, exist_ok=True)
         targets[path] = target
     return targets
+
+
+def student_reports(results: list[GradeResult]) -> list[StudentReport]:
+    """The graded notebooks as the instructor's outputs see them: one report per student,
+    each check named `<exercise>/<grade_id>` (two exercises may share a check's name)."""
+    from robot_lab.grading.report import CheckOutcome, StudentReport
+
+    reports: dict[str, StudentReport] = {}
+    for r in results:
+        report = reports.setdefault(r.student, StudentReport(r.student))
+        report.title = ', '.join(filter(None, [report.title, r.exercise]))
+        report.elapsed += r.elapsed
+        if r.status == 'error' and not r.checks:
+            report.status = 'error'
+            report.error = '; '.join(filter(None, [report.error, r.detail]))
+            continue
+        for c in r.checks:
+            if c.passed:
+                output = f'```\n{c.output}\n```' if c.output else 'Passed.'
+            else:
+                output = f'```\n{c.message}\n```'
+                if r.status != 'completed' and c.message.startswith('not run'):
+                    output += f'\n\nThe run ended early: {r.detail}'
+            report.checks.append(CheckOutcome(f'{r.exercise}/{c.check}', c.check, c.points,
+                                              c.max_points, output))
+    return list(reports.values())
