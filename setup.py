@@ -63,7 +63,7 @@ setup(
         'kit': KIT,
         # Everything `./kit test` and CI need on top of the kit.
         'test': [*KIT, 'pytest', 'pytest-timeout', 'nbval', 'ruff', 'mypy', 'types-PyYAML',
-                 'types-psutil', 'playwright', 'jupyterhub'],
+                 'types-psutil', 'playwright', 'jupyterhub', 'jupyter-repo2docker'],
     },
     zip_safe=True,
     maintainer='robot_lab maintainers',

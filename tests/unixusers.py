@@ -89,16 +89,20 @@ class UnixUsers:
         env.update(extra or {})
         return env
 
-    def command(self, user: User, argv: Sequence[str]) -> list[str]:
-        """`argv` run as `user` (same pid: every wrapper execs the next)."""
+    def command(self, user: User | None, argv: Sequence[str]) -> list[str]:
+        """`argv` run as `user` (same pid: every wrapper execs the next); `None`: as root,
+        in the same file system view (a JupyterHub that starts the users' servers)."""
         steps = []
         if self._closed is not None:
             closed, keep = self._closed
             steps += [f'mount --bind {keep} {self._hold}',
                       f'mount -t tmpfs -o mode=0755 tmpfs {closed}',
                       f'mkdir -p {keep}', f'mount --move {self._hold} {keep}']
-        steps.append(f'exec setpriv --reuid={user.uid} --regid={user.gid} --init-groups '
-                     '--pdeathsig=KILL -- "$@"')
+        if user is None:
+            steps.append('exec "$@"')
+        else:
+            steps.append(f'exec setpriv --reuid={user.uid} --regid={user.gid} --init-groups '
+                         '--pdeathsig=KILL -- "$@"')
         wrapped = ['unshare', '--mount', '--propagation', 'private', '--',
                    'sh', '-ec', ' && '.join(steps), 'sh', *argv]
         if self._netns is not None:
