@@ -16,13 +16,15 @@ HELP = ("Grade submitted exercise notebooks, or with --lab a class's ROS 2 packa
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument('submissions', nargs='+', metavar='SUBMISSION',
+    parser.add_argument('submissions', nargs='*', metavar='SUBMISSION',
                         help='A submitted .ipynb, or a folder of them; with --lab: a folder '
                         'with one folder or .zip per student (or one package folder)')
     parser.add_argument('--lab', metavar='LAB',
                         help='Grade ROS 2 packages for this lab (ch6-lab1, lab1.3)')
     parser.add_argument('--rubric', metavar='FILE',
                         help="A rubric YAML (a copy of a shipped one) instead of the lab's")
+    parser.add_argument('--print-rubric', action='store_true',
+                        help="Print the lab's rubric YAML (to copy, edit and pass to --rubric)")
     parser.add_argument('-o', '--out', metavar='OUT',
                         help='Write OUT/grades.csv, OUT/feedback/, OUT/results/ '
                         '(Gradescope), OUT/similarity.html')
@@ -82,6 +84,15 @@ def _packages(args: argparse.Namespace) -> int:
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.print_rubric:
+        from robot_lab.grading.rubric import rubric_path
+
+        print(rubric_path(args.lab or 'ch6-lab1').read_text(), end='')
+        return 0
+    if not args.submissions:
+        print('robot-lab grade: error: the following arguments are required: SUBMISSION',
+              file=sys.stderr)
+        return 2
     if args.lab or args.rubric:
         return _packages(args)
     from robot_lab.grading.grade import GradeResult, grade, grade_many, submissions

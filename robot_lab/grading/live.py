@@ -80,6 +80,35 @@ def _plan_for(state: JobState, job_dir: Path) -> tuple[LaunchPlan | None, str, l
     return describe_launch(stand_in), '', notes
 
 
+_EMPTY_PARAMS = '/**:\n  ros__parameters: {}\n'
+
+
+def _neutralise_installed_param_files(ws: Path, package: str) -> list[str]:
+    """Installed parameter files rcl would refuse, replaced by an empty valid one.
+
+    The launcher checks every file before starting anything (as rcl would refuse it in
+    each node); emptied, the launch starts and the nodes run on their code defaults, so
+    the behaviour is still graded while `params_file` and `params_used` report the file.
+    """
+    from robot_lab.errors import ParamFileError
+    from robot_lab.params import load_param_file
+
+    share = ws / 'install' / package / 'share' / package
+    findings = []
+    for path in sorted(share.rglob('*.y*ml')) if share.is_dir() else []:
+        if path.name.endswith(('.launch.yaml', '.launch.yml')) or 'launch' in path.parts[-2:-1]:
+            continue
+        try:
+            load_param_file(path)
+        except ParamFileError as err:
+            findings.append(f'{path.name}: {err}')
+            real = path.resolve()  # a --symlink-install points at the source: keep that
+            if real != path:
+                path.unlink()
+            path.write_text(_EMPTY_PARAMS)
+    return findings
+
+
 def _drop_bad_param_files(plan: LaunchPlan) -> list[str]:
     """Leave out parameter files rcl would refuse (the node would exit at start)."""
     from robot_lab.errors import ParamFileError
@@ -155,7 +184,8 @@ def _params_used(state: JobState, plan: LaunchPlan, sess: Any, running: list[str
                     wrong += 1
                     lines.append(f'{node} {name} = {held!r}, but the file says {value!r}')
     passed = checked > 0 and wrong == 0
-    observed = 'read back from the running nodes:\n\n' + '\n'.join(f'- `{x}`' for x in lines[:12])
+    observed = ('read back from the running nodes:\n\n' + '\n'.join(f'- `{x}`' for x in lines[:12])
+                if lines else 'the file gave the nodes no parameter to check')
     fix = '' if passed else ('declare each parameter in the node (`declare_parameter(name, '
                              'default)`) and read it with `get_parameter(name).value`; make the '
                              'node names in the file match the names the launch file gives')
@@ -194,6 +224,7 @@ def run_live_checks(job_dir: Path, ws: Path, state: JobState, outcome: Outcome,
     saved_path = list(sys.path)
     use_workspace(ws)
     sys.path[:] = saved_path  # the student's modules stay out of the grader
+    emptied = _neutralise_installed_param_files(ws, state.package_name)
     plan, launch_name, notes = _plan_for(state, job_dir)
     if plan is None:
         for cid in ('launch_file', *_BEHAVIOUR):
@@ -202,7 +233,7 @@ def run_live_checks(job_dir: Path, ws: Path, state: JobState, outcome: Outcome,
                 'package installs no executables' + ''.join(f'\n\n{n}' for n in notes),
                 'add entry_points console_scripts in setup.py and launch/<name>.launch.xml'))
         return
-    dropped = _drop_bad_param_files(plan)
+    dropped = emptied + _drop_bad_param_files(plan)
     _observe_and_score(job_dir, state, plan, launch_name, notes, dropped, min_nodes,
                        outcome, section, code)
 
@@ -257,8 +288,10 @@ def _observe_and_score(job_dir: Path, state: JobState, plan: LaunchPlan, launch_
     _score_roles(state, obs, roles, statuses, logs, outcome, section, code)
     passed, observed, fix = params
     if dropped:
-        observed += '\n\nleft out of the launch (rcl would refuse them):\n\n' + '\n'.join(
+        observed += ('\n\nleft out of the launch (rcl would refuse them, and every node '
+                     'given them would exit at start):\n\n') + '\n'.join(
             f'- {d}' for d in dropped)
+        fix = 'make the parameter file valid first (see the parameter file check)'
     outcome(state, 'params_used', passed, section(
         'the launch file loads the parameter file and the running nodes hold its values',
         observed, fix))

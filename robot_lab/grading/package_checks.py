@@ -160,6 +160,10 @@ def launch_files_of(package: Path) -> list[Path]:
 
 def _write(job_dir: Path, state: JobState, student: str, status: str = 'graded',
            error: str = '', started: float = 0.0) -> None:
+    # Paths as the student knows them: src/<pkg>/..., install/<pkg>/..., not the job's.
+    prefix = f'{job_dir.resolve()}/ws/'
+    for outcome in state.outcomes.values():
+        outcome.output = outcome.output.replace(prefix, '').replace(f'{job_dir}/ws/', '')
     checks = [state.outcomes.get(c.id) or CheckOutcome(
         c.id, c.name, 0.0, c.points, 'Not reached: the grading job ended before this check.')
         for c in state.rubric.checks]
@@ -222,11 +226,18 @@ def run_job(job_dir: Path) -> int:
     _outcome(state, 'readme', passed, text)
     _params_file_check(state)
     _write(job_dir, state, student, started=started)
+    _stage('static checks', started)
     _build_check(state, ws)
     _write(job_dir, state, student, started=started)
+    _stage('build', started)
     live.run_live_checks(job_dir, ws, state, _outcome, _section, _code)
     _write(job_dir, state, student, started=started)
+    _stage('launch, watch, stop', started)
     return 0
+
+
+def _stage(what: str, started: float) -> None:
+    print(f'[{time.monotonic() - started:6.2f} s] {what} done', flush=True)
 
 
 def _package_name(package: Path) -> str:

@@ -28,6 +28,7 @@ import struct
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -142,9 +143,13 @@ def _tail(path: Path, limit: int) -> str:
     return ('[... earlier output cut ...]\n' if size > limit else '') + text
 
 
-def run_job(job_dir: Path, domain: int, limits: Limits, token: str) -> JobRun:
+def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
+            argv: Sequence[str] = ('-m', 'robot_lab.grading.package_checks')) -> JobRun:
     """Run the job in `job_dir` (its job.json is already written) and wait at most
-    `limits.wall_seconds`; every process of the job is gone when this returns."""
+    `limits.wall_seconds`; every process of the job is gone when this returns.
+
+    `argv`: the Python arguments of the job (JOBDIR is appended).
+    """
     home, tmp = job_dir / 'home', job_dir / 'tmp'
     home.mkdir(exist_ok=True)
     tmp.mkdir(exist_ok=True)
@@ -159,7 +164,7 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str) -> JobRun:
         'PYTHONUNBUFFERED': '1',
     })
     env.pop('ROS_STATIC_PEERS', None)
-    cmd = [sys.executable, '-m', 'robot_lab.grading.package_checks', str(job_dir)]
+    cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
         cmd = [shutil.which('unshare') or 'unshare', *_UNSHARE, *cmd]
     log = job_dir / 'job.log'
