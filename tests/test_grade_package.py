@@ -94,9 +94,9 @@ def _busy_controller(pkg: Path) -> None:
 
 
 def _flood_sensor(pkg: Path) -> None:
-    _edit(pkg / PKG / 'sensor_node.py', "        self.phase = 0.0\n",
-          "        self.phase = 0.0\n        import threading\n"
-          "        threading.Thread(target=self.chatter, daemon=True).start()\n")
+    _edit(pkg / PKG / 'sensor_node.py', '        self.phase = 0.0\n',
+          '        self.phase = 0.0\n        import threading\n'
+          '        threading.Thread(target=self.chatter, daemon=True).start()\n')
     _edit(pkg / PKG / 'sensor_node.py', '    def tick(self):\n',
           '    def chatter(self):\n        while rclpy.ok():\n'
           "            self.get_logger().info('adc sample ok')\n\n    def tick(self):\n")
@@ -217,7 +217,7 @@ def test_feedback_explains_and_shows_the_graph(graded: dict[str, object]) -> Non
     alice = (out / 'feedback' / 'alice.md').read_text()
     assert '**Expected:**' in alice and '**Observed:**' in alice
     assert '/distance' in alice and '/cmd_vel' in alice  # topics seen, found by role
-    assert "drive at" in alice  # the actuator's last log lines
+    assert 'drive at' in alice  # the actuator's last log lines
     assert '![your running graph](alice.graph.png)' in alice
     assert (out / 'feedback' / 'alice.graph.png').read_bytes()[:4] == b'\x89PNG'
     assert '<table>' in (out / 'feedback' / 'alice.html').read_text()
@@ -237,7 +237,7 @@ def test_gradescope_results(graded: dict[str, object]) -> None:
     assert isinstance(out, Path)
     data = json.loads((out / 'results' / 'wrong_topic.json').read_text())
     assert data['score'] == 9
-    assert [t['name'] for t in data['tests']][0] == 'The package builds with colcon'
+    assert data['tests'][0]['name'] == 'The package builds with colcon'
     assert all({'name', 'score', 'max_score', 'output'} <= set(t) for t in data['tests'])
 
 
