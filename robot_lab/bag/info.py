@@ -17,7 +17,8 @@ import yaml
 from robot_lab.bag.read import STORAGE_SUFFIXES, open_bag
 from robot_lab.errors import BagError
 
-__all__ = ['BagInfo', 'TopicInfo', 'bag_info', 'format_info']
+__all__ = ['BagInfo', 'ServiceInfo', 'TopicInfo', 'bag_info', 'format_info', 'format_verbose',
+           'service_info']
 
 _INDENT = 19  # rosbag2: the longest label ("Topic information: ") is 19 characters
 
@@ -207,6 +208,81 @@ def _is_service_event(topic: TopicInfo) -> bool:
         and topic.type.endswith('_Event')
         and topic.name.endswith('/_service_event')
     )
+
+
+@dataclass
+class ServiceInfo:
+    """A recorded service (its `_service_event` topic): requests and responses seen."""
+
+    name: str
+    type: str
+    request_count: int
+    response_count: int
+    serialization_format: str = 'cdr'
+
+
+def _event_key(data: bytes) -> tuple[int, bytes, int]:
+    """(event_type, client_gid, sequence_number) from a service event's CDR bytes.
+
+    Every `<Srv>_Event` starts with service_msgs/ServiceEventInfo: uint8 event_type,
+    builtin_interfaces/Time stamp, uint8[16] client_gid, int64 sequence_number.
+    """
+    import struct
+
+    little = data[1] == 1  # CDR encapsulation: 0x0001 little endian, 0x0000 big endian
+    seq = struct.unpack_from('<q' if little else '>q', data, 4 + 32)[0]
+    return data[4], bytes(data[4 + 12:4 + 28]), int(seq)
+
+
+def service_info(bag: str | Path) -> list[ServiceInfo]:
+    """Request/response counts per recorded service, as `ros2 bag info --verbose` counts them
+    (distinct client and sequence number; sent and received events count once)."""
+    from robot_lab.bag.read import bag_messages
+
+    out: list[ServiceInfo] = []
+    with open_bag(bag) as reader:
+        conns = [c for c in reader.connections
+                 if _is_service_event(TopicInfo(c.topic, c.msgtype, 0))]
+        seen: dict[str, tuple[set[tuple[bytes, int]], set[tuple[bytes, int]]]] = {}
+        for conn in conns:
+            if conn.topic not in seen:
+                seen[conn.topic] = (set(), set())
+                out.append(ServiceInfo(conn.topic[: -len('/_service_event')],
+                                       conn.msgtype[: -len('_Event')], 0, 0,
+                                       conn.ext.serialization_format))
+        for conn, _stamp, data in bag_messages(reader, conns):
+            try:
+                kind, gid, seq = _event_key(bytes(data))
+            except Exception:  # a truncated event: rosbag2 would fail; skip it here
+                continue
+            requests, responses = seen[conn.topic]
+            if kind in (0, 1):  # REQUEST_SENT, REQUEST_RECEIVED
+                requests.add((gid, seq))
+            elif kind in (2, 3):  # RESPONSE_SENT, RESPONSE_RECEIVED
+                responses.add((gid, seq))
+    for item in out:
+        requests, responses = seen[item.name + '/_service_event']
+        item.request_count, item.response_count = len(requests), len(responses)
+    return out
+
+
+def format_verbose(info: BagInfo, services: list[ServiceInfo]) -> str:
+    """`ros2 bag info --verbose`: the topic part, then request/response counts per service."""
+    lines = format_info(info).split('\n')
+    while not lines[-1].startswith('Service:'):
+        lines.pop()
+    lines.pop()  # the metadata's own service lines are replaced by the counted ones
+    lines.append('Service:           ' + str(len(services)))
+    text = [
+        f'Service: {s.name} | Type: {s.type} | Request Count: {s.request_count} | '
+        f'Response Count: {s.response_count} | Serialization Format: '
+        f'{s.serialization_format}'
+        for s in services
+    ]
+    head = 'Service information: '
+    lines.append(head + (text[0] if text else ''))
+    lines.extend(' ' * len(head) + t for t in text[1:])
+    return '\n'.join(lines) + ('\n' if text else '')  # rosbag2 ends the list with endl
 
 
 def format_info(info: BagInfo) -> str:

@@ -12,11 +12,12 @@ from __future__ import annotations
 import contextlib
 import threading
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from robot_lab.bag.qos import load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
 from robot_lab.errors import BagError
 
@@ -30,25 +31,6 @@ MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
 def _log_line(level: str, name: str, text: str) -> str:
     now = time.time_ns()
     return f'[{level}] [{now // 1_000_000_000}.{now % 1_000_000_000:09d}] [{name}]: {text}'
-
-
-def _publisher_qos(profiles: list[Any]) -> Any:
-    """rosbag2's choice: the recorded offers if they agree, else reliable + volatile."""
-    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-
-    reliability = ReliabilityPolicy.RELIABLE
-    durability = DurabilityPolicy.VOLATILE
-    if profiles:
-        rel = {str(p.get('reliability', '')).lower() for p in profiles}
-        dur = {str(p.get('durability', '')).lower() for p in profiles}
-        if rel == {'best_effort'}:
-            reliability = ReliabilityPolicy.BEST_EFFORT
-        if dur == {'transient_local'}:
-            durability = DurabilityPolicy.TRANSIENT_LOCAL
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST, depth=1000,
-        reliability=reliability, durability=durability,
-    )
 
 
 class Player:
@@ -66,6 +48,7 @@ class Player:
         domain_id: int | None = None,
         log: Callable[[str], None] | None = None,
         node_name: str = NODE_NAME,
+        qos_overrides: Mapping[str, Any] | str | Path | None = None,
     ) -> None:
         if rate <= 0:
             raise BagError(f'{rate} is not in the valid range (> 0.0)', fix='e.g. --rate 2')
@@ -82,6 +65,12 @@ class Player:
         if delay < 0:
             raise BagError(f'Value {delay} is less than zero.', fix='--delay 0 or more')
         self.start_offset = start_offset
+        # {topic: rclpy QoSProfile}, or the path of a `--qos-profile-overrides-path` file
+        self.qos_overrides: dict[str, Any] = (
+            load_overrides(qos_overrides) if isinstance(qos_overrides, (str, Path))
+            else dict(qos_overrides or {})
+        )
+        self.qos: dict[str, Any] = {}  # topic -> the QoSProfile its publisher offers
         self.delay = float(delay)  # seconds before play, each loop (rosbag2's --delay)
         self.domain_id = domain_id
         self.node_name = node_name
@@ -173,9 +162,13 @@ class Player:
                 self._log('WARN', f"Ignoring a topic '{conn.topic}', reason: {exc}")
                 continue
             if conn.topic not in self._publishers:
-                profiles = _profiles(conn)
+                qos = publisher_qos(
+                    conn.topic, getattr(conn.ext, 'offered_qos_profiles', None) or [],
+                    self.qos_overrides, self._log,
+                )
+                self.qos[conn.topic] = qos
                 self._publishers[conn.topic] = self._node.create_publisher(
-                    cls, conn.topic, _publisher_qos(profiles)
+                    cls, conn.topic, qos
                 )
                 self.counts[conn.topic] = 0
             self._connections.append(conn)
@@ -332,16 +325,6 @@ class Player:
                 pub.wait_for_all_acked(Duration(seconds=1))
 
 
-def _profiles(conn: Any) -> list[dict[str, Any]]:
-    out = []
-    for qos in getattr(conn.ext, 'offered_qos_profiles', []) or []:
-        out.append({
-            'reliability': qos.reliability.name.lower(),
-            'durability': qos.durability.name.lower(),
-        })
-    return out
-
-
 def play(
     bag: str | Path,
     *,
@@ -352,15 +335,18 @@ def play(
     delay: float = 0.0,
     domain_id: int | None = None,
     log: Callable[[str], None] | None = None,
+    qos_overrides: Mapping[str, Any] | str | Path | None = None,
 ) -> Player:
     """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
 
     `player.wait()` blocks until it has played everything; `pause()`, `resume()`,
     `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0. `delay` waits that
-    many seconds before playing (each loop), as `ros2 bag play --delay`.
+    many seconds before playing (each loop), as `ros2 bag play --delay`. Each topic
+    offers the QoS its recorded publishers offered (rosbag2's rule, robot_lab.bag.qos);
+    `qos_overrides` ({topic: QoSProfile} or a `--qos-profile-overrides-path` YAML file) wins.
     """
     player = Player(
         bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset, delay=delay,
-        domain_id=domain_id, log=log,
+        domain_id=domain_id, log=log, qos_overrides=qos_overrides,
     )
     return player.start()

@@ -64,6 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     info = sub.add_parser('info', help='Print information about a bag to the screen')
     info.add_argument('bag_path', help='Bag to open')
     info.add_argument('-t', '--topic-name', action='store_true', help='Only display topic names.')
+    info.add_argument('-v', '--verbose', action='store_true',
+                      help='Display request/response information for services')
 
     play = sub.add_parser('play', help='Play back ROS data from a bag')
     play.add_argument('bag_path', help='Bag to open')
@@ -77,6 +79,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     play.add_argument('-d', '--delay', type=_not_negative_float, default=0.0,
                       help='Sleep duration before play (each loop), in seconds. Negative '
                       'durations invalid.')
+    play.add_argument('--qos-profile-overrides-path', metavar='PATH',
+                      help='Path to a yaml file defining overrides of the QoS profile for '
+                      'specific topics.')
     play.add_argument('--start-offset', type=_not_negative_float, default=0.0,
                       help='Start the playback player this many seconds into the bag file.')
 
@@ -127,12 +132,24 @@ def _record(args: argparse.Namespace) -> int:
 
 
 def _info(args: argparse.Namespace) -> int:
-    from robot_lab.bag.info import bag_info, format_info
+    from robot_lab.bag.info import (
+        _is_service_event,
+        bag_info,
+        format_info,
+        format_verbose,
+        service_info,
+    )
 
+    if args.topic_name and args.verbose:
+        print("Warning! You have set both the '-t' and '-v' parameters. The '-t' parameter "
+              'will be ignored.')
     info = bag_info(args.bag_path)
-    if args.topic_name:
+    if args.verbose:
+        print(format_verbose(info, service_info(args.bag_path)))
+    elif args.topic_name:
         for topic in info.topics:
-            print(topic.name)
+            if not _is_service_event(topic):
+                print(topic.name)
     else:
         print(format_info(info))
     return 0
@@ -145,6 +162,7 @@ def _play(args: argparse.Namespace) -> int:
     player = Player(
         args.bag_path, rate=args.rate, loop=args.loop, topics=args.topics,
         start_offset=args.start_offset, delay=args.delay, log=_err,
+        qos_overrides=args.qos_profile_overrides_path,
     )
     player.start()
     try:
