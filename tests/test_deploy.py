@@ -30,7 +30,8 @@ TOKEN = uuid.uuid4().hex
 
 
 def _repo2docker(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([str(REPO2DOCKER), '--user-name', 'jovyan', '--target-repo-dir',
+    return subprocess.run([str(REPO2DOCKER), '--user-id', '1000', '--user-name', 'jovyan',
+                           '--target-repo-dir',
                            '/srv/robot_lab', *args, str(REPO)], capture_output=True,
                           text=True, timeout=600, check=False)
 
