@@ -30,7 +30,7 @@ import os
 import pwd
 import sys
 import time
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, MutableMapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any, Literal
@@ -39,6 +39,7 @@ from robot_lab.errors import RobotLabError
 
 __all__ = [
     'DEFAULT_REGISTRY',
+    'FROM_REGISTRY_VARIABLE',
     'JOB_DOMAINS',
     'POOL_VARIABLE',
     'REGISTRY_VARIABLE',
@@ -46,12 +47,16 @@ __all__ = [
     'DomainChoice',
     'DomainRegistry',
     'domain_for',
+    'fill_domain',
     'lease_domains',
     'resolve',
     'user_domain',
 ]
 
 REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_REGISTRY'
+# Set beside ROS_DOMAIN_ID when the kit filled it in from the registry, so a child (a
+# terminal's `ros2 doctor` from a kernel) still says why it has that domain.
+FROM_REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_FROM_REGISTRY'
 # `first-last` domains handed to users (an admin may narrow it; tests use their own).
 POOL_VARIABLE = 'ROBOT_LAB_USER_DOMAINS'
 DEFAULT_REGISTRY = Path('/var/tmp/robot_lab/domains.json')
@@ -250,6 +255,8 @@ def resolve(env: Mapping[str, str] | None = None) -> DomainChoice:
     """The domain for a process with environment `env` (default: os.environ), and why."""
     source = os.environ if env is None else env
     raw = source.get('ROS_DOMAIN_ID', '').strip()
+    if raw and raw == source.get(FROM_REGISTRY_VARIABLE):
+        return DomainChoice(int(raw), 'registry', registry_path(source))
     if raw:
         try:
             return DomainChoice(int(raw), 'variable')
@@ -257,6 +264,13 @@ def resolve(env: Mapping[str, str] | None = None) -> DomainChoice:
             raise RobotLabError(f'ROS_DOMAIN_ID={raw!r} is not a number',
                                 fix='set it to an integer 0..101, or unset it') from None
     return DomainChoice(user_domain(source), 'registry', registry_path(source))
+
+
+def fill_domain(env: MutableMapping[str, str]) -> None:
+    """Set ROS_DOMAIN_ID in `env` to the user's own domain unless it is set already."""
+    if not env.get('ROS_DOMAIN_ID', '').strip():
+        domain = str(user_domain(env))
+        env['ROS_DOMAIN_ID'] = env[FROM_REGISTRY_VARIABLE] = domain
 
 
 def domain_for(env: Mapping[str, str] | None = None) -> int:

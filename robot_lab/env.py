@@ -71,10 +71,9 @@ def apply_ros_defaults(env: MutableMapping[str, str] | None = None) -> MutableMa
     target: MutableMapping[str, str] = os.environ if env is None else env
     for key, value in _DEFAULTS.items():
         target.setdefault(key, value)
-    if not target.get('ROS_DOMAIN_ID', '').strip():
-        from robot_lab.domain import user_domain
+    from robot_lab.domain import fill_domain
 
-        target['ROS_DOMAIN_ID'] = str(user_domain(target))
+    fill_domain(target)
     if (
         _uses_fastdds(target)
         and 'FASTRTPS_DEFAULT_PROFILES_FILE' not in target

@@ -76,6 +76,8 @@ def test_the_variable_wins_and_unset_means_the_registry(tmp_path: Path) -> None:
     assert 'from the registry' in str(choice)
     child = apply_ros_defaults(dict(env))  # what every process the kit starts gets
     assert child['ROS_DOMAIN_ID'] == '93'
+    assert resolve(child).source == 'registry'  # a child still knows why (ros2 doctor)
+    assert resolve({**child, 'ROS_DOMAIN_ID': '94'}).source == 'variable'
     assert apply_ros_defaults({**env, 'ROS_DOMAIN_ID': '12'})['ROS_DOMAIN_ID'] == '12'
     doctor = subprocess.run([str(BIN / 'robot-lab'), 'doctor'], capture_output=True, text=True,
                             env={k: v for k, v in {**os.environ, **env}.items()

@@ -51,9 +51,10 @@ def _domain(notebook: str) -> int:
     test_base = os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '').strip()
     if test_base:
         return (int(test_base) + 60 + _number(notebook)) % 100 + 1
-    from robot_lab.domain import domain_for
+    from robot_lab.env import apply_ros_defaults
 
-    return domain_for()  # ROS_DOMAIN_ID, or the user's own: notebook 05 sees 03's nodes
+    # ROS_DOMAIN_ID, or the user's own (robot_lab/domain.py): notebook 05 sees 03's nodes.
+    return int(apply_ros_defaults()['ROS_DOMAIN_ID'])
 
 
 def _workspace() -> Path:
