@@ -311,6 +311,10 @@ def test_facade_exports_what_tutorials_and_demos_import() -> None:
                 LocalSubstitution, PathJoinSubstitution, PythonExpression,
                 TextSubstitution, ThisLaunchFileDir)
             from launch_ros.actions import Node, PushRosNamespace, SetParameter, SetUseSimTime
+            from launch_ros.actions import LifecycleNode
+            from launch_ros.event_handlers import OnStateTransition
+            from launch_ros.events.lifecycle import ChangeState
+            from launch.events import matches_action
             from launch_ros.parameter_descriptions import ParameterValue
             from launch_ros.substitutions import FindPackageShare
             from launch_xml.launch_description_sources import XMLLaunchDescriptionSource

@@ -32,7 +32,8 @@ from robot_lab.launch.description import (
     TimerAction,
 )
 from robot_lab.launch.output import LaunchOutput
-from robot_lab.launch.supervisor import Supervisor, check_param_files
+from robot_lab.launch.parameters import check_param_files
+from robot_lab.launch.supervisor import Supervisor
 from robot_lab.pkg.index import find_executable
 
 PY = sys.executable

@@ -28,6 +28,7 @@ VERBS: dict[str, str] = {
     'param': 'param',
     'service': 'service',
     'action': 'action',
+    'lifecycle': 'lifecycle',
     'interface': 'interface',
     'graph': 'graph',
     'pkg': 'pkg',

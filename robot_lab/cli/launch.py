@@ -19,8 +19,9 @@ from robot_lab.launch.description import (
     LaunchPlan,
 )
 from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.parameters import check_param_files
 from robot_lab.launch.runner import run_supervisor
-from robot_lab.launch.supervisor import Supervisor, check_param_files
+from robot_lab.launch.supervisor import Supervisor
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener

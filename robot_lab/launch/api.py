@@ -23,8 +23,9 @@ from typing import Any
 from robot_lab.errors import LaunchError
 from robot_lab.launch.description import LaunchPlan
 from robot_lab.launch.output import LaunchOutput, OutputLine
+from robot_lab.launch.parameters import check_param_files
 from robot_lab.launch.runner import run_supervisor
-from robot_lab.launch.supervisor import Supervisor, check_param_files
+from robot_lab.launch.supervisor import Supervisor
 
 __all__ = ['LaunchHandle', 'ProcessStatus', 'describe_launch', 'launch', 'running_launches']
 

@@ -19,6 +19,7 @@ __all__ = [
     'EventHandlerSpec',
     'LaunchArgument',
     'LaunchPlan',
+    'LifecycleRequest',
     'LogAction',
     'ProcessSpec',
     'ShutdownAction',
@@ -48,6 +49,7 @@ class ProcessSpec:
     param_files: list[str] = field(default_factory=list)
     source: str | None = None
     origin: Any = field(default=None, repr=False)  # the action it came from (event targets)
+    lifecycle: str | None = None  # a LifecycleNode: 'manual' or 'autostart'
 
 
 @dataclass
@@ -96,7 +98,17 @@ class EventHandlerSpec:
         return self.target is origin
 
 
-Action: TypeAlias = ProcessSpec | LogAction | TimerAction | ShutdownAction | EventHandlerSpec
+@dataclass
+class LifecycleRequest:
+    """EmitEvent(ChangeState(...)): the matching lifecycle nodes should take a transition."""
+
+    matcher: Callable[[Any], bool] = field(repr=False)
+    transition_id: int
+    source: str | None = None
+
+
+Action: TypeAlias = (ProcessSpec | LogAction | TimerAction | ShutdownAction | EventHandlerSpec
+                     | LifecycleRequest)
 
 
 @dataclass

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 __all__ = [
+    'ChangeState',
     'EventKind',
     'ExecutionComplete',
     'ProcessEvent',
@@ -19,10 +20,12 @@ __all__ = [
     'ProcessIO',
     'ProcessStarted',
     'Shutdown',
+    'StateTransition',
+    'matches_action',
 ]
 
 EventKind = Literal['process_start', 'process_exit', 'process_io', 'execution_complete',
-                    'shutdown']
+                    'shutdown', 'state_transition']
 
 
 @dataclass
@@ -78,3 +81,27 @@ class Shutdown:
 
     reason: str = 'reason not given'
     due_to_sigint: bool = False
+
+
+@dataclass
+class ChangeState:
+    """launch_ros.events.lifecycle.ChangeState: ask matching lifecycle nodes to transition."""
+
+    lifecycle_node_matcher: Any  # a function of the action (launch.events.matches_action)
+    transition_id: int
+
+
+@dataclass
+class StateTransition:
+    """launch_ros.events.lifecycle.StateTransition: a lifecycle node changed state."""
+
+    action: Any
+    msg: Any  # the lifecycle_msgs/msg/TransitionEvent
+    transition: str
+    start_state: str
+    goal_state: str
+
+
+def matches_action(target: Any) -> Any:
+    """launch.events.matches_action: a matcher for events about `target`."""
+    return lambda action: action is target

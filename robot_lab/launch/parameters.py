@@ -16,6 +16,7 @@ import yaml
 
 from robot_lab.errors import LaunchError, ParamFileError
 from robot_lab.launch.action import Subs, subs
+from robot_lab.launch.description import LaunchPlan
 from robot_lab.launch.entity import Entity, literal_or_subs
 from robot_lab.launch.substitution_grammar import parse_substitution
 from robot_lab.launch.substitutions import Substitution, SubstitutionFailure, coerce, perform
@@ -24,8 +25,9 @@ from robot_lab.params import load_param_file
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['ParamFileRef', 'ParamValue', 'check_param_file', 'flatten_params', 'is_subs',
-           'param_value', 'parse_param_entities', 'substituted_param_file']
+__all__ = ['ParamFileRef', 'ParamValue', 'check_param_file', 'check_param_files',
+           'flatten_params', 'is_subs', 'param_value', 'parse_param_entities',
+           'substituted_param_file']
 
 @dataclass
 class ParamValue:
@@ -207,3 +209,26 @@ def parse_param_entities(items: list[Entity]) -> list[Any]:
                 raise RuntimeError("'allow_substs' can only be used together with 'from' attribute")
             result.append(nested([param]))
     return result
+
+
+def check_param_files(plan: LaunchPlan) -> None:
+    """Refuse the plan if any process would get a parameter file rcl cannot parse.
+
+    rcl only finds out in the child, after the launch has started its siblings; checking
+    first means a bad file stops everything with one clear line and nothing running.
+    """
+    seen: set[str] = set()
+    for spec in plan.processes():
+        for path in spec.param_files:
+            if path in seen:
+                continue
+            seen.add(path)
+            try:
+                load_param_file(path)
+            except ParamFileError:
+                raise
+            except OSError as exc:
+                raise ParamFileError(
+                    f'cannot read parameter file: {exc.strerror or exc}', file=path,
+                    fix=f'check the path given to {spec.label}',
+                ) from None

@@ -24,57 +24,39 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.env import apply_ros_defaults
-from robot_lab.errors import ParamFileError
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
 from robot_lab.launch.description import (
     Action,
     EventHandlerSpec,
     LaunchPlan,
+    LifecycleRequest,
     LogAction,
     ProcessSpec,
     ShutdownAction,
     TimerAction,
 )
 from robot_lab.launch.event_router import EventRouter
-from robot_lab.launch.events import Shutdown
+from robot_lab.launch.events import Shutdown, StateTransition
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.process import spawn
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
     from robot_lab.graph.expected import LaunchAnnouncement
+    from robot_lab.launch.lifecycle_bridge import LifecycleBridge
 
-__all__ = ['ProcessRecord', 'Supervisor', 'check_param_files']
+__all__ = ['ProcessRecord', 'Supervisor']
 
 _LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
 
 
-def check_param_files(plan: LaunchPlan) -> None:
-    """Refuse the plan if any process would get a parameter file rcl cannot parse.
 
-    rcl only finds out in the child, after the launch has started its siblings; checking
-    first means a bad file stops everything with one clear line and nothing running.
-    """
-    from robot_lab.params import load_param_file
-
-    seen: set[str] = set()
-    for spec in plan.processes():
-        for path in spec.param_files:
-            if path in seen:
-                continue
-            seen.add(path)
-            try:
-                load_param_file(path)
-            except ParamFileError:
-                raise
-            except OSError as exc:
-                raise ParamFileError(
-                    f'cannot read parameter file: {exc.strerror or exc}', file=path,
-                    fix=f'check the path given to {spec.label}',
-                ) from None
+def _domain(env: dict[str, str]) -> int:
+    value = env.get('ROS_DOMAIN_ID', '').strip()
+    return int(value) if value.isdigit() else 0
 
 
 def _seconds(value: float) -> str:
@@ -136,6 +118,7 @@ class Supervisor:
         self._by_spec = {id(r.spec): r for r in self.records}
         self._labels = len(self.records)  # processes an event handler starts count on
         self.events = EventRouter(self._execute, self._handler_failed, self._request)
+        self._lifecycle: LifecycleBridge | None = None  # made for the first lifecycle node
         self.started = threading.Event()  # the plan's first actions have been executed
         self.finished = threading.Event()
         self.is_shutdown = False
@@ -214,6 +197,8 @@ class Supervisor:
             self.started.set()
             self._kill_leftovers()
             self._graph.close()
+            if self._lifecycle is not None:
+                self._lifecycle.close()
             self._selector.close()
             with self._requests_lock:
                 self._closed = True
@@ -282,6 +267,8 @@ class Supervisor:
                 self._start(record)
             elif isinstance(action, EventHandlerSpec):
                 self.events.register(action)
+            elif isinstance(action, LifecycleRequest):
+                self._change_lifecycle_states(action)
             elif isinstance(action, LogAction):
                 level = action.level.upper()
                 self.output.launcher(level if level in _LEVELS else 'INFO', 'launch.user',
@@ -304,6 +291,33 @@ class Supervisor:
         self.output.launcher('ERROR', 'launch', message)
         self.returncode = 1
         self._shutdown(due_to_sigint=False, reason='an event handler failed')
+
+    # --- lifecycle nodes ------------------------------------------------------------------
+
+    def _lifecycle_bridge(self) -> LifecycleBridge:
+        if self._lifecycle is None:
+            from robot_lab.launch.lifecycle_bridge import LifecycleBridge
+
+            self._lifecycle = LifecycleBridge(
+                self._request, self._state_transition,
+                lambda level, message: self.output.launcher(level, 'launch', message))
+        return self._lifecycle
+
+    def _change_lifecycle_states(self, request: LifecycleRequest) -> None:
+        for record in self.records:
+            spec = record.spec
+            if spec.lifecycle and spec.node_name and record.state == 'running' and \
+                    request.matcher(spec.origin):
+                self._lifecycle_bridge().request(spec.node_name, _domain(self._environment(spec)),
+                                                 request.transition_id)
+
+    def _state_transition(self, node_name: str, msg: Any) -> None:
+        record = next((r for r in self.records if r.spec.node_name == node_name), None)
+        if record is None:
+            return
+        origin = record.spec.origin
+        self.events.emit('state_transition', origin, lambda: StateTransition(
+            origin, msg, msg.transition.label, msg.start_state.label, msg.goal_state.label))
 
     def _timer_callback(self, actions: list[Action]) -> Callable[[], None]:
         return lambda: self._execute(actions)
@@ -354,6 +368,9 @@ class Supervisor:
                 record.pidfd = None
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
         self.events.started(spec, popen.pid, env)
+        if spec.lifecycle and spec.node_name:
+            self._lifecycle_bridge().watch(spec.node_name, _domain(env),
+                                           spec.lifecycle == 'autostart')
         self._announce()
         if self.graph_daemon and self.started.is_set():
             self._start_graph_daemons()  # a node started by a timer, maybe in a new graph

@@ -13,6 +13,7 @@ from robot_lab.launch.actions import (  # noqa: F401  (imported to register thei
     execute_process,
     group,
     include,
+    lifecycle_node,
     log,
     namespace,
     node,

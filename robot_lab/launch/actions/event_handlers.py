@@ -14,8 +14,13 @@ from typing import TYPE_CHECKING, Any
 from robot_lab.errors import RobotLabError
 from robot_lab.launch.action import LaunchStep, as_step, python_error
 from robot_lab.launch.compat_path import compat_api
-from robot_lab.launch.description import Action, EventHandlerSpec, ShutdownAction
-from robot_lab.launch.events import EventKind, Shutdown
+from robot_lab.launch.description import (
+    Action,
+    EventHandlerSpec,
+    LifecycleRequest,
+    ShutdownAction,
+)
+from robot_lab.launch.events import ChangeState, EventKind, Shutdown
 from robot_lab.launch.substitutions import perform
 
 if TYPE_CHECKING:
@@ -33,8 +38,10 @@ class EventHandler:
     launch_name = 'EventHandler'
 
     def __init__(self, event: EventKind, target: Any, responses: dict[str, Response],
-                 pass_context: bool = True) -> None:
+                 pass_context: bool = True,
+                 accepts: Callable[[Any], bool] | None = None) -> None:
         self.event, self.target, self.pass_context = event, target, pass_context
+        self.accepts = accepts  # a further filter on the event (OnStateTransition's states)
         self.responses = {key: value for key, value in responses.items() if value is not None}
         # a static list of actions is parsed now (a mistake in it fails before anything runs)
         self.steps: dict[str, list[LaunchStep]] = {
@@ -57,7 +64,7 @@ class EventHandler:
         context.locals.event = event
         context.sink = []
         key = self._response_key(event)
-        if key is None:
+        if key is None or (self.accepts is not None and not self.accepts(event)):
             return []
         if key in self.steps:
             steps = self.steps[key]
@@ -119,13 +126,18 @@ class EmitEventStep(LaunchStep):
     launch_name = 'EmitEvent'
 
     def __init__(self, event: Any) -> None:
-        if not isinstance(event, Shutdown):
+        if not isinstance(event, Shutdown | ChangeState):
             raise TypeError(
-                f'robot_lab can emit launch.events.Shutdown only, not {type(event).__name__}'
-                ' (lifecycle ChangeState events: use `robot-lab lifecycle set` instead)')
+                'robot_lab can emit launch.events.Shutdown and launch_ros.events.lifecycle.'
+                f'ChangeState, not {type(event).__name__}')
         self.event = event
 
     def execute(self, context: LaunchContext) -> None:
+        if isinstance(self.event, ChangeState):
+            context.sink.append(LifecycleRequest(
+                self.event.lifecycle_node_matcher, int(self.event.transition_id),
+                source=context.where()))
+            return
         reason: Any = self.event.reason
         text = reason if isinstance(reason, str) else perform(reason, context)
         context.sink.append(ShutdownAction(text, source=context.where()))

@@ -11,7 +11,14 @@ from robot_lab.launch.conditions import Condition
 from robot_lab.launch.context import LaunchContext
 from robot_lab.launch.substitutions import Substitution
 
-from . import actions, conditions, launch_description_sources, substitutions
+from . import (
+    actions,
+    conditions,
+    event_handlers,
+    events,
+    launch_description_sources,
+    substitutions,
+)
 
 __all__ = [
     'Action',
@@ -23,6 +30,8 @@ __all__ = [
     'Substitution',
     'actions',
     'conditions',
+    'event_handlers',
+    'events',
     'launch_description_sources',
     'substitutions',
 ]

@@ -6,9 +6,9 @@ from typing import Any
 
 from robot_lab.launch.compat_path import unsupported
 
-from . import actions, parameter_descriptions, substitutions
+from . import actions, event_handlers, events, parameter_descriptions, substitutions
 
-__all__ = ['actions', 'parameter_descriptions', 'substitutions']
+__all__ = ['actions', 'event_handlers', 'events', 'parameter_descriptions', 'substitutions']
 
 
 def __getattr__(name: str) -> Any:

@@ -6,6 +6,7 @@ import os
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+from robot_lab.launch.actions.lifecycle_node import LifecycleNodeStep
 from robot_lab.launch.actions.namespace import PushNamespaceStep
 from robot_lab.launch.actions.node import NodeStep
 from robot_lab.launch.actions.ros_globals import GlobalRosStep, SetUseSimTimeStep
@@ -17,6 +18,7 @@ from robot_lab.launch.parameters import ParamFileRef, ParamValue
 from robot_lab.launch.substitutions import Substitution
 
 __all__ = [
+    'LifecycleNode',
     'Node',
     'PushROSNamespace',
     'PushRosNamespace',
@@ -72,6 +74,26 @@ class Node(NodeStep):
         kwargs.pop('name', None)
         super().__init__(
             executable, package=package, name=name, namespace=namespace, exec_name=exec_name,
+            parameters=_parameters(parameters) if parameters is not None else None,
+            remappings=list(remappings) if remappings is not None else None,
+            ros_arguments=list(ros_arguments) if ros_arguments is not None else None,
+            arguments=list(arguments) if arguments is not None else None,
+            options=process_options(**kwargs),
+        )
+        _place(self, condition)
+
+
+class LifecycleNode(LifecycleNodeStep):
+    def __init__(self, *, executable: Any, name: Any = None, namespace: Any = None,
+                 autostart: bool = False, package: Any = None, exec_name: Any = None,
+                 parameters: Iterable[Any] | None = None,
+                 remappings: Iterable[tuple[Any, Any]] | None = None,
+                 ros_arguments: Iterable[Any] | None = None,
+                 arguments: Iterable[Any] | None = None,
+                 condition: Condition | None = None, **kwargs: Any) -> None:
+        super().__init__(
+            executable, autostart=autostart, package=package, name=name, namespace=namespace,
+            exec_name=exec_name,
             parameters=_parameters(parameters) if parameters is not None else None,
             remappings=list(remappings) if remappings is not None else None,
             ros_arguments=list(ros_arguments) if ros_arguments is not None else None,

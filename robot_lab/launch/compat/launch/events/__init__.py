@@ -5,11 +5,11 @@ from __future__ import annotations
 from typing import Any
 
 from robot_lab.launch.compat_path import unsupported
-from robot_lab.launch.events import ExecutionComplete, Shutdown
+from robot_lab.launch.events import ExecutionComplete, Shutdown, matches_action
 
 from . import process
 
-__all__ = ['ExecutionComplete', 'Shutdown', 'process']
+__all__ = ['ExecutionComplete', 'Shutdown', 'matches_action', 'process']
 
 
 def __getattr__(name: str) -> Any:

@@ -1,0 +1,31 @@
+"""launch_ros.event_handlers: OnStateTransition (a lifecycle node changed state)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robot_lab.launch.actions.event_handlers import EventHandler
+from robot_lab.launch.compat_path import unsupported
+
+__all__ = ['OnStateTransition']
+
+
+class OnStateTransition(EventHandler):
+    launch_name = 'OnStateTransition'
+
+    def __init__(self, *, entities: Any, target_lifecycle_node: Any = None,
+                 transition: str | None = None, start_state: str | None = None,
+                 goal_state: str | None = None, **_: Any) -> None:
+        wanted = {'transition': transition, 'start_state': start_state,
+                  'goal_state': goal_state}
+
+        def accepts(event: Any) -> bool:
+            return all(value is None or getattr(event, key) == value
+                       for key, value in wanted.items())
+
+        super().__init__('state_transition', target_lifecycle_node, {'entities': entities},
+                         accepts=accepts)
+
+
+def __getattr__(name: str) -> Any:
+    raise unsupported('launch_ros.event_handlers', name, __all__)
