@@ -11,7 +11,7 @@ import argparse
 import importlib
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from types import ModuleType
 
 from robot_lab import __version__
@@ -102,9 +102,25 @@ def ros2_main(argv: Sequence[str] | None = None) -> int:
     return main(argv, prog='ros2')
 
 
+def _exit_quietly_on_closed_stdout(run: Callable[[], int]) -> None:
+    """`ros2 interface list | head`: the reader went away, so stop without a traceback.
+
+    stdout is pointed at /dev/null so the interpreter's final flush cannot fail again;
+    the exit code is the shell's for a process ended by SIGPIPE (128 + 13).
+    """
+    try:
+        code = run()
+        sys.stdout.flush()
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        sys.exit(141)
+    sys.exit(code)
+
+
 def entry() -> None:
-    sys.exit(main())
+    _exit_quietly_on_closed_stdout(main)
 
 
 def ros2_entry() -> None:
-    sys.exit(ros2_main())
+    _exit_quietly_on_closed_stdout(ros2_main)
