@@ -304,7 +304,10 @@ class Player:
             conns = [c for c in reader.connections if c.topic in self._publishers]
             if not conns:
                 return False
-            for conn, stamp, data in bag_messages(reader, conns, start=first):
+            # rosbag2 seeks only for a start offset: a message stamped before the metadata's
+            # starting_time (rosbag2's own 5-file split test bag has them) still plays.
+            since = first if self.start_offset > 0 else None
+            for conn, stamp, data in bag_messages(reader, conns, start=since):
                 if not self._wait_until(stamp):
                     return False
                 self._publishers[conn.topic].publish(bytes(data))

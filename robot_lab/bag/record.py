@@ -86,6 +86,8 @@ class Recorder:
         domain_id: int | None = None,
         log: Callable[[str], None] | None = None,
         node_name: str = NODE_NAME,
+        max_bag_size: int = 0,
+        max_bag_duration: float = 0,
     ) -> None:
         names = [t if t.startswith('/') else '/' + t for t in topics]
         if not names and not all_topics:
@@ -99,6 +101,8 @@ class Recorder:
         self.storage = storage
         self.duration = duration
         self.max_messages = max_messages
+        self.max_bag_size = max_bag_size  # bytes per file before a split (0: one file)
+        self.max_bag_duration = max_bag_duration  # seconds per file before a split
         self.domain_id = domain_id
         self.node_name = node_name
         self._log_fn = log
@@ -157,7 +161,8 @@ class Recorder:
 
         from robot_lab.context import session
 
-        self._writer = BagWriter(self.path, self.storage)
+        self._writer = BagWriter(self.path, self.storage, max_bag_size=self.max_bag_size,
+                                 max_bag_duration=self.max_bag_duration)
         sess = session(self.domain_id)
         try:
             self._node = rclpy.create_node(
@@ -441,15 +446,19 @@ def record(
     max_messages: int | None = None,
     domain_id: int | None = None,
     log: Callable[[str], None] | None = None,
+    max_bag_size: int = 0,
+    max_bag_duration: float = 0,
 ) -> Recorder:
     """Start recording `topics` (or all) into a rosbag2 bag; returns the running Recorder.
 
     Use it as a handle (`rec = record('/sensor/temperature'); …; rec.stop()`) or as a
     context manager (`with record('/sensor/temperature', output='run1'): …`). With
     `duration`, `rec.wait()` returns when the recording has finished by itself.
+    `max_bag_size` (bytes) / `max_bag_duration` (s) split the bag into <bag>_0, <bag>_1, ….
     """
     rec = Recorder(
         topics, all_topics=all_topics, output=output, storage=storage, duration=duration,
         max_messages=max_messages, domain_id=domain_id, log=log,
+        max_bag_size=max_bag_size, max_bag_duration=max_bag_duration,
     )
     return rec.start()

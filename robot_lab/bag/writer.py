@@ -122,9 +122,10 @@ def message_definition(msgtype: str) -> tuple[str, str]:
         return '', ''
 
 
-def _first_file_name(file: Path) -> Path:
-    """Rename a new storage file `<bag>.ext` to rosbag2's `<bag>_0.ext`; the new path."""
-    renamed = file.with_name(f'{file.stem}_0{file.suffix}')
+def _file_name(file: Path, target: Path | None) -> Path:
+    """Move a new storage file `<part>/<part>.ext` to rosbag2's `<bag>/<bag>_<n>.ext`."""
+    renamed = target.with_suffix(file.suffix) if target is not None else \
+        file.with_name(f'{file.stem}_0{file.suffix}')
     os.replace(file, renamed)
     return renamed
 
@@ -138,12 +139,13 @@ def _mcap_storage_class() -> type:
         """rosbags' mcap storage plus rosbag2's `topic_type_hash` and on-demand flushing."""
 
         type_hashes: dict[str, str] = {}
+        target: Path | None = None  # where the file goes: <bag>/<bag>_<n> (no suffix)
 
         def __init__(self, path: Path, compression: Any) -> None:
             super().__init__(path, compression)
-            # rosbag2 names the first file <bag>_0.mcap (rosbags: <bag>.mcap); metadata.yaml
-            # lists self.path. The open handle survives the rename.
-            self.path = _first_file_name(self.path)
+            # rosbag2 names the files <bag>_0.mcap, <bag>_1.mcap, … (rosbags: <bag>.mcap).
+            # The open handle survives the rename.
+            self.path = _file_name(self.path, self.target)
 
         def add_connection(self, connection: Any, offered_qos_profiles: str) -> None:
             # The same channel record rosbag2_storage_mcap writes: two metadata entries.
@@ -180,12 +182,14 @@ def _sqlite_storage_class() -> type:
     class CommittingSqlite3Writer(Sqlite3Writer):  # type: ignore[misc]
         """rosbags' sqlite3 storage, stamped with the distro the data came from."""
 
+        target: Path | None = None
+
         def __init__(self, path: Path, compression: Any) -> None:
             super().__init__(path, compression)
             # The recorder opens the bag in the caller's thread and writes in its own.
             self.conn.commit()
             self.conn.close()
-            self.path = _first_file_name(self.path)  # <bag>_0.db3, as rosbag2 names it
+            self.path = _file_name(self.path, self.target)  # <bag>_<n>.db3, as rosbag2
             self.conn = sqlite3.connect(f'file:{self.path}', uri=True, check_same_thread=False)
             self.cursor = self.conn.cursor()
             self.cursor.execute('UPDATE schema SET ros_distro = ?', (_DISTRO,))
@@ -198,15 +202,27 @@ def _sqlite_storage_class() -> type:
 
 
 class BagWriter:
-    """A rosbag2 folder being written: topics, messages, flushes, and a final close."""
+    """A rosbag2 folder being written: topics, messages, flushes, splits and a final close.
 
-    def __init__(self, path: str | Path, storage: str = 'mcap') -> None:
-        from rosbags.rosbag2 import StoragePlugin, Writer
+    With `max_bag_size` (bytes) or `max_bag_duration` (seconds) the bag is split as
+    rosbag2's SequentialWriter splits it: a new `<bag>_<n>` file once the current one
+    reaches the size, or once a message is more than the duration after the file's first.
+    Each file is a complete storage file; metadata.yaml lists them all.
+    """
 
+    MIN_SPLIT_SIZE = {'mcap': 1024, 'sqlite3': 86016}  # rosbag2's minimum split file sizes
+
+    def __init__(self, path: str | Path, storage: str = 'mcap', *, max_bag_size: int = 0,
+                 max_bag_duration: float = 0) -> None:
         if storage not in STORAGE_IDS:
             raise BagError(
                 f"Unknown storage id '{storage}'", fix=f'use one of: {", ".join(STORAGE_IDS)}'
             )
+        if max_bag_size and max_bag_size < self.MIN_SPLIT_SIZE[storage]:
+            raise BagError(
+                'Invalid bag splitting size given. Please provide a value greater than '
+                f'{self.MIN_SPLIT_SIZE[storage]}. Specified value of {max_bag_size}',
+                fix=f'--max-bag-size {self.MIN_SPLIT_SIZE[storage]} or more (bytes)')
         self.path = Path(path)
         if self.path.exists():
             raise BagError(
@@ -214,32 +230,56 @@ class BagWriter:
                 fix='choose another name with -o/--output, or delete the old bag first',
             )
         self.storage = storage
+        self.max_bag_size = int(max_bag_size)
+        self.max_bag_duration_ns = int(max_bag_duration * 1e9)
         self._type_hashes: dict[str, str] = {}
-        plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
-        mcap_cls: Any = _mcap_storage_class()
-        mcap_cls.type_hashes = self._type_hashes
-        plugins = dict(Writer.STORAGE_PLUGINS)
-        plugins[StoragePlugin.MCAP] = mcap_cls
-        plugins[StoragePlugin.SQLITE3] = _sqlite_storage_class()
-        writer_cls: Any = type('RobotLabWriter', (Writer,), {'STORAGE_PLUGINS': plugins})
-        self._writer = writer_cls(self.path, version=9, storage_plugin=plugin)
-        try:
-            self._writer.open()
-        except Exception as exc:
-            raise BagError(
-                f"Could not create bag folder '{self.path}': {exc}",
-                fix='check that the parent folder exists and is writable',
-            ) from None
+        self._specs: list[TopicSpec] = []
+        self.counts: dict[str, int] = {}
+        self.files: list[dict[str, Any]] = []  # per file: path, start, end, count
         self.connections: dict[str, Any] = {}
         self.closed = False
+        try:
+            self.path.mkdir(parents=False)
+        except OSError as exc:
+            raise BagError(
+                f"Could not create bag folder '{self.path}': {exc.strerror}",
+                fix='check that the parent folder exists and is writable',
+            ) from None
+        self._writer: Any = None
+        self._open_file()
 
-    def add_topic(self, spec: TopicSpec) -> Any:
-        """Register a topic before its first message; returns its connection."""
+    def _open_file(self) -> None:
+        from rosbags.rosbag2 import StoragePlugin, Writer
+
+        index = len(self.files)
+        target = self.path / f'{self.path.name}_{index}'
+        staging = self.path / f'.{self.path.name}_{index}.part'
+        plugin = StoragePlugin.MCAP if self.storage == 'mcap' else StoragePlugin.SQLITE3
+        mcap_cls: Any = _mcap_storage_class()
+        mcap_cls.type_hashes = self._type_hashes
+        sqlite_cls: Any = _sqlite_storage_class()
+        mcap_cls.target = sqlite_cls.target = target
+        plugins = dict(Writer.STORAGE_PLUGINS)
+        plugins[StoragePlugin.MCAP] = mcap_cls
+        plugins[StoragePlugin.SQLITE3] = sqlite_cls
+        writer_cls: Any = type('RobotLabWriter', (Writer,), {'STORAGE_PLUGINS': plugins})
+        self._writer = writer_cls(staging, version=9, storage_plugin=plugin)
+        self._writer.open()
+        self._staging = staging
+        self._file = Path(self._writer.storage.path)
+        self._unflushed = 0
+        self.files.append({'path': self._file.name, 'start': None, 'end': 0, 'count': 0})
+        for spec in self._specs:
+            self._add(spec)
+
+    def _add(self, spec: TopicSpec) -> Any:
         if spec.message_definition is not None:
             msgdef, rihs01 = spec.message_definition, ''
         else:
             msgdef, rihs01 = message_definition(spec.type)
+            spec.message_definition = msgdef
         type_hash = spec.type_description_hash or rihs01
+        spec.type_description_hash = type_hash
         self._type_hashes[spec.name] = type_hash
         conn = self._writer.add_connection(
             spec.name,
@@ -252,8 +292,40 @@ class BagWriter:
         self.connections[spec.name] = conn
         return conn
 
+    def add_topic(self, spec: TopicSpec) -> Any:
+        """Register a topic before its first message; returns its connection."""
+        self._specs.append(spec)
+        self.counts.setdefault(spec.name, 0)
+        return self._add(spec)
+
+    def _should_split(self, timestamp_ns: int) -> bool:
+        current = self.files[-1]
+        if not current['count']:
+            return False
+        if self.max_bag_size and \
+                self._file.stat().st_size + self._unflushed >= self.max_bag_size:
+            return True
+        return bool(self.max_bag_duration_ns) and \
+            timestamp_ns - current['start'] > self.max_bag_duration_ns
+
+    def _close_file(self) -> None:
+        import shutil
+
+        self._writer.close()
+        shutil.rmtree(self._staging, ignore_errors=True)
+
     def write(self, connection: Any, timestamp_ns: int, data: bytes) -> None:
-        self._writer.write(connection, timestamp_ns, data)
+        if self._should_split(timestamp_ns):
+            self._close_file()
+            self._open_file()
+        self._writer.write(self.connections[connection.topic], timestamp_ns, data)
+        self._unflushed += len(data) + 31  # a message record's header and channel/time fields
+        current = self.files[-1]
+        current['start'] = timestamp_ns if current['start'] is None \
+            else min(current['start'], timestamp_ns)
+        current['end'] = max(current['end'], timestamp_ns)
+        current['count'] += 1
+        self.counts[connection.topic] += 1
 
     def flush(self) -> None:
         """Everything written so far goes to the file (survives a SIGKILL of this process)."""
@@ -264,25 +336,86 @@ class BagWriter:
             storage.flush()
         else:
             storage.conn.commit()
+        self._unflushed = 0
 
     def close(self) -> None:
         """Finish the storage file (mcap summary, sqlite metadata) and write metadata.yaml."""
         if self.closed:
             return
         self.closed = True
-        self._writer.close()
-        _set_ros_distro(self.path / 'metadata.yaml')
+        self._close_file()
+        write_metadata(self.path, self.storage, self._specs, self.counts, self.files)
+
+
+def _qos_dicts(profiles: list[Any]) -> list[dict[str, Any]]:
+    """Offered profiles as rosbag2 (metadata version 9) writes them, in its key order."""
+    out = []
+    for p in profiles:
+        if isinstance(p, dict):
+            out.append(p)
+            continue
+
+        def _time(t: Any) -> dict[str, int]:
+            return {'sec': int(t.sec), 'nsec': int(t.nsec)}
+
+        out.append({
+            'history': p.history.name.lower(), 'depth': int(p.depth),
+            'reliability': p.reliability.name.lower(), 'durability': p.durability.name.lower(),
+            'deadline': _time(p.deadline), 'lifespan': _time(p.lifespan),
+            'liveliness': p.liveliness.name.lower(),
+            'liveliness_lease_duration': _time(p.liveliness_lease_duration),
+            'avoid_ros_namespace_conventions': bool(p.avoid_ros_namespace_conventions),
+        })
+    return out
+
+
+def write_metadata(folder: Path, storage: str, specs: list[TopicSpec], counts: dict[str, int],
+                   files: list[dict[str, Any]]) -> None:
+    """metadata.yaml with rosbag2's keys in rosbag2's order (rosbag2_storage/yaml.hpp).
+
+    `files`: per storage file, its `path`, first/last message `start`/`end` (ns) and `count`.
+    """
+    import yaml
+
+    def span(items: list[dict[str, Any]]) -> tuple[int, int]:
+        starts = [f['start'] for f in items if f['count']]
+        if not starts:
+            return 0, 0
+        return min(starts), max(f['end'] for f in items if f['count']) - min(starts)
+
+    start, duration = span(files)
+    doc = {'rosbag2_bagfile_information': {
+        'version': 9,
+        'storage_identifier': storage,
+        'duration': {'nanoseconds': duration},
+        'starting_time': {'nanoseconds_since_epoch': start},
+        'message_count': sum(f['count'] for f in files),
+        'topics_with_message_count': [
+            {'topic_metadata': {
+                'name': s.name, 'type': s.type,
+                'serialization_format': s.serialization_format,
+                'offered_qos_profiles': _qos_dicts(list(s.offered_qos_profiles)),
+                'type_description_hash': s.type_description_hash,
+            }, 'message_count': counts.get(s.name, 0)}
+            for s in specs
+        ],
+        'compression_format': '',
+        'compression_mode': '',
+        'relative_file_paths': [f['path'] for f in files],
+        'files': [
+            {'path': f['path'],
+             'starting_time': {'nanoseconds_since_epoch': span([f])[0]},
+             'duration': {'nanoseconds': span([f])[1]},
+             'message_count': f['count']}
+            for f in files
+        ],
+        'custom_data': None,
+        'ros_distro': _DISTRO,
+    }}
+    tmp = folder / 'metadata.yaml.tmp'
+    tmp.write_text(yaml.safe_dump(doc, sort_keys=False, default_flow_style=False))
+    os.replace(tmp, folder / 'metadata.yaml')
 
 
 def _as_distro(text: str) -> str:
     return text.replace('ros_distro: rosbags', f'ros_distro: {_DISTRO}')
-
-
-def _set_ros_distro(metadata: Path) -> None:
-    """rosbags writes `ros_distro: rosbags`; rosbag2 writes the distro the data came from."""
-    text = metadata.read_text()
-    patched = _as_distro(text)
-    if patched != text:
-        tmp = metadata.with_suffix('.yaml.tmp')
-        tmp.write_text(patched)
-        os.replace(tmp, metadata)

@@ -45,10 +45,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest='bag_verb', metavar='Call `robot-lab bag <command> -h`')
 
     rec = sub.add_parser('record', help='Record ROS data to a bag')
-    rec.add_argument('topics', nargs='*', metavar='Topic',
-                     help='Space-delimited list of topics to record.')
-    rec.add_argument('--topics', dest='topics_opt', nargs='+', default=[], metavar='Topic',
-                     help='Space-delimited list of topics to record.')
+    given = rec.add_mutually_exclusive_group()  # as rosbag2: positional or --topics
+    given.add_argument('topics', nargs='*', default=[], metavar='[Topic ...]',
+                       help='Space-delimited list of topics to record. (deprecated)')
+    given.add_argument('--topics', dest='topics_opt', nargs='+', default=[], metavar='Topic',
+                       help='Space-delimited list of topics to record.')
     rec.add_argument('-a', '--all', '--all-topics', dest='all', action='store_true',
                      help='Record all topics (Exclude hidden topic).')
     rec.add_argument('-o', '--output',
@@ -56,6 +57,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      'folder in the current directory.')
     rec.add_argument('-s', '--storage', default='mcap', choices=['mcap', 'sqlite3'],
                      help="Storage identifier to be used, defaults to '%(default)s'.")
+    rec.add_argument('-b', '--max-bag-size', type=int, default=0,
+                     help='Maximum size in bytes before the bagfile will be split. '
+                     'Default: %(default)d, recording written in single bagfile and splitting '
+                     'is disabled.')
+    rec.add_argument('-d', '--max-bag-duration', type=int, default=0,
+                     help='Maximum duration in seconds before the bagfile will be split. '
+                     'Default: %(default)d, recording written in single bagfile and splitting '
+                     'is disabled. If both splitting by size and duration are enabled, the bag '
+                     'will split at whichever threshold is reached first.')
     rec.add_argument('--duration', type=_positive_float, metavar='S',
                      help='Stop recording after S seconds (robot_lab extension).')
     rec.add_argument('--max-messages', type=_positive_int, metavar='N',
@@ -118,6 +128,7 @@ def _record(args: argparse.Namespace) -> int:
     rec = Recorder(
         topics, all_topics=args.all, output=args.output, storage=args.storage,
         duration=args.duration, max_messages=args.max_messages, log=_err,
+        max_bag_size=args.max_bag_size, max_bag_duration=args.max_bag_duration,
     )
     rec.start()
     try:

@@ -1,0 +1,87 @@
+"""Split bags: `bag record --max-bag-size` / `--max-bag-duration`, info, play, reindex.
+
+Our own split bag comes from a real publisher process recorded by `robot-lab bag record -b`;
+rosbag2's own 5-file split bag (tests/data/rosbag2/wbag: 6,074 messages with stamps
+before the metadata's starting time) is played too.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+from conftest import REPO, Proc, run_cli
+from test_bag_recovery import PUBLISHER
+
+import robot_lab
+from robot_lab.bag.writer import BagWriter, TopicSpec
+from robot_lab.errors import BagError
+
+DATA = REPO / 'tests' / 'data' / 'rosbag2'
+ROSBAG2_KEYS = ['version', 'storage_identifier', 'duration', 'starting_time', 'message_count',
+                'topics_with_message_count', 'compression_format', 'compression_mode',
+                'relative_file_paths', 'files', 'custom_data', 'ros_distro']
+N = 400
+
+
+@pytest.fixture(scope='module')
+def split_bag(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    bag = tmp_path_factory.mktemp('split') / 'burst_bag'
+    env = dict(os.environ)
+    recorder = Proc([str(Path(sys.executable).parent / 'robot-lab'), 'bag', 'record', '-o',
+                     str(bag), '--max-bag-size', '4096', '--topics', '/burst'], env=env)
+    publisher = Proc([sys.executable, '-c', PUBLISHER, str(N), '400'], env=env)
+    try:
+        recorder.wait_for(r"Subscribed to topic '/burst'", timeout=30)
+        publisher.wait_for(r'done in', timeout=30)
+    finally:
+        publisher.stop()
+        assert recorder.stop() == 0, recorder.output
+    return bag
+
+
+def _meta(bag: Path) -> dict[str, Any]:
+    doc: dict[str, Any] = yaml.safe_load((bag / 'metadata.yaml').read_text())
+    info: dict[str, Any] = doc['rosbag2_bagfile_information']
+    return info
+
+
+def test_record_max_bag_size_writes_numbered_files_listed_in_metadata(split_bag: Path) -> None:
+    meta = _meta(split_bag)
+    names = [f'burst_bag_{i}.mcap' for i in range(len(meta['files']))]
+    assert len(names) >= 3
+    assert meta['relative_file_paths'] == names == [f['path'] for f in meta['files']]
+    assert sorted(p.name for p in split_bag.iterdir()) == sorted([*names, 'metadata.yaml'])
+    assert sum(f['message_count'] for f in meta['files']) == meta['message_count'] == N
+    assert list(meta) == ROSBAG2_KEYS
+    values = robot_lab.read_topic(split_bag, '/burst')['data']
+    assert values == list(range(N))
+    info = run_cli('bag', 'info', str(split_bag)).stdout
+    assert f'Files:             {names[0]}\n                   {names[1]}\n' in info
+    assert 'Topic: /burst | Type: std_msgs/msg/Int32 | Count: 400 |' in info
+
+
+def test_split_by_duration_uses_message_times(tmp_path: Path) -> None:
+    writer = BagWriter(tmp_path / 'timed', 'sqlite3', max_bag_duration=1)
+    conn = writer.add_topic(TopicSpec('/t', 'std_msgs/msg/Int32', []))
+    for i in range(35):  # 3.4 s of bag time at 10 Hz
+        writer.write(conn, 1_000_000_000_000 + i * 100_000_000, bytes([0, 1, 0, 0, i, 0, 0, 0]))
+    writer.close()
+    meta = _meta(tmp_path / 'timed')
+    assert [f['path'] for f in meta['files']] == [f'timed_{i}.db3' for i in range(4)]
+    # A new file once a message is more than 1 s after the file's first one (rosbag2's rule).
+    assert [f['message_count'] for f in meta['files']] == [11, 11, 11, 2]
+    assert robot_lab.read_topic(tmp_path / 'timed', '/t')['data'] == list(range(35))
+    with pytest.raises(BagError, match='greater than 1024'):
+        BagWriter(tmp_path / 'tiny', 'mcap', max_bag_size=100)
+
+
+def test_rosbag2_five_file_split_bag_plays_every_message(ros_domain: int) -> None:
+    player = robot_lab.play(DATA / 'wbag')
+    assert player.wait(timeout=60) and player.error is None
+    assert (player.played, player.total) == (6074, 6074)
+    assert sum(player.counts.values()) == 6074 and len(player.counts) == 8
