@@ -16,9 +16,10 @@ passed only if the token came (so the check ran to its end), the kernel's reply 
 error was shown. The token is fresh for every check of every run.
 
 What this cannot stop: a student cell runs in the same Python process as the check, so
-code written against this grader (reading the next cell's source from a pre-run hook, or
-patching rclpy itself) could still forge a pass. Read the executed notebooks
-(`--executed`) of surprising scores.
+code written against this grader could still forge a pass: reading the next cell's source
+(and its token) from a pre-run hook, or patching what a check calls besides the helpers
+(`robot_lab.graph`, rclpy, `math.isclose`). Read the executed notebooks (`--executed`)
+of surprising scores.
 """
 
 from __future__ import annotations

@@ -96,6 +96,8 @@ class GradeResult:
 
     def summary(self) -> str:
         """`ex02_write_nodes: 7/10`, the line a gradebook script greps for."""
+        if self.status == 'error' and not self.checks:
+            return f'{self.exercise}: not graded'
         return f'{self.exercise}: {_number(self.score)}/{_number(self.max_score)}'
 
     def to_dict(self) -> dict[str, Any]:
@@ -116,7 +118,8 @@ class GradeResult:
     def table(self) -> str:
         """The per-check table the CLI prints, then the summary line."""
         if self.status == 'error' and not self.checks:
-            return f'{self.notebook}: not graded: {self.detail}'
+            return f'{self.notebook}: not graded: ' + self.detail.removeprefix(
+                f'{self.notebook}: ')
         width = max([len(c.check) for c in self.checks] + [5])
         lines = [f'{self.notebook}', f'  {"check":<{width}}  points  result']
         for c in self.checks:
