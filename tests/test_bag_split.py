@@ -1,13 +1,15 @@
 """Split bags: `bag record --max-bag-size` / `--max-bag-duration`, info, play, reindex.
 
 Our own split bag comes from a real publisher process recorded by `robot-lab bag record -b`;
-rosbag2's own 5-file split bag (tests/data/rosbag2/wbag: 6,074 messages with stamps
-before the metadata's starting time) is played too.
+rosbag2's own split bags (tests/data/rosbag2: the 5-file `wbag`, 6,074 messages with
+stamps before the metadata's starting time, and `multiple_files` without metadata.yaml,
+from rosbag2_py's reindex test) are read, played and reindexed too.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 from pathlib import Path
 from typing import Any
@@ -65,6 +67,18 @@ def test_record_max_bag_size_writes_numbered_files_listed_in_metadata(split_bag:
     assert 'Topic: /burst | Type: std_msgs/msg/Int32 | Count: 400 |' in info
 
 
+def test_reindex_restores_the_metadata_of_a_split_bag(split_bag: Path, tmp_path: Path) -> None:
+    copy = tmp_path / 'burst_bag'
+    shutil.copytree(split_bag, copy)
+    (copy / 'metadata.yaml').unlink()
+    out = run_cli('bag', 'reindex', str(copy))
+    assert out.returncode == 0, out.stderr
+    before, after = _meta(split_bag), _meta(copy)
+    for key in ('relative_file_paths', 'files', 'message_count', 'duration', 'starting_time'):
+        assert after[key] == before[key], key
+    assert [t['message_count'] for t in after['topics_with_message_count']] == [N]
+
+
 def test_split_by_duration_uses_message_times(tmp_path: Path) -> None:
     writer = BagWriter(tmp_path / 'timed', 'sqlite3', max_bag_duration=1)
     conn = writer.add_topic(TopicSpec('/t', 'std_msgs/msg/Int32', []))
@@ -85,3 +99,13 @@ def test_rosbag2_five_file_split_bag_plays_every_message(ros_domain: int) -> Non
     assert player.wait(timeout=60) and player.error is None
     assert (player.played, player.total) == (6074, 6074)
     assert sum(player.counts.values()) == 6074 and len(player.counts) == 8
+
+
+def test_rosbag2_reindex_test_bag(tmp_path: Path) -> None:
+    bag = tmp_path / 'multiple_files'
+    shutil.copytree(DATA / 'multiple_files', bag)
+    assert run_cli('bag', 'reindex', str(bag)).returncode == 0
+    meta = _meta(bag)
+    assert meta['relative_file_paths'] == [f'multiple_files_{i}.mcap' for i in range(3)]
+    assert meta['message_count'] == 3177 == sum(f['message_count'] for f in meta['files'])
+    assert len(robot_lab.read_topic(bag, '/chatter')) == 3177
