@@ -188,7 +188,8 @@ def similarity_report(submissions: Sequence[Submission], out: Path,
     """Write the HTML report of the suspicious pairs (none: a page that says so)."""
     pairs = similar_pairs(submissions, threshold)
     rows = ''.join(
-        f'<tr><td><a href="#p{i}">{html.escape(p.a)}</a></td><td>{html.escape(p.b)}</td>'
+        f'<tr data-a="{html.escape(p.a)}" data-b="{html.escape(p.b)}">'
+        f'<td><a href="#p{i}">{html.escape(p.a)}</a></td><td>{html.escape(p.b)}</td>'
         f'<td>{p.similarity:.0%}</td></tr>' for i, p in enumerate(pairs))
     details = ''.join(
         f'<h2 id="p{i}">{html.escape(p.a)} &harr; {html.escape(p.b)} ({p.similarity:.0%})</h2>'
