@@ -101,11 +101,22 @@ def test_rosbag2_five_file_split_bag_plays_every_message(ros_domain: int) -> Non
     assert sum(player.counts.values()) == 6074 and len(player.counts) == 8
 
 
-def test_rosbag2_reindex_test_bag(tmp_path: Path) -> None:
+@pytest.mark.parametrize('storage', ['mcap', 'sqlite3'])
+def test_rosbag2_reindex_test_bag(tmp_path: Path, storage: str) -> None:
+    # rosbag2_py's reindex test bag; its sqlite3 files have the Foxy-era schema (no
+    # type_description_hash column, QoS as integers).
     bag = tmp_path / 'multiple_files'
-    shutil.copytree(DATA / 'multiple_files', bag)
+    shutil.copytree(DATA / f'multiple_files_{storage}', bag)
     assert run_cli('bag', 'reindex', str(bag)).returncode == 0
     meta = _meta(bag)
-    assert meta['relative_file_paths'] == [f'multiple_files_{i}.mcap' for i in range(3)]
+    suffix = 'mcap' if storage == 'mcap' else 'db3'
+    assert meta['relative_file_paths'] == [f'multiple_files_{i}.{suffix}' for i in range(3)]
     assert meta['message_count'] == 3177 == sum(f['message_count'] for f in meta['files'])
     assert len(robot_lab.read_topic(bag, '/chatter')) == 3177
+
+
+def test_a_bag_in_another_serialization_format_is_refused_like_rosbag2() -> None:
+    out = run_cli('bag', 'play', str(DATA / 'wrong_rmw_test_mcap'))
+    assert out.returncode == 1
+    assert 'Could not find converter for format wrong_format' in out.stderr
+    assert out.stderr.count('\n') == 1  # one line, no traceback

@@ -77,6 +77,13 @@ def _explain(path: Path, exc: Exception) -> BagError:
             'the recorder was killed before it closed the file',
             fix=f'recover what was written with `robot-lab bag reindex {folder}`',
         )
+    if text.startswith('Serialization format'):  # rosbags: {'fmt'} is not supported
+        formats = text.split('{', 1)[-1].split('}', 1)[0].replace("'", '')
+        return BagError(
+            f"Could not find converter for format {formats} (bag '{where}')",
+            fix='only bags serialized as cdr (what rmw_fastrtps and rmw_cyclonedds write) '
+            'can be read and played',
+        )
     if 'profile is not ros2' in text.lower():
         return BagError(
             f"'{where}' is an MCAP file, but not a ROS 2 one (profile is not 'ros2')",

@@ -136,9 +136,14 @@ def _scan_sqlite(file: Path) -> tuple[list[TopicSpec], dict[str, tuple[int, int,
     try:
         db = sqlite3.connect(str(file))
         try:
+            # Older rosbag2 schemas lack type_description_hash (Humble) or even
+            # offered_qos_profiles (Foxy and before): read what the file has.
+            have = {row[1] for row in db.execute('PRAGMA table_info(topics)')}
+            optional = [c if c in have else "''" for c in
+                        ('offered_qos_profiles', 'type_description_hash')]
             topics = db.execute(
-                'SELECT id, name, type, serialization_format, offered_qos_profiles, '
-                'type_description_hash FROM topics ORDER BY id'
+                'SELECT id, name, type, serialization_format, '
+                f'{optional[0]}, {optional[1]} FROM topics ORDER BY id'
             ).fetchall()
             stats = {
                 row[0]: row[1:]
