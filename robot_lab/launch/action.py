@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import inspect
 import os
+import sysconfig
 import traceback
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -98,8 +99,11 @@ class DescriptionStep(LaunchStep):
 def python_error(err: BaseException, what: str) -> LaunchError:
     """A Python exception from launch-file code, located at its innermost launch-file frame."""
     frames = traceback.extract_tb(err.__traceback__)
-    here = str(Path(__file__).parent)
-    located = [f for f in frames if not f.filename.startswith(here)]
+    kit = str(Path(__file__).parents[1])  # robot_lab/: the kit's own frames are not the cause
+    library = (sysconfig.get_paths()['stdlib'], 'site-packages')
+    located = [f for f in frames if not f.filename.startswith(kit)
+               and not any(part in f.filename for part in library)] or \
+        [f for f in frames if not f.filename.startswith(str(Path(__file__).parent))]
     frame = located[-1] if located else (frames[-1] if frames else None)
     return LaunchError(
         f'{what} raised {type(err).__name__}: {err}',

@@ -39,6 +39,9 @@ def describe_value(value: Any) -> str:
         fields = ', '.join(f'{k}={describe_value(v)}' for k, v in vars(value).items()
                            if v not in (None, [], {}))
         return f'{type(value).__name__}({fields})'
+    describe = getattr(value, 'describe', None)
+    if callable(describe) and hasattr(value, 'responses'):  # an event handler
+        return str(describe())
     if callable(value):
         return getattr(value, '__qualname__', repr(value))
     return repr(value)

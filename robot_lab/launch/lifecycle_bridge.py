@@ -17,6 +17,11 @@ from typing import Any
 
 from lifecycle_msgs.msg import TransitionEvent
 
+from robot_lab.launch.description import LifecycleRequest, ProcessSpec
+from robot_lab.launch.event_router import EventRouter
+from robot_lab.launch.events import StateTransition
+from robot_lab.launch.process_record import ProcessRecord, domain_of
+
 __all__ = ['LifecycleBridge']
 
 # How long a transition request waits for the node's change_state service (a node on a
@@ -29,11 +34,14 @@ _LABELS = {1: 'configure', 2: 'cleanup', 3: 'activate', 4: 'deactivate', 5: 'shu
 class LifecycleBridge:
     """Created by the supervisor when its first lifecycle node starts."""
 
-    def __init__(self, defer: Callable[[Callable[[], None]], None],
-                 transitioned: Callable[[str, Any], None],
+    def __init__(self, records: list[ProcessRecord], events: EventRouter,
+                 defer: Callable[[Callable[[], None]], None],
+                 environment: Callable[[ProcessSpec], dict[str, str]],
                  log: Callable[[str, str], None]) -> None:
+        self._records = records  # the supervisor's, kept current by it
+        self._events = events
         self._defer = defer  # runs a function on the supervisor's thread
-        self._transitioned = transitioned
+        self._environment = environment
         self._log = log
         self._subscriptions: list[tuple[Any, Any]] = []
         self._closed = False
@@ -56,6 +64,24 @@ class LifecycleBridge:
         if autostart:
             self._in_thread(lambda: self._change(node_name, domain, 1) and
                             self._change(node_name, domain, 3), subscription)
+
+    def request_matching(self, request: LifecycleRequest) -> None:
+        """EmitEvent(ChangeState): each running lifecycle node the matcher accepts."""
+        for record in self._records:
+            spec = record.spec
+            if spec.lifecycle and spec.node_name and record.state == 'running' and \
+                    request.matcher(spec.origin):
+                self.request(spec.node_name, domain_of(self._environment(spec)),
+                             request.transition_id)
+
+    def _transitioned(self, node_name: str, msg: Any) -> None:
+        """On the supervisor's thread: a StateTransition event for the node's handlers."""
+        record = next((r for r in self._records if r.spec.node_name == node_name), None)
+        if record is None:
+            return
+        origin = record.spec.origin
+        self._events.emit('state_transition', origin, lambda: StateTransition(
+            origin, msg, msg.transition.label, msg.start_state.label, msg.goal_state.label))
 
     def request(self, node_name: str, domain: int, transition_id: int) -> None:
         """EmitEvent(ChangeState): take `transition_id`, without blocking the caller."""

@@ -22,9 +22,8 @@ import subprocess
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
@@ -39,8 +38,9 @@ from robot_lab.launch.description import (
     TimerAction,
 )
 from robot_lab.launch.event_router import EventRouter
-from robot_lab.launch.events import Shutdown, StateTransition
+from robot_lab.launch.events import Shutdown
 from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
 from robot_lab.process import spawn
 
 if TYPE_CHECKING:
@@ -48,56 +48,16 @@ if TYPE_CHECKING:
     from robot_lab.graph.expected import LaunchAnnouncement
     from robot_lab.launch.lifecycle_bridge import LifecycleBridge
 
-__all__ = ['ProcessRecord', 'Supervisor']
+__all__ = ['Supervisor']
 
 _LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
 
-
-
-def _domain(env: dict[str, str]) -> int:
-    value = env.get('ROS_DOMAIN_ID', '').strip()
-    return int(value) if value.isdigit() else 0
 
 
 def _seconds(value: float) -> str:
     """A timeout as launch prints it: '5' for the default, '0.5' otherwise."""
     return f'{value:g}'
 
-
-@dataclass
-class ProcessRecord:
-    """The live state of one ProcessSpec (a respawned process keeps its record)."""
-
-    spec: ProcessSpec
-    state: str = 'pending'  # pending | running | finished | died | respawning
-    pid: int | None = None
-    returncode: int | None = None
-    retries: int = 0
-    popen: subprocess.Popen[bytes] | None = field(default=None, repr=False)
-    generation: int = 0
-    stopping: bool = False
-    partial: dict[str, bytes] = field(default_factory=dict, repr=False)
-    open_streams: int = 0
-    pidfd: int | None = None
-    graph: Path | None = None  # the graph_dir() of the node's environment
-
-    @property
-    def label(self) -> str:
-        return self.spec.label
-
-    @property
-    def name(self) -> str:
-        """The node's full name when it is a node (`/sensor`), else the label."""
-        return self.spec.node_name or self.spec.label
-
-
-@dataclass(order=True)
-class _Scheduled:
-    due: float
-    seq: int
-    callback: Callable[[], None] = field(compare=False)
-    keeps_alive: bool = field(compare=False, default=True)
-    cancelled: bool = field(compare=False, default=False)
 
 
 class Supervisor:
@@ -123,7 +83,7 @@ class Supervisor:
         self.finished = threading.Event()
         self.is_shutdown = False
         self.returncode = 0
-        self._schedule: list[_Scheduled] = []
+        self._schedule: list[Scheduled] = []
         self._seq = itertools.count()
         self._selector = selectors.DefaultSelector()
         self._requests: list[Callable[[], None]] = []
@@ -245,8 +205,8 @@ class Supervisor:
             fn()
 
     def _at(self, delay: float, callback: Callable[[], None], *,
-            keeps_alive: bool = True) -> _Scheduled:
-        item = _Scheduled(time.monotonic() + delay, next(self._seq), callback, keeps_alive)
+            keeps_alive: bool = True) -> Scheduled:
+        item = Scheduled(time.monotonic() + delay, next(self._seq), callback, keeps_alive)
         heapq.heappush(self._schedule, item)
         return item
 
@@ -268,7 +228,7 @@ class Supervisor:
             elif isinstance(action, EventHandlerSpec):
                 self.events.register(action)
             elif isinstance(action, LifecycleRequest):
-                self._change_lifecycle_states(action)
+                self._lifecycle_bridge().request_matching(action)
             elif isinstance(action, LogAction):
                 level = action.level.upper()
                 self.output.launcher(level if level in _LEVELS else 'INFO', 'launch.user',
@@ -292,32 +252,14 @@ class Supervisor:
         self.returncode = 1
         self._shutdown(due_to_sigint=False, reason='an event handler failed')
 
-    # --- lifecycle nodes ------------------------------------------------------------------
-
     def _lifecycle_bridge(self) -> LifecycleBridge:
-        if self._lifecycle is None:
+        if self._lifecycle is None:  # rclpy is imported only for a plan with lifecycle nodes
             from robot_lab.launch.lifecycle_bridge import LifecycleBridge
 
             self._lifecycle = LifecycleBridge(
-                self._request, self._state_transition,
+                self.records, self.events, self._request, self._environment,
                 lambda level, message: self.output.launcher(level, 'launch', message))
         return self._lifecycle
-
-    def _change_lifecycle_states(self, request: LifecycleRequest) -> None:
-        for record in self.records:
-            spec = record.spec
-            if spec.lifecycle and spec.node_name and record.state == 'running' and \
-                    request.matcher(spec.origin):
-                self._lifecycle_bridge().request(spec.node_name, _domain(self._environment(spec)),
-                                                 request.transition_id)
-
-    def _state_transition(self, node_name: str, msg: Any) -> None:
-        record = next((r for r in self.records if r.spec.node_name == node_name), None)
-        if record is None:
-            return
-        origin = record.spec.origin
-        self.events.emit('state_transition', origin, lambda: StateTransition(
-            origin, msg, msg.transition.label, msg.start_state.label, msg.goal_state.label))
 
     def _timer_callback(self, actions: list[Action]) -> Callable[[], None]:
         return lambda: self._execute(actions)
@@ -369,7 +311,7 @@ class Supervisor:
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
         self.events.started(spec, popen.pid, env)
         if spec.lifecycle and spec.node_name:
-            self._lifecycle_bridge().watch(spec.node_name, _domain(env),
+            self._lifecycle_bridge().watch(spec.node_name, domain_of(env),
                                            spec.lifecycle == 'autostart')
         self._announce()
         if self.graph_daemon and self.started.is_set():
