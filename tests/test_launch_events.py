@@ -234,6 +234,14 @@ def test_python_substitutions_and_find_package_share(tmp_path: Path) -> None:
         def generate_launch_description():
             return launch.LaunchDescription([])
         """, 2, 'launch.actions.OpaqueCoroutine is not supported'),
+    ('logging.launch.py', """
+        import launch
+        import launch.logging
+
+
+        def generate_launch_description():
+            return launch.LaunchDescription([])
+        """, 2, "launch.logging is not provided by robot_lab's launcher"),
     ('param.launch.xml', """
         <launch>
           <node pkg="robot_lab" exec="sensor_node" name="sensor">

@@ -105,9 +105,14 @@ def python_error(err: BaseException, what: str) -> LaunchError:
                and not any(part in f.filename for part in library)] or \
         [f for f in frames if not f.filename.startswith(str(Path(__file__).parent))]
     frame = located[-1] if located else (frames[-1] if frames else None)
-    return LaunchError(
-        f'{what} raised {type(err).__name__}: {err}',
-        file=frame.filename if frame else None, line=frame.lineno if frame else None)
+    file, line = (frame.filename, frame.lineno) if frame else (None, None)
+    missing = getattr(err, 'name', None) if isinstance(err, ModuleNotFoundError) else None
+    if missing and missing.split('.')[0] in ('launch', 'launch_ros', 'launch_xml',
+                                             'launch_yaml'):
+        return LaunchError(
+            f"{missing} is not provided by robot_lab's launcher", file=file, line=line,
+            fix='run this file with a full ROS 2 install (ros2 launch), or do without it')
+    return LaunchError(f'{what} raised {type(err).__name__}: {err}', file=file, line=line)
 
 
 def as_step(item: Any) -> LaunchStep:
