@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import shutil
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -77,6 +78,33 @@ def test_reindex_restores_the_metadata_of_a_split_bag(split_bag: Path, tmp_path:
     for key in ('relative_file_paths', 'files', 'message_count', 'duration', 'starting_time'):
         assert after[key] == before[key], key
     assert [t['message_count'] for t in after['topics_with_message_count']] == [N]
+
+
+def test_kill_9_mid_split_recording_then_reindex_recovers(tmp_path: Path) -> None:
+    bag = tmp_path / 'killed'
+    env = dict(os.environ)
+    recorder = Proc([str(Path(sys.executable).parent / 'robot-lab'), 'bag', 'record', '-o',
+                     str(bag), '-b', '4096', '/burst'], env=env)
+    publisher = Proc([sys.executable, '-c', PUBLISHER, '5000', '500'], env=env)
+    try:
+        recorder.wait_for(r"Subscribed to topic '/burst'", timeout=30)
+        deadline = time.monotonic() + 30
+        while not (bag / 'killed_3.mcap').exists() and time.monotonic() < deadline:
+            time.sleep(0.05)  # polling the folder for the 4th file (a real event)
+        recorder.popen.kill()  # SIGKILL: no summary, no metadata.yaml
+        recorder.popen.wait(10)
+    finally:
+        publisher.stop()
+        recorder.stop()
+    assert not (bag / 'metadata.yaml').exists()
+    out = run_cli('bag', 'reindex', str(bag))
+    assert out.returncode == 0, out.stderr
+    meta = _meta(bag)
+    assert len(meta['files']) >= 4
+    assert not [p for p in bag.iterdir() if p.name.startswith('.')]
+    values = robot_lab.read_topic(bag, '/burst')['data']
+    assert len(values) >= 3 * 90 and values == list(range(len(values)))  # no gap, no repeat
+    assert meta['message_count'] == len(values)
 
 
 def test_split_by_duration_uses_message_times(tmp_path: Path) -> None:

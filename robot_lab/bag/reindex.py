@@ -75,7 +75,11 @@ def _scan_mcap(path: Path) -> _Scan:
     scan = _Scan()
     size = path.stat().st_size
     with path.open('rb') as f:
-        if f.read(8) != b'\x89MCAP0\r\n':
+        magic = f.read(8)
+        if b'\x89MCAP0\r\n'.startswith(magic) and size < 64:
+            # Killed just after a split opened the file: nothing of it reached the disk.
+            return _Scan(complete=False, truncated_bytes=size)
+        if magic != b'\x89MCAP0\r\n':
             raise BagError(
                 f"'{path}' is not an MCAP file (no MCAP magic at its start)",
                 fix='reindex needs the .mcap file that `bag record` was writing',
@@ -200,6 +204,8 @@ def reindex(bag: str | Path) -> ReindexReport:
     report = ReindexReport(folder, storage)
     specs: dict[str, TopicSpec] = {}
     entries: list[dict[str, Any]] = []
+    for leftover in folder.glob(f'.{folder.name}_*.part'):  # a split's staging, if killed
+        shutil.rmtree(leftover, ignore_errors=True)
     for file in files:
         per_topic: dict[str, tuple[int, int, int]] = {}
         if storage == 'mcap':
