@@ -167,6 +167,11 @@ def test_kit_lab_serves_the_course_copy_with_ros_terminals(tmp_path: Path) -> No
         names = {item['name'] for item in root['content']}
         assert {'notebooks', 'exercises', 'robot_lab_ws'} <= names, names
         assert _get(f'{base}/api/contents/robot_lab_ws?token={token}'), 'workspace unreachable'
+        # Released copies open trusted: the server finds the release's signature.
+        model = _get(f'{base}/api/contents/notebooks/01_create_package.ipynb?token={token}')
+        assert isinstance(model, dict)
+        code = [c for c in model['content']['cells'] if c['cell_type'] == 'code']
+        assert code and all(c['metadata'].get('trusted') for c in code), 'not trusted'
         request = urllib.request.Request(f'{base}/api/terminals?token={token}', method='POST',
                                          data=b'{}', headers={'Content-Type': 'application/json'})
         with urllib.request.urlopen(request, timeout=30) as reply:
