@@ -25,6 +25,7 @@ import pytest
 from conftest import BIN, REPO, run_cli
 
 from robot_lab.errors import RobotLabError
+from robot_lab.grading.answer_key import student_of
 from robot_lab.grading.exercises import (
     build_exercises,
     exercise_notebook,
@@ -467,3 +468,14 @@ def test_committed_notebooks_hold_no_machine_paths_or_emails(path: Path) -> None
     text = path.read_text()
     assert not _MACHINE_PATH.search(text), _MACHINE_PATH.search(text)
     assert not _EMAIL.search(text), _EMAIL.search(text)
+
+
+@pytest.mark.parametrize(('path', 'student'), [
+    ('class/alice/ex04_parameters.ipynb', 'alice'),
+    ('class/alice_ex04_parameters.ipynb', 'alice'),
+    ('course/submitted/bob/week4/ex04_parameters.ipynb', 'bob'),  # nbgrader
+    ('dl/Jane Doe_1234567_assignsubmission_file_/ex04_parameters.ipynb', 'Jane Doe_1234567'),
+    ('dl/doejane_12345_67890_ex04_parameters.ipynb', 'doejane'),  # Canvas
+])
+def test_student_id_comes_from_the_file_or_folder_name(path: str, student: str) -> None:
+    assert student_of(path, 'ex04_parameters') == student

@@ -40,6 +40,7 @@ __all__ = ['AnswerKey', 'identify', 'judge', 'known_exercises', 'student_of']
 _CHECK_HELPERS = Path(__file__).resolve().with_name('check.py')
 _ANSI = re.compile(r'\x1b\[[0-9;]*m')
 _OUTPUT_LIMIT = 2000  # characters of a check's printed lines kept for feedback
+_NBGRADER_FOLDERS = ('submitted', 'autograded')  # an nbgrader course's student folders
 
 
 def solutions_folder(solutions_dir: str | Path | None) -> Path:
@@ -92,9 +93,11 @@ def student_of(path: str | Path, exercise: str) -> str:
         rest = stem.replace(exercise, ' ').strip(' _-.')
         if rest:
             return rest
+    parts = file.resolve().parts
+    for index in range(len(parts) - 3, -1, -1):
+        if parts[index] in _NBGRADER_FOLDERS:  # <folder>/<student>/<assignment>/<notebook>
+            return parts[index + 1]
     folder = file.resolve().parent
-    if folder.name in (exercise, 'submitted') or folder.name.startswith(exercise):
-        folder = folder.parent  # nbgrader: submitted/<student>/<assignment>/<notebook>
     return student_name(folder.name) if folder.name else stem
 
 
