@@ -83,6 +83,22 @@ def test_terminal_keeps_a_domain_the_student_set(tmp_path: Path) -> None:
     assert shell.stdout.strip().splitlines()[-1] == 'domain=42'
 
 
+def test_terminal_builds_and_sources_a_workspace(tmp_path: Path) -> None:
+    """The lab's cycle in that terminal: pkg create, colcon build, source, find the package."""
+    workspace = tmp_path / 'ws'
+    (workspace / 'src').mkdir(parents=True)
+    env = _clean_env(tmp_path, ROBOT_LAB_VENV=str(VENV), ROBOT_LAB_QUIET='1',
+                     ROBOT_LAB_WORKSPACE=str(workspace))
+    cycle = ('cd "$ROBOT_LAB_WORKSPACE/src" && ros2 pkg create --build-type ament_python '
+             '--node-name hello --maintainer-name t --maintainer-email t@example.com bench_pkg '
+             '>/dev/null && cd .. && colcon build >/dev/null && source install/setup.bash && '
+             'ros2 pkg executables bench_pkg')
+    shell = subprocess.run(['/bin/bash', '--rcfile', str(RCFILE), '-i', '-c', cycle],
+                           env=env, capture_output=True, text=True, timeout=300)
+    assert shell.returncode == 0, shell.stdout + shell.stderr
+    assert shell.stdout.strip().splitlines()[-1] == 'bench_pkg hello', shell.stdout
+
+
 def _free_port() -> int:
     with socket.socket() as sock:
         sock.bind(('127.0.0.1', 0))
