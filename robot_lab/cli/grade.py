@@ -73,7 +73,7 @@ def _packages(args: argparse.Namespace) -> int:
         print(reports[0].markdown([str(p) for p in reports[0].images]))
     else:
         for r in reports:
-            print(table(r))
+            print(r.summary() if args.out else table(r))
     if args.out:
         print(f'wrote {args.out}/grades.csv, feedback/, results/ and similarity.html '
               f'for {len(reports)} student(s)')

@@ -60,7 +60,9 @@ def grade_package(submission: Submission, rubric: Rubric, slot: int = 0,
             report.error = (f'the grading job ended with code {run.returncode}: '
                             + ' | '.join(last))
         report.elapsed = run.elapsed
-        if keep is not None:
+        if keep is None:
+            report.images = []  # they live in the job folder, removed below
+        else:
             kept = []
             for image in report.images:
                 source = job_dir / Path(image).name
@@ -122,19 +124,26 @@ def grade_packages(
     keep = out / 'feedback' / '.images' if out is not None else None
     reports: list[StudentReport] = []
 
+    running: set[str] = set()
+
+    def show() -> None:  # the students being graded now
+        if bar is not None:
+            bar.set_postfix_str(', '.join(sorted(running)), refresh=True)
+
     def one(entry: Submission) -> StudentReport:
         slot = slots.get()
         try:
-            if bar is not None:
-                with lock:
-                    bar.set_postfix_str(entry.student)
+            with lock:
+                running.add(entry.student)
+                show()
             report = grade_package(entry, rubric, slot, keep=keep)
         finally:
             slots.put(slot)
         with lock:
+            running.discard(entry.student)
             if bar is not None:
                 bar.update(1)
-                bar.set_postfix_str(entry.student)
+                show()
             if on_report is not None:
                 on_report(report)
         return report

@@ -84,6 +84,7 @@ class StudentReport:
         """Gradescope's autograder `results.json` for this student."""
         data: dict[str, Any] = {
             'score': self.score,
+            'output_format': 'md',
             'execution_time': round(self.elapsed, 1),
             'tests': [{'name': c.name or c.id, 'score': c.score, 'max_score': c.max_score,
                        'output': c.output, 'number': c.id} for c in self.checks],
