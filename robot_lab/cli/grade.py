@@ -25,6 +25,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="A rubric YAML (a copy of a shipped one) instead of the lab's")
     parser.add_argument('--print-rubric', action='store_true',
                         help="Print the lab's rubric YAML (to copy, edit and pass to --rubric)")
+    parser.add_argument('--list', action='store_true',
+                        help='With --lab: list each student and the package found, grade nothing')
     parser.add_argument('-o', '--out', metavar='OUT',
                         help='Write OUT/grades.csv, OUT/feedback/, OUT/results/ '
                         '(Gradescope), OUT/similarity.html')
@@ -47,6 +49,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--executed-as', metavar='FILE', help=argparse.SUPPRESS)
 
 
+def _list(paths: list[str]) -> int:
+    """Each student, what they handed in, and where their package is (or why not)."""
+    import tempfile
+    from pathlib import Path
+
+    from robot_lab.errors import RobotLabError
+    from robot_lab.grading.submission import copy_submission, find_package, find_submissions
+
+    entries = [e for path in paths for e in find_submissions(path)]
+    width = max([len(e.student) for e in entries] + [7])
+    print(f'{"student":<{width}}  package found')
+    for entry in entries:
+        with tempfile.TemporaryDirectory() as tmp:
+            try:
+                unpacked = copy_submission(entry, Path(tmp))
+                package = find_package(unpacked)
+                rel = package.relative_to(unpacked)
+                where = 'its top' if rel == Path('.') else f'{rel}/'
+                found = f'{entry.source.name}: package.xml at {where}'
+            except RobotLabError as err:
+                found = f'{entry.source.name}: {err}'
+        print(f'{entry.student:<{width}}  {found}')
+    print(f'{len(entries)} student(s)')
+    return 0
+
+
 def _packages(args: argparse.Namespace) -> int:
     from robot_lab.grading.package_grade import grade_packages, resolve_rubric
     from robot_lab.grading.report import StudentReport, number
@@ -54,6 +82,8 @@ def _packages(args: argparse.Namespace) -> int:
     if args.domain_id is not None:
         os.environ['ROS_DOMAIN_ID'] = str(args.domain_id)
     rubric = resolve_rubric(args.lab, args.rubric)
+    if args.list:
+        return _list(args.submissions)
 
     def table(report: StudentReport) -> str:
         width = max([len(c.id) for c in report.checks] + [5])
