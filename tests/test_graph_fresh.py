@@ -124,3 +124,15 @@ def test_stale_names_are_dropped_after_a_grace_period() -> None:
     # A real new node whose endpoints arrive late is not hidden meanwhile.
     assert stale.filter(['/new'], {}, now=200.0) == ['/new']
     assert stale.filter(['/new'], {'/new': 1}, now=202.6) == ['/new']
+
+
+def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:
+    daemon.stop()
+    try:
+        assert _listed('--no-daemon') == []
+        assert not daemon.is_running()  # --no-daemon: neither uses nor spawns one (ros2cli)
+        assert _listed() == []
+        assert daemon.wait_until_running(timeout=20)
+        assert daemon.query('ping') is not None
+    finally:
+        daemon.stop()

@@ -7,6 +7,7 @@ robot_lab/graph/daemon.py for what it is and why.
 from __future__ import annotations
 
 import argparse
+import atexit
 from typing import Any
 
 HELP = 'Various daemon related sub-commands'
@@ -30,12 +31,18 @@ def add_no_daemon(parser: argparse.ArgumentParser) -> None:
 
 
 def ask_daemon(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
-    """The daemon's answer for a graph verb, or None: then the verb asks the graph itself."""
+    """The daemon's answer for a graph verb, or None: then the verb asks the graph itself
+    and, as ros2cli does, starts a daemon for the next command. It does so as it exits:
+    the answer is not slowed, and a launch started a moment before (which binds the
+    graph's socket first thing) keeps the daemon of its own."""
     if getattr(args, 'no_daemon', False):
         return None
-    from robot_lab.graph.daemon import query
+    from robot_lab.graph.daemon import query, start_for_later
 
-    return query(op, **params)
+    answer = query(op, **params)
+    if answer is None:
+        atexit.register(start_for_later)
+    return answer
 
 
 def main(args: argparse.Namespace) -> int:

@@ -43,6 +43,7 @@ __all__ = [
     'serve',
     'socket_path',
     'start',
+    'start_for_later',
     'stop',
     'wait_until_running',
 ]
@@ -205,6 +206,34 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
                                 start_new_session=True, pass_fds=fds)
     return spawn(cmd, env=child_env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                  pass_fds=fds)
+
+
+def start_for_later(env: Mapping[str, str] | None = None) -> subprocess.Popen[bytes] | None:
+    """Start a daemon for this graph when none serves it, without waiting for it.
+
+    What ros2cli does when a command finds no daemon: this command answers from its own
+    session, the next ones get warm, complete answers (a participant started outside the
+    kit announces itself only every 3 s, so a cold command can miss it). The daemon ends
+    with the caller's session (its terminal, a CI job) or after IDLE_TIMEOUT, and runs at
+    a lower CPU priority than the command that started it.
+    """
+    if disabled():
+        return None
+    try:
+        owner = os.getsid(0)
+    except OSError:
+        return None
+    if owner in (os.getpid(), 1) or not process_alive(owner):
+        return None  # nobody to outlive: a daemon started now would only exit again
+    listener = Listener.bind(env)
+    if listener is None:
+        return None  # a daemon (or a launch about to start one) holds this graph
+    try:
+        return start(detached=True, env=env, listener=listener, owner=owner, nice=10)
+    except OSError:
+        return None
+    finally:
+        listener.close(unlink=False)
 
 
 def wait_until_running(timeout: float = 10.0, env: Mapping[str, str] | None = None,
@@ -396,6 +425,9 @@ class _Server:
             from robot_lab.context import session
 
             self.session = session()
+            # Idle from when it can answer: a slow start-up (a loaded machine) must not
+            # count, or a short --idle-timeout ends the daemon before its first request.
+            self.last_request = time.monotonic()
             while not self.stopping.is_set():
                 if time.monotonic() - self.last_request > self.idle_timeout:
                     break
