@@ -32,6 +32,9 @@ os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 # the host registry (robot_lab/domain.py); every module sets its own below anyway.
 os.environ['ROS_DOMAIN_ID'] = str(_BASE % 100 + 1)
 apply_ros_defaults()
+# Graph verbs start no daemon of their own here (one per test domain would outlive the run);
+# tests/test_graph_fresh.py turns it on where it checks it.
+os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
 _modules: dict[str, int] = {}
 
 

@@ -129,9 +129,10 @@ def test_stale_names_are_dropped_after_a_grace_period() -> None:
 def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:
     daemon.stop()
     try:
-        assert _listed('--no-daemon') == []
+        autostart = {'ROBOT_LAB_DAEMON_AUTOSTART': '1'}  # the suite turns it off
+        assert run_cli('node', 'list', '--no-daemon', env=autostart).stdout == ''
         assert not daemon.is_running()  # --no-daemon: neither uses nor spawns one (ros2cli)
-        assert _listed() == []
+        assert run_cli('node', 'list', env=autostart).stdout == ''
         assert daemon.wait_until_running(timeout=20)
         assert daemon.query('ping') is not None
     finally:

@@ -34,6 +34,7 @@ from robot_lab.errors import GraphError, RobotLabError
 from robot_lab.graph.expected import graph_dir, process_alive
 
 __all__ = [
+    'AUTOSTART_VARIABLE',
     'IDLE_TIMEOUT',
     'NO_DAEMON_VARIABLE',
     'Listener',
@@ -52,6 +53,9 @@ __all__ = [
 IDLE_TIMEOUT = 2 * 60 * 60.0
 # Set (to anything but 0) to make every command use its own session, like --no-daemon.
 NO_DAEMON_VARIABLE = 'ROBOT_LAB_NO_DAEMON'
+# Set to 0 to keep graph verbs from starting a daemon when none runs (the test suite: a
+# daemon per test domain would outlive each run by up to IDLE_TIMEOUT).
+AUTOSTART_VARIABLE = 'ROBOT_LAB_DAEMON_AUTOSTART'
 # In the daemon's command line, so `pgrep -f robot-lab` finds it like the kit's other
 # processes.
 _FLAG = '--robot-lab-graph-daemon'
@@ -217,7 +221,7 @@ def start_for_later(env: Mapping[str, str] | None = None) -> subprocess.Popen[by
     with the caller's session (its terminal, a CI job) or after IDLE_TIMEOUT, and runs at
     a lower CPU priority than the command that started it.
     """
-    if disabled():
+    if disabled() or os.environ.get(AUTOSTART_VARIABLE, '1') == '0':
         return None
     try:
         owner = os.getsid(0)
