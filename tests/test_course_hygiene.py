@@ -31,9 +31,12 @@ ROOT = Path(__file__).resolve().parents[1]
 COMMITTED = ('notebooks', 'exercises', 'solutions')
 COURSE = ROOT / 'notebooks'
 
-# Absolute paths a notebook's run leaves behind; the checkout and $HOME of this machine too.
-_MACHINE_PATHS = sorted({'/root/', '/tmp/', '/home/', '/Users/', f'{ROOT}/',
-                         f'{Path.home()}/'}, key=len, reverse=True)
+# Absolute paths a notebook's run leaves behind (a path of its own, not inside another one
+# such as the kit's /var/tmp/robot_lab registry); the checkout and $HOME of this machine too.
+_MACHINE_PATH = re.compile('|'.join(
+    [r'(?<![\w.~-])(?:/root|/tmp|/home|/Users)/',
+     *(re.escape(f'{p}/') for p in sorted({str(ROOT), str(Path.home())}, key=len,
+                                          reverse=True))]))
 _EMAIL = re.compile(r'[\w.+-]+@[A-Za-z0-9-]+(?:\.[A-Za-z0-9-]+)+')
 # RFC 2606 documentation domain: the lab's own placeholder maintainer, `you@example.com`.
 _PLACEHOLDER_EMAIL = re.compile(r'@example\.(?:com|org|net)$')
@@ -105,12 +108,10 @@ def _leaks(path: Path) -> list[str]:
     for index, cell in enumerate(_load(path)['cells']):
         texts = [('source', _source(cell))] + [('output', t) for t in _output_texts(cell)]
         for where, text in texts:
-            for prefix in _MACHINE_PATHS:
-                at = text.find(prefix)
-                if at >= 0:
-                    snippet = text[max(0, at - 20):at + 40].replace('\n', ' ')
-                    found.append(f'{_rel(path)} cell {index} {where}: path {snippet!r}')
-                    break
+            hit = _MACHINE_PATH.search(text)
+            if hit:
+                snippet = text[max(0, hit.start() - 20):hit.start() + 40].replace('\n', ' ')
+                found.append(f'{_rel(path)} cell {index} {where}: path {snippet!r}')
             for address in _EMAIL.findall(text):
                 if not _PLACEHOLDER_EMAIL.search(address):
                     found.append(f'{_rel(path)} cell {index} {where}: e-mail {address!r}')
