@@ -9,6 +9,7 @@ names sharing a namespace are framed together.
 from __future__ import annotations
 
 import io
+import re
 import struct
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -373,7 +374,15 @@ class GraphImage:
         return self._render('png'), self._display_metadata()
 
     def _repr_svg_(self) -> tuple[str, dict[str, int]]:
-        return self._render('svg').decode(), self._display_metadata()
+        # JupyterLab draws an SVG at the size its root element names and ignores the width
+        # in the metadata (measured in Chromium: 1,038-1,323 px in a 912 px column): the
+        # root says the display size itself; the viewBox keeps the drawing whole.
+        size = self._display_metadata()
+        svg = re.sub(r'(<svg\b[^>]*?)\swidth="[^"]*"\s+height="[^"]*"',
+                     lambda m: f'{m.group(1)} width="{size["width"]}px" '
+                               f'height="{size["height"]}px"',
+                     self._render('svg').decode(), count=1)
+        return svg, size
 
     def save(self, path: str | Path) -> Path:
         """Write the picture; the format comes from the suffix (.svg, .png, .pdf)."""
