@@ -75,7 +75,8 @@ def test_reindex_restores_the_metadata_of_a_split_bag(split_bag: Path, tmp_path:
     out = run_cli('bag', 'reindex', str(copy))
     assert out.returncode == 0, out.stderr
     before, after = _meta(split_bag), _meta(copy)
-    for key in ('relative_file_paths', 'files', 'message_count', 'duration', 'starting_time'):
+    for key in ('relative_file_paths', 'files', 'message_count', 'duration', 'starting_time',
+                'ros_distro'):
         assert after[key] == before[key], key
     assert [t['message_count'] for t in after['topics_with_message_count']] == [N]
 
@@ -140,6 +141,7 @@ def test_rosbag2_reindex_test_bag(tmp_path: Path, storage: str) -> None:
     suffix = 'mcap' if storage == 'mcap' else 'db3'
     assert meta['relative_file_paths'] == [f'multiple_files_{i}.{suffix}' for i in range(3)]
     assert meta['message_count'] == 3177 == sum(f['message_count'] for f in meta['files'])
+    assert meta['ros_distro'] == ''  # not in these files: rosbag2's reindex leaves it empty
     assert len(robot_lab.read_topic(bag, '/chatter')) == 3177
 
 

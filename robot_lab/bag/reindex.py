@@ -11,6 +11,7 @@ is then rebuilt from all files, in rosbag2's order.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shutil
@@ -51,6 +52,7 @@ class _Scan:
     messages: list[tuple[int, str, bytes]] = field(default_factory=list)  # time, topic, data
     complete: bool = True
     truncated_bytes: int = 0
+    ros_distro: str = ''  # from the file's `rosbag2` metadata record, as rosbag2 reads it
 
 
 def _spec(topic: str, schema: Any, encoding: str, meta: dict[str, str]) -> TopicSpec:
@@ -69,7 +71,7 @@ def _scan_mcap(path: Path) -> _Scan:
     """Read a .mcap file with the mcap library; an unfinished one up to its last record."""
     from mcap.exceptions import McapError  # type: ignore[import-untyped]
     from mcap.reader import make_reader  # type: ignore[import-untyped]
-    from mcap.records import Channel, Message, Schema  # type: ignore[import-untyped]
+    from mcap.records import Channel, Message, Metadata, Schema  # type: ignore[import-untyped]
     from mcap.stream_reader import StreamReader  # type: ignore[import-untyped]
 
     scan = _Scan()
@@ -107,6 +109,10 @@ def _scan_mcap(path: Path) -> _Scan:
                         scan.specs.append(
                             _spec(record.topic, schema, record.message_encoding,
                                   dict(record.metadata)))
+                elif isinstance(record, Metadata) and record.name == 'rosbag2':
+                    with contextlib.suppress(yaml.YAMLError, AttributeError):
+                        meta = yaml.safe_load(record.metadata.get('serialized_metadata', ''))
+                        scan.ros_distro = str(meta.get('ros_distro') or '')
                 elif isinstance(record, Message) and record.channel_id in topics:
                     scan.messages.append(
                         (record.log_time, topics[record.channel_id], bytes(record.data)))
@@ -135,11 +141,15 @@ def _rewrite_mcap(folder: Path, file: Path, scan: _Scan) -> None:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _scan_sqlite(file: Path) -> tuple[list[TopicSpec], dict[str, tuple[int, int, int]]]:
-    """Topics of a .db3 file and (count, first, last) per topic."""
+def _scan_sqlite(file: Path) -> tuple[list[TopicSpec], dict[str, tuple[int, int, int]], str]:
+    """Topics of a .db3 file, (count, first, last) per topic, and its ros_distro."""
     try:
         db = sqlite3.connect(str(file))
         try:
+            distro = ''
+            with contextlib.suppress(sqlite3.Error):  # no schema table before Humble
+                row = db.execute('SELECT ros_distro FROM schema').fetchone()
+                distro = str(row[0] or '') if row else ''
             # Older rosbag2 schemas lack type_description_hash (Humble) or even
             # offered_qos_profiles (Foxy and before): read what the file has.
             have = {row[1] for row in db.execute('PRAGMA table_info(topics)')}
@@ -171,7 +181,7 @@ def _scan_sqlite(file: Path) -> tuple[list[TopicSpec], dict[str, tuple[int, int,
                                type_description_hash=type_hash or '',
                                serialization_format=fmt or 'cdr', message_definition=''))
         counts[name] = (int(count), int(lo or 0), int(hi or 0))
-    return specs, counts
+    return specs, counts, distro
 
 
 def _file_number(path: Path) -> tuple[int, str]:
@@ -204,6 +214,7 @@ def reindex(bag: str | Path) -> ReindexReport:
     report = ReindexReport(folder, storage)
     specs: dict[str, TopicSpec] = {}
     entries: list[dict[str, Any]] = []
+    distro, latest = '', -1  # rosbag2: the distro of the file that starts last
     for leftover in folder.glob(f'.{folder.name}_*.part'):  # a split's staging, if killed
         shutil.rmtree(leftover, ignore_errors=True)
     for file in files:
@@ -213,12 +224,12 @@ def reindex(bag: str | Path) -> ReindexReport:
             if not scan.complete:
                 _rewrite_mcap(folder, file, scan)
                 report.truncated_bytes += scan.truncated_bytes
-            file_specs = scan.specs
+            file_specs, file_distro = scan.specs, scan.ros_distro
             for stamp, topic, _data in scan.messages:
                 count, lo, hi = per_topic.get(topic, (0, stamp, stamp))
                 per_topic[topic] = (count + 1, min(lo, stamp), max(hi, stamp))
         else:
-            file_specs, per_topic = _scan_sqlite(file)
+            file_specs, per_topic, file_distro = _scan_sqlite(file)
         for spec in file_specs:
             specs.setdefault(spec.name, spec)
             report.counts.setdefault(spec.name, 0)
@@ -228,5 +239,7 @@ def reindex(bag: str | Path) -> ReindexReport:
         entries.append({'path': file.name, 'count': sum(v[0] for v in live),
                         'start': min((v[1] for v in live), default=None),
                         'end': max((v[2] for v in live), default=0)})
-    write_metadata(folder, storage, list(specs.values()), report.counts, entries)
+        if file_distro and (entries[-1]['start'] or 0) > latest:
+            distro, latest = file_distro, entries[-1]['start'] or 0
+    write_metadata(folder, storage, list(specs.values()), report.counts, entries, distro)
     return report

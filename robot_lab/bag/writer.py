@@ -370,7 +370,7 @@ def _qos_dicts(profiles: list[Any]) -> list[dict[str, Any]]:
 
 
 def write_metadata(folder: Path, storage: str, specs: list[TopicSpec], counts: dict[str, int],
-                   files: list[dict[str, Any]]) -> None:
+                   files: list[dict[str, Any]], ros_distro: str = _DISTRO) -> None:
     """metadata.yaml with rosbag2's keys in rosbag2's order (rosbag2_storage/yaml.hpp).
 
     `files`: per storage file, its `path`, first/last message `start`/`end` (ns) and `count`.
@@ -410,7 +410,7 @@ def write_metadata(folder: Path, storage: str, specs: list[TopicSpec], counts: d
             for f in files
         ],
         'custom_data': None,
-        'ros_distro': _DISTRO,
+        'ros_distro': ros_distro,
     }}
     tmp = folder / 'metadata.yaml.tmp'
     tmp.write_text(yaml.safe_dump(doc, sort_keys=False, default_flow_style=False))
