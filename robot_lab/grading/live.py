@@ -258,7 +258,14 @@ def _observe_and_score(job_dir: Path, state: JobState, plan: LaunchPlan, launch_
 
     rubric = state.rubric
     sess = session()
-    handle = LaunchHandle(plan)
+    try:
+        handle = LaunchHandle(plan)
+    except RobotLabError as err:
+        for cid in ('launch_file', *_BEHAVIOUR):
+            outcome(state, cid, False, section(
+                'a launch file the launcher can start', f'the launch did not start: {err}',
+                err.fix or 'run it yourself with `ros2 launch` and fix the error it prints'))
+        return
     try:
         obs = observe(sess, len(plan.processes()), rubric.startup_seconds,
                       rubric.observe_seconds, alive=lambda: handle.running)

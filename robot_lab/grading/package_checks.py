@@ -213,9 +213,15 @@ def run_job(job_dir: Path) -> int:
     import shutil
 
     (ws / 'src').mkdir(parents=True, exist_ok=True)
+    ignore = shutil.ignore_patterns('build', 'install', 'log', '__pycache__')
     target = ws / 'src' / _package_name(package)
-    shutil.copytree(package, target, symlinks=True,
-                    ignore=shutil.ignore_patterns('build', 'install', 'log', '__pycache__'))
+    shutil.copytree(package, target, symlinks=True, ignore=ignore)
+    if package != unpacked:  # a workspace: the lab's package may depend on its siblings
+        for sibling in sorted(package.parent.iterdir()):
+            if (sibling != package and (sibling / 'package.xml').is_file()
+                    and not (ws / 'src' / _package_name(sibling)).exists()):
+                shutil.copytree(sibling, ws / 'src' / _package_name(sibling), symlinks=True,
+                                ignore=ignore)
     state.package = target
     state.package_name = target.name
     state.param_files = param_files_of(target)
