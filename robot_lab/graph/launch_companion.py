@@ -43,6 +43,7 @@ class LaunchGraphCompanion:
         self._announcements: dict[Path, LaunchAnnouncement] = (
             {} if announcement is None else {announcement.directory: announcement})
         self._daemons: list[subprocess.Popen[bytes]] = []
+        self._daemon_of: dict[Path, subprocess.Popen[bytes]] = {}  # the one we started
         self._daemon_graphs: set[Path] = set()
         self._listener = listener
         self._graph_envs: dict[Path, dict[str, str]] = {}  # an environment of each graph
@@ -82,8 +83,9 @@ class LaunchGraphCompanion:
             self._daemon_graphs.add(listener.path.parent)
             self._graph_envs.setdefault(listener.path.parent, dict(os.environ))
             try:
-                self._daemons.append(
-                    daemon.start(detached=False, listener=listener, nice=DAEMON_NICE))
+                proc = daemon.start(detached=False, listener=listener, nice=DAEMON_NICE)
+                self._daemons.append(proc)
+                self._daemon_of[listener.path.parent] = proc
             except OSError as exc:
                 self._warn(f'no graph daemon: {exc}')
             listener.close(unlink=not self._daemons)  # the daemon has its own copy now
@@ -93,7 +95,9 @@ class LaunchGraphCompanion:
             if daemon.is_running(env):
                 continue
             try:
-                self._daemons.append(daemon.start(detached=False, env=env, nice=DAEMON_NICE))
+                proc = daemon.start(detached=False, env=env, nice=DAEMON_NICE)
+                self._daemons.append(proc)
+                self._daemon_of[directory] = proc
             except OSError as exc:
                 self._warn(f'no graph daemon: {exc}')
 
@@ -104,6 +108,10 @@ class LaunchGraphCompanion:
 
         self._daemons = [p for p in self._daemons if p.poll() is None]
         for directory in list(self._daemon_graphs):
+            ours = self._daemon_of.get(directory)
+            if ours is not None and ours.poll() is None:
+                continue  # ours is alive (maybe still starting, slow on a loaded machine):
+                # starting another now only made it exit at once and linger as a zombie
             if not daemon.is_running(self._graph_envs[directory]):
                 self._daemon_graphs.discard(directory)
         self.start_daemons(running)

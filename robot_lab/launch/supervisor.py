@@ -385,33 +385,32 @@ class Supervisor:
             record.pidfd = None
         self._drain(record)
         record.returncode = code
-        self._announce()
         cmd = ' '.join(part for part in record.spec.cmd if part.strip())
+        spec = record.spec
+        ending = self.is_shutdown or record.stopping
+        required = not ending and spec.on_exit == 'shutdown'
+        respawn = not ending and not required and spec.respawn and (
+            spec.respawn_max_retries < 0 or record.retries < spec.respawn_max_retries)
+        # the state is final before the line is out: a reader waiting on the line sees it
+        record.state = 'respawning' if respawn else 'finished' if code == 0 else 'died'
+        self._announce()  # after the state: the node is no longer announced as up
         if code == 0:
-            record.state = 'finished'
             self.output.launcher('INFO', record.label,
                                  f'process has finished cleanly [pid {popen.pid}]')
         else:
-            record.state = 'died'
             self.output.launcher(
                 'ERROR', record.label,
                 f"process has died [pid {popen.pid}, exit code {code}, cmd '{cmd}'].",
             )
-        self.events.exited(record.spec, popen.pid, code)
-        if self.is_shutdown or record.stopping:
-            return
-        if record.spec.on_exit == 'shutdown':
+        self.events.exited(spec, popen.pid, code)
+        if required:
             self.output.launcher(
                 'INFO', 'launch',
                 f'process[{record.label}] was required: shutting down launched system',
             )
             self._shutdown(due_to_sigint=False, reason=f'{record.label} exited')
-            return
-        spec = record.spec
-        if spec.respawn and (spec.respawn_max_retries < 0
-                             or record.retries < spec.respawn_max_retries):
+        elif respawn:
             record.retries += 1
-            record.state = 'respawning'
             self._at(max(0.0, spec.respawn_delay), lambda: self._respawn(record))
 
     def _respawn(self, record: ProcessRecord) -> None:
