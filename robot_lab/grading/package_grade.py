@@ -1,8 +1,8 @@
 """Grade a class's package submissions: `robot-lab grade DIR --lab ch6-lab1 -o OUT`.
 
 Each student's entry is graded by its own job (robot_lab.grading.sandbox) running
-robot_lab.grading.package_checks: N jobs at a time, job slot k in ROS domain
-`job_domain(k)`, a progress bar over students. A job that crashes or runs out of time
+robot_lab.grading.package_checks: N jobs at a time, each in a ROS domain of its own
+(`job_domains`), a progress bar over students. A job that crashes or runs out of time
 still gives its student a report (the checks it had scored, the rest at 0, the reason);
 only a grader that cannot run at all fails. Outputs (robot_lab.grading.report) and the
 similarity report (robot_lab.grading.similarity) go to OUT.
@@ -23,7 +23,7 @@ from typing import Any
 
 from robot_lab.grading.report import CheckOutcome, StudentReport, write_outputs
 from robot_lab.grading.rubric import Rubric, load_rubric, rubric_path
-from robot_lab.grading.sandbox import job_domain, run_job
+from robot_lab.grading.sandbox import job_domains, run_job
 from robot_lab.grading.submission import Submission, find_submissions
 
 __all__ = ['grade_package', 'grade_packages', 'resolve_rubric']
@@ -36,19 +36,23 @@ def resolve_rubric(lab: str | None, rubric: str | Path | None) -> Rubric:
     return load_rubric(rubric_path(lab or 'ch6-lab1'))
 
 
-def grade_package(submission: Submission, rubric: Rubric, slot: int = 0,
+def grade_package(submission: Submission, rubric: Rubric, domain: int | None = None,
                   work: Path | None = None, keep: Path | None = None) -> StudentReport:
     """Grade one student's entry in a sandboxed job; never raises for the student's faults.
 
-    `keep`: a folder to copy the job's graph picture into (the job folder is removed).
+    `domain`: the job's ROS domain (default: one from `job_domains`); `keep`: a folder to
+    copy the job's graph picture into (the job folder is removed).
     """
+    if domain is None:
+        with job_domains(1) as [leased]:
+            return grade_package(submission, rubric, leased, work, keep)
     assert rubric.source is not None
     job_dir = Path(tempfile.mkdtemp(prefix='robot_lab_grade_', dir=work))
     try:
         (job_dir / 'job.json').write_text(json.dumps({
             'student': submission.student, 'source': str(submission.source.resolve()),
             'rubric': str(rubric.source.resolve())}))
-        run = run_job(job_dir, job_domain(slot), rubric.limits, uuid.uuid4().hex)
+        run = run_job(job_dir, domain, rubric.limits, uuid.uuid4().hex)
         report = _read_report(job_dir, submission.student, rubric)
         if run.timed_out:
             report.status = 'timeout'
@@ -116,8 +120,6 @@ def grade_packages(
         entries = [e for path in submissions for e in find_submissions(path)]
     jobs = max(1, min(jobs, len(entries) or 1))
     slots: queue.Queue[int] = queue.Queue()
-    for k in range(jobs):
-        slots.put(k)
     bar = _progress(len(entries), progress)
     lock = threading.Lock()
     out = Path(out_dir) if out_dir is not None else None
@@ -131,14 +133,14 @@ def grade_packages(
             bar.set_postfix_str(', '.join(sorted(running)), refresh=True)
 
     def one(entry: Submission) -> StudentReport:
-        slot = slots.get()
+        domain = slots.get()
         try:
             with lock:
                 running.add(entry.student)
                 show()
-            report = grade_package(entry, rubric, slot, keep=keep)
+            report = grade_package(entry, rubric, domain=domain, keep=keep)
         finally:
-            slots.put(slot)
+            slots.put(domain)
         with lock:
             running.discard(entry.student)
             if bar is not None:
@@ -149,7 +151,10 @@ def grade_packages(
         return report
 
     try:
-        with ThreadPoolExecutor(max_workers=jobs, thread_name_prefix='grade-job') as pool:
+        with job_domains(jobs) as leased, ThreadPoolExecutor(
+                max_workers=jobs, thread_name_prefix='grade-job') as pool:
+            for domain in leased:
+                slots.put(domain)
             reports = list(pool.map(one, entries))
     finally:
         if bar is not None:

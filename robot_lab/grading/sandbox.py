@@ -28,26 +28,35 @@ import struct
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from robot_lab.grading.rubric import Limits
 from robot_lab.process import spawn
 
-__all__ = ['JobRun', 'enter', 'job_domain', 'namespaces_available', 'run_job', 'sweep']
+__all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'run_job', 'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
 _UNSHARE = ['--user', '--map-root-user', '--net', '--pid', '--fork', '--kill-child']
 
 
-def job_domain(slot: int) -> int:
-    """The ROS domain of the job in parallel slot `slot` (0-based): ROS_DOMAIN_ID + slot.
+@contextlib.contextmanager
+def job_domains(jobs: int) -> Iterator[list[int]]:
+    """The ROS domain of each parallel job slot, for as long as the grading runs.
 
-    One function so a per-user domain registry can take over the choice.
+    ROS_DOMAIN_ID set by hand (or by a test): that domain and the next `jobs - 1`, as
+    `robot-lab grade` of notebooks does. Otherwise domains leased from the host registry
+    (robot_lab.domain), so no user and no other grading run is in them.
     """
-    base = int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
-    return (base + slot) % 233
+    from robot_lab.domain import lease_domains, resolve
+
+    choice = resolve()
+    if choice.source == 'variable':
+        yield [(choice.domain + k) % 233 for k in range(jobs)]
+        return
+    with lease_domains(jobs, purpose='robot-lab grade') as leased:
+        yield leased
 
 
 @functools.cache
