@@ -53,6 +53,7 @@ class _Scan:
     complete: bool = True
     truncated_bytes: int = 0
     ros_distro: str = ''  # from the file's `rosbag2` metadata record, as rosbag2 reads it
+    per_topic: dict[str, tuple[int, int, int]] | None = None  # from the summary: count, times
 
 
 def _spec(topic: str, schema: Any, encoding: str, meta: dict[str, str]) -> TopicSpec:
@@ -65,6 +66,32 @@ def _spec(topic: str, schema: Any, encoding: str, meta: dict[str, str]) -> Topic
         serialization_format=encoding or 'cdr',
         message_definition=schema.data.decode(errors='replace'),
     )
+
+
+def _from_summary(f: Any, summary: Any, scan: _Scan) -> None:
+    """A complete file: topics, counts and times from its summary, without reading data."""
+    from mcap.reader import make_reader
+
+    stats = summary.statistics
+    counts = stats.channel_message_counts
+    scan.per_topic = {}
+    for cid, channel in sorted(summary.channels.items()):
+        schema = summary.schemas.get(channel.schema_id)
+        if schema is None:
+            continue
+        if channel.topic not in scan.per_topic:
+            scan.specs.append(_spec(channel.topic, schema, channel.message_encoding,
+                                    dict(channel.metadata)))
+            scan.per_topic[channel.topic] = (0, stats.message_start_time,
+                                             stats.message_end_time)
+        count, lo, hi = scan.per_topic[channel.topic]
+        scan.per_topic[channel.topic] = (count + int(counts.get(cid, 0)), lo, hi)
+    f.seek(0)
+    for record in make_reader(f).iter_metadata():
+        if record.name == 'rosbag2':
+            with contextlib.suppress(yaml.YAMLError, AttributeError):
+                meta = yaml.safe_load(record.metadata.get('serialized_metadata', ''))
+                scan.ros_distro = str(meta.get('ros_distro') or '')
 
 
 def _scan_mcap(path: Path) -> _Scan:
@@ -92,6 +119,9 @@ def _scan_mcap(path: Path) -> _Scan:
         except Exception:  # no footer, or a summary cut short: read it as a stream
             summary = None
         scan.complete = summary is not None
+        if summary is not None and summary.statistics is not None:
+            _from_summary(f, summary, scan)
+            return scan
         f.seek(0)
         schemas: dict[int, Any] = {}
         topics: dict[int, str] = {}
@@ -225,6 +255,7 @@ def reindex(bag: str | Path) -> ReindexReport:
                 _rewrite_mcap(folder, file, scan)
                 report.truncated_bytes += scan.truncated_bytes
             file_specs, file_distro = scan.specs, scan.ros_distro
+            per_topic = dict(scan.per_topic or {})
             for stamp, topic, _data in scan.messages:
                 count, lo, hi = per_topic.get(topic, (0, stamp, stamp))
                 per_topic[topic] = (count + 1, min(lo, stamp), max(hi, stamp))
