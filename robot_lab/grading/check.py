@@ -678,3 +678,58 @@ def command_prints(command: str, pattern: str, seconds: float = 5.0,
         raise CheckError(f'`{command}` to print {pattern!r}', f'it printed:\n{tail}\n',
                          'read the last line: it names what is missing and how to fix it')
     _ok(f'`{command}` prints {pattern!r}')
+
+
+def graph_matches(nodes: Iterable[str], topics: Mapping[str, str], timeout: float = 5.0) -> None:
+    """The running graph has exactly these nodes, and each topic carries its stated type."""
+    from robot_lab.graph.api import node_list, topic_list
+
+    wanted = sorted(nodes)
+    if not _wait(lambda: sorted(node_list(settle=False)) == wanted, timeout):
+        seen = sorted(node_list(settle=False))
+        raise CheckError(f'the nodes {", ".join(wanted)}', f'the graph has {", ".join(seen)}',
+                         'node names are the launch file’s name= attributes, with a leading /')
+    types = {name: kinds for name, kinds in topic_list(settle=False)}
+    for topic, kind in topics.items():
+        if kind not in types.get(topic, []):
+            real = types.get(topic)
+            raise CheckError(f'{topic} of type {kind}',
+                             f'{topic} is {real[0]}' if real else f'there is no topic {topic}',
+                             'types are written package/msg/Type, e.g. std_msgs/msg/Float32')
+    _ok(f'{len(wanted)} nodes and {len(topics)} topics as you expected')
+
+
+def wiring_is(wiring: Callable[[str], Any], topic: str, publishers: list[str],
+              subscribers: list[str]) -> None:
+    """The student's `wiring(topic)` returns (publishers, subscribers) as the graph has them."""
+    want = (sorted(publishers), sorted(subscribers))
+    try:
+        # the graph may still be settling: ask again for a few seconds before judging
+        _wait(lambda: tuple(wiring(topic)) == want, 5.0)
+        got = wiring(topic)
+    except Exception as err:
+        raise CheckError(f'wiring({topic!r}) to return {want}',
+                         f'it raised {type(err).__name__}: {err}',
+                         'run it in the answer cell and read the error line') from None
+    if got is None or tuple(got) != want:
+        raise CheckError(f'wiring({topic!r}) to return {want}', f'it returned {got!r}',
+                         'full names: namespace + "/" + name; sorted lists; publishers first')
+    _ok(f'{topic}: {", ".join(want[0])} → {", ".join(want[1])}')
+
+
+def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float], bool],
+               answer: Any) -> None:
+    """`answer` is the bag time (s) of the first `topic` message whose `field` satisfies
+    `where`, as `robot_lab.read_topic` gives times."""
+    from robot_lab.bag.read import read_topic
+
+    columns = read_topic(bag, topic, [field])
+    times = [t for t, v in zip(columns.t, columns[field], strict=True) if where(v)]
+    if not times:
+        raise CheckError(f'a {topic} message in the bag whose {field} matches',
+                         f'none of its {len(columns)} messages does',
+                         'record again: the parameter change must fall inside the recording')
+    if not isinstance(answer, int | float) or not math.isclose(answer, times[0], abs_tol=1e-6):
+        raise CheckError(f'{times[0]:.2f} s (the first match)', f'your answer is {answer!r}',
+                         'take the time of the first matching message, not the last or a count')
+    _ok(f'that is the time of the first {topic} message whose {field} matches')
