@@ -109,6 +109,8 @@ c.Spawner.ip = '127.0.0.1'
 c.Spawner.start_timeout = 120
 c.Spawner.http_timeout = 120
 c.Spawner.pre_spawn_hook = before_spawn
+# jupyter-server answers SIGINT by asking for confirmation (10 s); SIGTERM stops it at once.
+c.LocalProcessSpawner.interrupt_timeout = 1
 c.Spawner.environment = {{'ROBOT_LAB_USER_DOMAINS': '93-101'}}
 configure_hub(c, registry=__import__('pathlib').Path({registry!r}))
 c.JupyterHub.services = [{{'name': 'course-test', 'api_token': {token!r}}}]

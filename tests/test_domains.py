@@ -129,8 +129,11 @@ def users() -> Iterator[UnixUsers]:
 
 
 def _env(users: UnixUsers, short: str, extra: dict[str, str]) -> dict[str, str]:
+    # No daemon started by a `node list` for later: it would outlive the test (the suite's
+    # rule, tests/conftest.py); the launches' own daemons answer the daemon case.
     return users.env(users.users[short], {
-        **_registry_env(users.root / 'registry' / 'domains.json'), **extra})
+        **_registry_env(users.root / 'registry' / 'domains.json'),
+        'ROBOT_LAB_DAEMON_AUTOSTART': '0', **extra})
 
 
 def _node_list(users: UnixUsers, short: str, extra: dict[str, str],

@@ -59,7 +59,7 @@ def _launch() -> Proc:
 
 
 def test_launch_rounds_stop_and_kill_9(warm_daemon: None) -> None:
-    for ending in ('stop', 'kill', 'stop'):
+    for ending in ('stop', 'kill'):
         launch = _launch()
         try:
             assert _listed() == NODES  # the warm daemon: exactly three, no duplicates
