@@ -8,6 +8,9 @@
   it to a subscriber in this process; error = median |replayed gap - recorded gap / rate|
   over all consecutive messages, for --rate 1 and 2 (median over runs).
 
+- Reindex: seconds to rebuild metadata.yaml of a 200,000-message .mcap file, complete
+  (read from its summary) and with its last 10 % cut off (streamed and rewritten).
+
     .venv/bin/python bench/bench_bag.py [--runs 3] [--rates 1000 2000 5000 10000]
 
 Uses ROS_DOMAIN_ID 79 unless set (keep benchmarks off other people's domains).
@@ -151,10 +154,42 @@ def publish_side_error(bag: Path, rate: float) -> float:
     return 1000 * statistics.median(abs(x - y) for x, y in zip(recorded, replayed, strict=True))
 
 
+def reindex_times(work: Path, count: int) -> tuple[float, float, int]:
+    """Seconds to reindex a `count`-message .mcap bag whose metadata.yaml is gone, when the
+    file is complete and when its last 10 % were cut off (a killed recorder); messages kept."""
+    import shutil
+
+    from robot_lab.bag import reindex as reindex_fn  # the function (the module shares its name)
+    from robot_lab.bag.writer import BagWriter, TopicSpec
+
+    bag = work / 'reindex_bench'
+    shutil.rmtree(bag, ignore_errors=True)
+    writer = BagWriter(bag, 'mcap')
+    conn = writer.add_topic(TopicSpec('/t', 'std_msgs/msg/Int32', []))
+    for i in range(count):
+        writer.write(conn, 10**18 + i * 1000, bytes([0, 1, 0, 0]) + i.to_bytes(4, 'little'))
+        if i % 5000 == 0:
+            writer.flush()
+    writer.close()
+    (bag / 'metadata.yaml').unlink()
+    start = time.perf_counter()
+    reindex_fn(bag)
+    complete = time.perf_counter() - start
+    (bag / 'metadata.yaml').unlink()
+    file = bag / 'reindex_bench_0.mcap'
+    data = file.read_bytes()
+    file.write_bytes(data[: len(data) * 9 // 10])
+    start = time.perf_counter()
+    report = reindex_fn(bag)
+    return complete, time.perf_counter() - start, report.message_count
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--runs', type=int, default=3)
     parser.add_argument('--rates', type=float, nargs='+', default=[1000, 2000, 5000, 10000])
+    parser.add_argument('--reindex-messages', type=int, default=200_000,
+                        help='size of the bag for the reindex timing (0: skip it)')
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix='bench_bag_') as tmp:
         work = Path(tmp)
@@ -183,6 +218,13 @@ def main() -> int:
                   f'(runs: {", ".join(f"{e:.3f}" for e in end_to_end)}); '
                   f'at the publisher {statistics.median(sender):.3f} ms '
                   f'(runs: {", ".join(f"{e:.3f}" for e in sender)})')
+        if args.reindex_messages:
+            runs = [reindex_times(work, args.reindex_messages) for _ in range(args.runs)]
+            print(f'# bag reindex of one {args.reindex_messages}-message .mcap '
+                  f'(metadata.yaml deleted), median of {args.runs} runs')
+            print(f'complete file: {statistics.median(r[0] for r in runs):.2f} s; '
+                  f'last 10 % cut off: {statistics.median(r[1] for r in runs):.2f} s, '
+                  f'{statistics.median(r[2] for r in runs):.0f} messages recovered')
         print(f'load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores')
     return 0
 
