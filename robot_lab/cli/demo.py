@@ -1,8 +1,10 @@
 """`robot-lab demo [--duration S]`: the kit's three-node system, headless, for a terminal.
 
-Runs `robot_lab robot.launch.xml` for S seconds with its real output, then stops it as
-Ctrl-C would and prints what an observer on the ROS graph saw: the nodes and the
-messages on the system's two topics. Exit code 0 when all three nodes were seen talking.
+Runs `robot_lab robot.launch.xml` with its real output until an observer on the ROS graph
+sees its three nodes, lets it run S seconds more, then stops it as Ctrl-C would and prints
+what the observer saw: the nodes and the messages on the system's two topics. Exit code 0
+when all three nodes were seen talking. The S seconds start when the nodes are up, not at
+launch: on a loaded machine the nodes' imports alone can take longer than S.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from typing import Any
 HELP = "Run the kit's robot system for a few seconds and summarise what it did"
 
 _NODES = ('/controller', '/robot', '/sensor')
+# The longest the demo waits for the nodes to appear before its S seconds start anyway.
+_NODES_TIMEOUT = 60.0
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -53,6 +57,19 @@ class _Observer:
             (ns.rstrip('/') + '/' + name) for name, ns in names if not name.startswith('_')
         )
 
+    def wait_for_nodes(self, node: Any, ended: threading.Event, timeout: float) -> bool:
+        """Until the graph shows all of the system's nodes (True), or the launch ended or
+        `timeout` passed (False)."""
+        from robot_lab.graph.discovery import wait_until
+
+        def probe() -> bool | None:
+            self.snapshot_nodes(node)
+            if ended.is_set():
+                return False
+            return True if all(name in self.nodes for name in _NODES) else None
+
+        return bool(wait_until(probe, timeout))
+
 
 def main(args: argparse.Namespace) -> int:
     from robot_lab.cli.launch import run
@@ -69,6 +86,8 @@ def main(args: argparse.Namespace) -> int:
 
     def stop_later(supervisor: Supervisor) -> None:
         def stopper() -> None:
+            # The clock starts once the nodes are up: their imports alone may take seconds.
+            observer.wait_for_nodes(ros.node, ended, _NODES_TIMEOUT)
             if ended.wait(args.duration):
                 return  # the launch ended (Ctrl-C) before the demo's time was up
             observer.snapshot_nodes(ros.node)
