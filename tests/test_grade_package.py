@@ -100,7 +100,9 @@ def _flood_sensor(pkg: Path) -> None:
           '        threading.Thread(target=self.chatter, daemon=True).start()\n')
     _edit(pkg / PKG / 'sensor_node.py', '    def tick(self):\n',
           '    def chatter(self):\n        while rclpy.ok():\n'
-          "            self.get_logger().info('adc sample ok')\n\n    def tick(self):\n")
+          "            self.get_logger().info('adc sample ok')\n"
+          "            for _ in range(1000):\n"
+          "                print('adc raw 0x3ff ok')\n\n    def tick(self):\n")
 
 
 FAULTS: dict[str, tuple[Callable[[Path], None], set[str]]] = {

@@ -13,6 +13,7 @@ import contextlib
 import math
 import re
 import sys
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -259,6 +260,7 @@ def _observe_and_score(job_dir: Path, state: JobState, plan: LaunchPlan, launch_
     rubric = state.rubric
     sess = session()
     try:
+        launched = time.monotonic()
         handle = LaunchHandle(plan)
     except RobotLabError as err:
         for cid in ('launch_file', *_BEHAVIOUR):
@@ -276,6 +278,8 @@ def _observe_and_score(job_dir: Path, state: JobState, plan: LaunchPlan, launch_
         params = _params_used(state, plan, sess, running, own)
         statuses = handle.processes
         logs = {p.label: _last_logs(handle, p.label, code) for p in statuses}
+        line_rates = {p.name: _line_rate(handle.log_dir / f'{p.label}.log',
+                                         time.monotonic() - launched) for p in statuses}
     finally:
         handle.shutdown(timeout=10)
     # launch_file
@@ -292,7 +296,7 @@ def _observe_and_score(job_dir: Path, state: JobState, plan: LaunchPlan, launch_
         f'a launch file in launch/ that starts all (at least {min_nodes}) nodes', observed,
         '' if ok else 'add every node to the launch file (and install launch/ with data_files)'))
     roles = infer_roles(obs, float(_opt(state, 'sensor_publishes', 'min_rate_hz', 0.5)))
-    _score_roles(state, obs, roles, statuses, logs, outcome, section, code)
+    _score_roles(state, obs, roles, statuses, logs, line_rates, outcome, section, code)
     passed, observed, fix = params
     if dropped:
         observed += ('\n\nleft out of the launch (rcl would refuse them, and every node '
@@ -327,8 +331,26 @@ def _dead(statuses: list[Any], code: Code, logs: dict[str, str]) -> str:
                    f'{logs.get(p.label, "")}' for p in died)
 
 
+def _line_rate(path: Path, seconds: float, cap: int = 256 * 1024 * 1024) -> float:
+    """Lines a second a process wrote to its output (the launcher's per-process log),
+    counted in chunks up to `cap` bytes: a node that floods its log at 100 kHz drowns
+    /rosout for a best-effort observer, but every line reaches this file."""
+    lines = 0
+    try:
+        with path.open('rb') as f:
+            for _ in range(cap // (1 << 20)):
+                chunk = f.read(1 << 20)
+                if not chunk:
+                    break
+                lines += chunk.count(b'\n')
+    except OSError:
+        return 0.0
+    return lines / seconds if seconds > 0 else 0.0
+
+
 def _score_roles(state: JobState, obs: Observation, roles: Roles, statuses: list[Any],
-                 logs: dict[str, str], outcome: Outcome, section: Section, code: Code) -> None:
+                 logs: dict[str, str], line_rates: dict[str, float], outcome: Outcome,
+                 section: Section, code: Code) -> None:
     min_rate = float(_opt(state, 'sensor_publishes', 'min_rate_hz', 0.5))
     max_logs = float(_opt(state, 'sensor_publishes', 'max_log_rate_hz', 500))
     seen = _topics_seen(obs) + _dead(statuses, code, logs)
@@ -341,7 +363,7 @@ def _score_roles(state: JobState, obs: Observation, roles: Roles, statuses: list
         return _no_controller(state, obs, roles, seen, outcome, section)
     topic = obs.topics[roles.sensor_topic or '']
     sample = topic.samples[-1] if topic.samples else '(none kept)'
-    flood = obs.log_rate(roles.sensor)
+    flood = max(obs.log_rate(roles.sensor), line_rates.get(roles.sensor, 0.0))
     ok = flood <= max_logs
     outcome(state, 'sensor_publishes', ok, section(
         f'a node that publishes a topic periodically without input, logging at most '
@@ -349,7 +371,8 @@ def _score_roles(state: JobState, obs: Observation, roles: Roles, statuses: list
         f'[{", ".join(topic.types)}] at {topic.rate:.1f} Hz; sample: `{sample}`'
         + ('' if ok else f'\n\nbut it logs {flood:.0f} lines/s; last lines:'
            + code(list(obs.nodes[roles.sensor].logs), 4)),
-        '' if ok else 'log at DEBUG in the timer, or use `throttle_duration_sec=` on the logger'))
+        '' if ok else 'log at DEBUG, or throttle (`throttle_duration_sec=` on the logger), and '
+        'never print in a loop'))
     if roles.controller is None:
         return _no_controller(state, obs, roles, seen, outcome, section)
     commands = obs.topics.get(roles.command_topic or '')

@@ -162,6 +162,12 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
     home, tmp = job_dir / 'home', job_dir / 'tmp'
     home.mkdir(exist_ok=True)
     tmp.mkdir(exist_ok=True)
+    # matplotlib (the graph picture) would rebuild its font list in every private HOME.
+    fonts = Path.home() / '.cache' / 'matplotlib'
+    for cached in fonts.glob('fontlist-*.json') if fonts.is_dir() else []:
+        (home / '.cache' / 'matplotlib').mkdir(parents=True, exist_ok=True)
+        with contextlib.suppress(OSError):
+            shutil.copyfile(cached, home / '.cache' / 'matplotlib' / cached.name)
     isolated = namespaces_available()
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(('JPY_', 'JUPYTER', 'ROBOT_LAB_GRAPH_DAEMON'))}
