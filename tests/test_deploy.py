@@ -122,10 +122,11 @@ c.JupyterHub.load_roles = [{{
 """
 
 KERNEL_CODE = (
-    'import os, robot_lab\n'
+    'import os\n'
+    'hub = os.environ.get("ROS_DOMAIN_ID")  # what a terminal\'s plain python would use\n'
+    'import robot_lab\n'
     'from robot_lab.domain import resolve\n'
-    'why = resolve().source  # before the session sets ROS_DOMAIN_ID for its children\n'
-    'print("DOMAIN", robot_lab.session().domain_id, why, os.getuid())\n'
+    'print("DOMAIN", robot_lab.session().domain_id, resolve().source, os.getuid(), hub)\n'
 )
 
 
@@ -249,7 +250,7 @@ def test_hub_gives_each_student_their_course_and_domain(hub: Hub) -> None:
     for name in names:
         status, _ = _api(f'{hub.api}/users/{name}/server', 'POST')
         assert status in (201, 202), f'{status}\n' + hub.proc.output[-3000:]
-    def student(name: str) -> tuple[int, str, int]:
+    def student(name: str) -> tuple[int, str, int, str]:
         hub.wait_ready(name)
         status, listing = _api(f'{hub.server(name)}/api/contents/robot_lab_course/notebooks')
         assert status == 200, listing
@@ -258,12 +259,13 @@ def test_hub_gives_each_student_their_course_and_domain(hub: Hub) -> None:
         assert home.stat().st_uid == hub.users.users[name[-1]].uid  # the student's copy
         words = _run_in_kernel(hub.server(name), KERNEL_CODE).split()
         assert words[:1] == ['DOMAIN'], words
-        return int(words[1]), words[2], int(words[3])
+        return int(words[1]), words[2], int(words[3]), words[4]
 
     with ThreadPoolExecutor(len(names)) as pool:  # both students at once, as in a class
         seen = dict(zip(names, pool.map(student, names), strict=True))
-    (da, sa, ua), (db, sb, ub) = seen.values()
-    assert sa == sb == 'registry'  # nobody set ROS_DOMAIN_ID: the registry chose
+    (da, sa, ua, ha), (db, sb, ub, hb) = seen.values()
+    assert sa == sb == 'registry'  # no student set ROS_DOMAIN_ID: the registry chose
+    assert (ha, hb) == (str(da), str(db))  # and the hub put it in the whole server's env
     assert da != db and {da, db} <= set(range(93, 102)), seen
     assert (ua, ub) == (hub.users.users['a'].uid, hub.users.users['b'].uid)
 
