@@ -176,7 +176,7 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         'ROS_LOG_DIR': str(job_dir / 'ros_log'), 'ROBOT_LAB_WORKSPACE': str(job_dir / 'ws'),
         'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST', 'PYTHONDONTWRITEBYTECODE': '1',
         'ROBOT_LAB_GRADE_ISOLATED': '1' if isolated else '', TOKEN_VAR: token,
-        'PYTHONUNBUFFERED': '1',
+        'PYTHONUNBUFFERED': '1', 'ROBOT_LAB_NO_DAEMON': '1',
     })
     env.pop('ROS_STATIC_PEERS', None)
     cmd = [sys.executable, *argv, str(job_dir)]
