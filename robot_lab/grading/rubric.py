@@ -37,7 +37,7 @@ class RubricCheck:
 class Limits:
     """What one submission's job may use (see robot_lab.grading.sandbox)."""
 
-    wall_seconds: float = 150.0
+    wall_seconds: float = 300.0
     cpu_seconds: int = 120
     memory_mb: int = 1500
     processes: int = 256
