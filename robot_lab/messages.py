@@ -147,11 +147,40 @@ _EchoDumper.add_representer(float, _float_repr)
 
 
 def message_to_yaml(msg: Any, *, no_arr: bool = False, no_str: bool = False,
-                    truncate_length: int | None = None) -> str:
-    """The YAML `ros2 topic echo` prints for one message (without the `---`)."""
+                    truncate_length: int | None = None, flow_style: bool = False) -> str:
+    """The YAML `ros2 topic echo` prints for one message (without the `---`);
+    `flow_style` is `echo --flow-style`'s one-line `{a: 1, b: {c: 2}}`."""
     data = message_to_dict(msg, no_arr=no_arr, no_str=no_str, truncate_length=truncate_length)
-    return yaml.dump(data, Dumper=_EchoDumper, default_flow_style=False, sort_keys=False,
+    return yaml.dump(data, Dumper=_EchoDumper, default_flow_style=flow_style, sort_keys=False,
                      allow_unicode=True)
+
+
+def message_to_csv(msg: Any, *, no_arr: bool = False, no_str: bool = False,
+                   truncate_length: int | None = None) -> str:
+    """`ros2 topic echo --csv`: every leaf field in order, joined by commas
+    (rosidl_runtime_py's message_to_csv rules: '...' past the cut, values as str())."""
+
+    def text(value: Any, slot: Any) -> str:
+        if _is_message(value):
+            return message_to_csv(value, no_arr=no_arr, no_str=no_str,
+                                  truncate_length=truncate_length)
+        if isinstance(value, str):
+            if no_str:
+                return f'<string length: <{len(value)}>>'
+            cut = truncate_length is not None and len(value) > truncate_length
+            return value[:truncate_length] + '...' if cut else value
+        if isinstance(value, list | tuple) or type(value).__name__ in ('array', 'ndarray'):
+            if no_arr and slot is not None and hasattr(slot, 'value_type'):
+                return str(_array_info(value, slot))
+            items = list(value)
+            cut = truncate_length is not None and len(items) > truncate_length
+            shown = [text(v, None) for v in (items[:truncate_length] if cut else items)]
+            return ','.join([*shown, '...'] if cut else shown)
+        return str(value.item() if hasattr(value, 'item') else value)
+
+    return ','.join(text(getattr(msg, name), slot)
+                    for name, slot in zip(msg.get_fields_and_field_types(), msg.SLOT_TYPES,
+                                              strict=True))
 
 
 Stamper = Callable[[Any], None]

@@ -85,6 +85,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     echo.add_argument('--no-arr', action='store_true', help="Don't print array fields of messages")
     echo.add_argument('--no-str', action='store_true',
                       help="Don't print string fields of messages")
+    echo.add_argument('--csv', action='store_true',
+                      help='Output all recursive fields separated by commas (e.g. for plotting)')
+    echo.add_argument('--flow-style', action='store_true',
+                      help='Print collections in the block style (not available with csv format)')
+    echo.add_argument('--no-lost-messages', action='store_true',
+                      help="Don't report when a message is lost")
+    echo.add_argument('--raw', action='store_true', help='Echo the raw binary representation')
+    echo.add_argument('--filter', dest='filter_expr',
+                      help='Python expression to filter messages that are printed. Expression '
+                      'can use Python builtins as well as m (the message).')
+    echo.add_argument('--include-message-info', '-i', action='store_true',
+                      help='Shows the associated message info.')
     echo.add_argument('--once', action='store_true',
                       help='Print the first message received and then exit.')
     echo.add_argument('--times', '-n', type=_positive_int, default=None, metavar='N',
@@ -148,6 +160,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help='Keep publishing node alive for N seconds after the last msg '
                      '(default: 0.1)')
     _add_qos_arguments(pub, 'publish', 'default')
+    _add_qos_arguments(echo, 'subscribe', 'sensor_data')
 
 
 # rclpy's short keys (QoSPresetProfiles.short_keys() etc.), listed here so that --help and
@@ -273,16 +286,47 @@ def _type(args: argparse.Namespace) -> int:
 
 
 def _render(msg: Any, args: argparse.Namespace) -> str:
-    from robot_lab.messages import message_to_yaml
+    from robot_lab.messages import message_to_csv, message_to_yaml
 
     if not hasattr(msg, 'get_fields_and_field_types'):
-        return f'{msg}\n---'  # a selected primitive field, printed as Python prints it
+        return f'{msg}\n---'  # raw bytes or a selected primitive field, as Python prints it
     limit = None if args.full_length else args.truncate_length
-    text = message_to_yaml(msg, no_arr=args.no_arr, no_str=args.no_str, truncate_length=limit)
+    if args.csv:
+        return message_to_csv(msg, no_arr=args.no_arr, no_str=args.no_str,
+                              truncate_length=limit)
+    text = message_to_yaml(msg, no_arr=args.no_arr, no_str=args.no_str, truncate_length=limit,
+                           flow_style=args.flow_style)
     return f'{text}---'
 
 
+def _echo_qos(args: argparse.Namespace) -> Any:
+    """ros2topic echo's QoS: None (match the offers) unless a --qos-* override was given."""
+    from robot_lab.graph.topics import qos_profile
+
+    overrides = (args.qos_reliability, args.qos_durability, args.qos_depth, args.qos_history,
+                 args.qos_liveliness, args.qos_liveliness_lease_duration_seconds)
+    if all(value is None for value in overrides) and args.qos_profile == 'sensor_data':
+        return None
+    return qos_profile(args.qos_profile, reliability=args.qos_reliability,
+                       durability=args.qos_durability, depth=args.qos_depth,
+                       history=args.qos_history, liveliness=args.qos_liveliness,
+                       lease_seconds=args.qos_liveliness_lease_duration_seconds)
+
+
+def _message_filter(expr: str | None) -> Any:
+    """`--filter 'm.data > 20'`: ros2cli evaluates the expression with the message as `m`."""
+    if expr is None:
+        return None
+    code = compile(expr, '<--filter>', 'eval')
+
+    def keep(m: Any) -> bool:
+        return bool(eval(code, {}, {'m': m}))  # the user's own expression, as ros2cli
+    return keep
+
+
 def _echo(args: argparse.Namespace) -> int:
+    import yaml
+
     from robot_lab.errors import GraphError
     from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
     from robot_lab.graph.topics import echo_stream
@@ -292,6 +336,7 @@ def _echo(args: argparse.Namespace) -> int:
     limit = 1 if args.once else args.times
     if args.field is not None and not [p for p in args.field.split('.') if p]:
         raise GraphError(f"Invalid field value '{args.field}'")
+    keep = _message_filter(args.filter_expr)
     sess = get_session(None)
     if args.message_type is None:
         found = wait_until(
@@ -304,9 +349,27 @@ def _echo(args: argparse.Namespace) -> int:
                 fix=f'check the name with `robot-lab topic list`, or give the type: '
                 f'`robot-lab topic echo {topic} std_msgs/msg/String`',
             )
-    stream = echo_stream(topic, args.message_type, timeout=args.timeout, session=sess)
-    for shown, msg in enumerate(stream, start=1):
-        print(_render(field_value(msg, args.field) if args.field else msg, args), flush=True)
+    stream = echo_stream(topic, args.message_type, timeout=args.timeout, session=sess,
+                         raw=args.raw, with_info=args.include_message_info,
+                         qos=_echo_qos(args))
+    shown = 0
+    for item in stream:
+        msg, info = item if args.include_message_info else (item, None)
+        if args.field and not args.raw:
+            msg = field_value(msg, args.field)
+        if keep is not None and not keep(msg):
+            continue
+        if info is not None:
+            if not hasattr(msg, 'get_fields_and_field_types'):
+                print('---Got new message, message info:---')
+                print(info)
+                print('---Message data:---')
+            elif args.csv:
+                print(','.join(str(v) for v in info.values()), end=',')
+            else:
+                print(yaml.dump(info), end='---\n')
+        print(_render(msg, args), flush=True)
+        shown += 1
         if limit is not None and shown >= limit:
             break
     return 0

@@ -230,11 +230,14 @@ def _resolve_type(sess: Session, topic: str, msg_type: str | None, timeout: floa
 
 def echo_stream(name: str, msg_type: str | None = None, *, timeout: float | None = None,
                 type_timeout: float = LOOKUP_TIMEOUT, session: Session | None = None,
+                raw: bool = False, with_info: bool = False, qos: Any = None,
                 ) -> Iterator[Any]:
     """Messages from a topic as they arrive (the subscription lives while iterating).
 
     Stops `timeout` seconds after it began (None: never). A publisher that dies just means
-    no more messages, never a hang past `timeout`.
+    no more messages, never a hang past `timeout`. `raw` yields the serialized bytes;
+    `with_info` yields (message, rmw message info dict) pairs (`echo --raw`/`-i`); `qos`
+    replaces ros2cli's choice (sensor data, made reliable/transient as all offers are).
     """
     from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 
@@ -242,9 +245,16 @@ def echo_stream(name: str, msg_type: str | None = None, *, timeout: float | None
     topic = absolute_name(name)
     cls = _resolve_type(sess, topic, msg_type, type_timeout)
     inbox: queue.Queue[Any] = queue.Queue()
+
+    def with_message_info(msg: Any, info: Any) -> None:
+        inbox.put((msg, info))
+
+    callback: Any = with_message_info if with_info else inbox.put
     sub = sess.node.create_subscription(
-        cls, topic, inbox.put, _echo_qos(sess, topic),
+        cls, topic, callback,
+        _echo_qos(sess, topic) if qos is None else qos,
         callback_group=MutuallyExclusiveCallbackGroup(), event_callbacks=_without_qos_events(),
+        raw=raw,
     )
     deadline = None if timeout is None else time.monotonic() + timeout
     try:
