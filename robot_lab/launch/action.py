@@ -51,10 +51,13 @@ def opt_subs(value: Any) -> Subs | None:
 
 
 def caller_line() -> tuple[Path | None, int | None]:
-    """file:line of the first frame outside robot_lab's launch package (a Python launch file)."""
+    """file:line of the first frame outside robot_lab's launch package (a Python launch file).
+
+    Import machinery frames (`<frozen importlib._bootstrap>`, which runs a facade's
+    `__getattr__` for `from launch import X`) are skipped too: the line is the import's."""
     here = str(Path(__file__).parent)
     for frame in inspect.stack(0)[2:]:
-        if not frame.filename.startswith(here):
+        if not frame.filename.startswith((here, '<frozen ')):
             return Path(frame.filename), frame.lineno
     return None, None
 

@@ -39,6 +39,15 @@ class ProcessEvent:
     env: dict[str, str] = field(repr=False)
     pid: int
 
+    @property
+    def process_name(self) -> str:
+        """launch's RunningProcessEvent.process_name (launch's own counters example prints it)."""
+        return self.name
+
+    @property
+    def execute_process_action(self) -> Any:
+        return self.action
+
 
 @dataclass
 class ProcessStarted(ProcessEvent):
@@ -58,6 +67,10 @@ class ProcessIO(ProcessEvent):
 
     text: bytes = b''
     fd: int = 1
+
+    @property
+    def from_stdin(self) -> bool:
+        return self.fd == 0
 
     @property
     def from_stdout(self) -> bool:
