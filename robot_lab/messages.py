@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 import importlib
 import math
+import sys
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -69,8 +70,8 @@ def _plain(value: Any) -> Any:
         return list(value)
     if isinstance(value, list | tuple) or type(value).__name__ in ('array', 'ndarray'):
         return [_plain(v) for v in value]
-    if isinstance(value, float) and math.isfinite(value):
-        return value
+    if type(value).__module__ == 'numpy' and hasattr(value, 'item'):
+        return value.item()  # a fixed-size array's element (uint8[16] of a GID): plain int
     return value
 
 
@@ -151,8 +152,13 @@ def message_to_yaml(msg: Any, *, no_arr: bool = False, no_str: bool = False,
     """The YAML `ros2 topic echo` prints for one message (without the `---`);
     `flow_style` is `echo --flow-style`'s one-line `{a: 1, b: {c: 2}}`."""
     data = message_to_dict(msg, no_arr=no_arr, no_str=no_str, truncate_length=truncate_length)
+    return dict_to_yaml(data, flow_style=flow_style)
+
+
+def dict_to_yaml(data: Mapping[str, Any], *, flow_style: bool = False) -> str:
+    """A message_to_dict() result (perhaps edited) as `ros2 … echo` prints it."""
     return yaml.dump(data, Dumper=_EchoDumper, default_flow_style=flow_style, sort_keys=False,
-                     allow_unicode=True)
+                     allow_unicode=True, width=sys.maxsize)
 
 
 def message_to_csv(msg: Any, *, no_arr: bool = False, no_str: bool = False,

@@ -1,4 +1,5 @@
-"""`robot-lab service list|type|find|info|call`: prints what `ros2 service …` (Jazzy) prints."""
+"""`robot-lab service list|type|find|info|call|echo`: prints what `ros2 service …` (Jazzy)
+prints."""
 
 from __future__ import annotations
 
@@ -63,8 +64,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       'Ctrl-C)')
 
 
+    echo = sub.add_parser('echo', help='Echo a service')
+    echo.add_argument('service_name',
+                      help="Name of the ROS service to echo (e.g. '/add_two_ints')")
+    echo.add_argument('service_type', nargs='?',
+                      help="Type of the ROS service (e.g. 'example_interfaces/srv/AddTwoInts')")
+    echo.add_argument('--csv', action='store_true', default=False,
+                      help='Output all recursive fields separated by commas (e.g. for plotting).')
+    echo.add_argument('--full-length', '-f', action='store_true',
+                      help='Output all elements for arrays, bytes, and string with a length > '
+                      "'--truncate-length', by default they are truncated")
+    echo.add_argument('--truncate-length', '-l', type=int, default=128,
+                      help='The length to truncate arrays, bytes, and string to (default: 128)')
+    echo.add_argument('--no-arr', action='store_true', help="Don't print array fields of messages")
+    echo.add_argument('--no-str', action='store_true',
+                      help="Don't print string fields of messages")
+    echo.add_argument('--flow-style', action='store_true',
+                      help='Print collections in the block style (not available with csv format)')
+    echo.add_argument('-n', '--times', type=int, default=None, metavar='N',
+                      help='stop after N events (robot_lab; ros2cli runs until Ctrl-C)')
+
+
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'type': _type, 'find': _find, 'info': _info, 'call': _call}
+    verbs = {'list': _list, 'type': _type, 'find': _find, 'info': _info, 'call': _call,
+             'echo': _echo}
     verb = verbs.get(args.service_verb or '')
     if verb is None:
         args._parser.print_help()
@@ -154,3 +177,56 @@ def _call(args: argparse.Namespace) -> int:
         if period is None or (args.times is not None and calls >= args.times):
             return 0
         time.sleep(max(0.0, last_call + period - time.monotonic()))
+
+
+def _echo(args: argparse.Namespace) -> int:
+    """ros2service's echo: the service's `<name>/_service_event` topic (service
+    introspection, off unless the server or client turns it on), one YAML event each."""
+    from rclpy.qos import qos_profile_services_default
+    from service_msgs.msg import ServiceEventInfo
+
+    from robot_lab.errors import GraphError
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+    from robot_lab.graph.services import service_list_typed
+    from robot_lab.graph.topics import echo_stream
+    from robot_lab.messages import dict_to_yaml, message_class, message_to_csv, message_to_dict
+
+    name = absolute_name(args.service_name)
+    sess = get_session(None)
+    kind = args.service_type
+    if kind is None:
+        kind = wait_until(lambda: next((t[0] for n, t in service_list_typed(
+            include_hidden=True, settle=False, session=sess) if n == name and t), None),
+            LOOKUP_TIMEOUT)
+        if kind is None:
+            raise GraphError('Could not load the type for the passed service',
+                             fix=f'check the name with `robot-lab service list`, or give the '
+                             f'type: `robot-lab service echo {name} std_srvs/srv/SetBool`')
+    try:
+        message_class(kind)
+        event_type = f'{kind}_Event'
+        message_class(event_type)
+    except GraphError:
+        raise GraphError(f"The service type '{kind}' is invalid") from None
+    topic = f'{name}/_service_event'
+    names = {value: key for key, value in vars(ServiceEventInfo).items()
+             if key.isupper() and isinstance(value, int)}
+    limit = None if args.full_length else args.truncate_length
+    stream = echo_stream(topic, event_type, session=sess, qos=qos_profile_services_default)
+    if wait_until(lambda: sess.node.count_publishers(topic) or None, LOOKUP_TIMEOUT) is None:
+        print(f"No publishers on topic '{topic}'; "
+              'is service introspection on the client or server enabled?', flush=True)
+    for shown, event in enumerate(stream, start=1):
+        if args.csv:
+            print(message_to_csv(event, no_arr=args.no_arr, no_str=args.no_str,
+                                 truncate_length=limit), flush=True)
+        else:
+            data = message_to_dict(event, no_arr=args.no_arr, no_str=args.no_str,
+                                   truncate_length=limit)
+            info = data.get('info')
+            if isinstance(info, dict) and info.get('event_type') in names:
+                info['event_type'] = names[info['event_type']]
+            print(dict_to_yaml(data, flow_style=args.flow_style) + '---', flush=True)
+        if args.times is not None and shown >= args.times:
+            break
+    return 0
