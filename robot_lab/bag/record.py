@@ -61,6 +61,9 @@ def type_hash_string(type_hash: Any) -> str:
     return 'RIHS01_' + bytes(type_hash.value).hex()
 
 
+SERVICE_EVENT = '/_service_event'
+
+
 def _is_hidden(topic: str) -> bool:
     return any(part.startswith('_') for part in topic.split('/'))
 
@@ -88,15 +91,21 @@ class Recorder:
         node_name: str = NODE_NAME,
         max_bag_size: int = 0,
         max_bag_duration: float = 0,
+        services: Iterable[str] = (),
+        all_services: bool = False,
     ) -> None:
         names = [t if t.startswith('/') else '/' + t for t in topics]
-        if not names and not all_topics:
+        # rosbag2's --service NAME / --all-services: the services' introspection topics
+        names += [(s if s.startswith('/') else '/' + s) + SERVICE_EVENT for s in services]
+        if not names and not all_topics and not all_services:
             raise BagError(
                 'Need to specify at least one option out of --all or topics to record',
                 fix='e.g. `robot-lab bag record /sensor/temperature` or `-a`',
             )
         self.topics = list(dict.fromkeys(names))
         self.all_topics = all_topics
+        self.all_services = all_services
+        self._open_ended = all_topics or all_services  # new topics may come at any time
         self.path = Path(output) if output else Path(default_bag_name())
         self.storage = storage
         self.duration = duration
@@ -237,7 +246,7 @@ class Recorder:
         try:
             while not self._stop.is_set() and not self._limit_reached():
                 now = time.monotonic()
-                if now >= next_poll and (self.all_topics or len(self._subs) < len(self.topics)):
+                if now >= next_poll and (self._open_ended or len(self._subs) < len(self.topics)):
                     self._discover()
                     next_poll = now + POLL_INTERVAL
                 self._executor.spin_once(timeout_sec=0.05)
@@ -329,9 +338,12 @@ class Recorder:
 
     # ---------------------------------------------------------------- discovery
     def _wanted(self, available: dict[str, list[str]]) -> list[str]:
+        wanted = list(self.topics)
         if self.all_topics:
-            return [t for t in sorted(available) if not _is_hidden(t)]
-        return self.topics
+            wanted += [t for t in sorted(available) if not _is_hidden(t)]
+        if self.all_services:
+            wanted += [t for t in sorted(available) if t.endswith(SERVICE_EVENT)]
+        return list(dict.fromkeys(wanted))
 
     def _discover(self) -> None:
         available = dict(self._node.get_topic_names_and_types())
@@ -343,7 +355,7 @@ class Recorder:
             )
             if not publishers:
                 if (
-                    not self.all_topics
+                    not self._open_ended
                     and topic not in self._warned
                     and self.elapsed >= NOT_FOUND_GRACE
                 ):
@@ -414,7 +426,7 @@ class Recorder:
 
         self._subs[topic] = self._node.create_subscription(cls, topic, on_message, qos, raw=True)
         self._log('INFO', f"Subscribed to topic '{topic}'")
-        if not self.all_topics and len(self._subs) == len(self.topics):
+        if not self._open_ended and len(self._subs) == len(self.topics):
             self._log('INFO', 'All requested topics are subscribed. Stopping discovery...')
 
 

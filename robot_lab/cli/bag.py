@@ -52,6 +52,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help='Space-delimited list of topics to record.')
     rec.add_argument('-a', '--all', '--all-topics', dest='all', action='store_true',
                      help='Record all topics (Exclude hidden topic).')
+    rec.add_argument('--service', '--services', dest='services', nargs='+', default=[],
+                     metavar='ServiceName',
+                     help='Space-delimited list of services to record (their service '
+                     'introspection events, which the server or client must turn on).')
+    rec.add_argument('--all-services', action='store_true',
+                     help='Record all services via service event topics.')
     rec.add_argument('-o', '--output',
                      help='Destination of the bagfile to create, defaults to a timestamped '
                      'folder in the current directory.')
@@ -120,15 +126,16 @@ def _record(args: argparse.Namespace) -> int:
     if args.all and topics:
         _err('[WARN] [ros2bag]: --all or --all-topics will override --topics')
         topics = []
-    if not args.all and not topics:
+    if not args.all and not topics and not args.services and not args.all_services:
         _err('[ERROR] [ros2bag]: Need to specify at least one option out of --all, '
-             '--all-topics or topics')
+             '--all-topics, --all-services, --services, --topics, --topic-types or --regex')
         return 1
     _interrupt_on_sigterm()
     rec = Recorder(
         topics, all_topics=args.all, output=args.output, storage=args.storage,
         duration=args.duration, max_messages=args.max_messages, log=_err,
         max_bag_size=args.max_bag_size, max_bag_duration=args.max_bag_duration,
+        services=args.services, all_services=args.all_services,
     )
     rec.start()
     try:

@@ -39,7 +39,7 @@ class SwitchNode(Node):  # type: ignore[misc]
         self.get_logger().info(f'Switch node started ({self._state()})')
 
     def _introspect(self, state: str) -> None:
-        from rclpy.qos import qos_profile_system_default
+        from rclpy.qos import qos_profile_services_default
         from rclpy.service_introspection import ServiceIntrospectionState
 
         value = getattr(ServiceIntrospectionState, state.upper(), None)
@@ -48,7 +48,7 @@ class SwitchNode(Node):  # type: ignore[misc]
                                       '(use disabled, metadata or contents)')
             return
         for srv in (self.enable_srv, self.state_srv):
-            srv.configure_introspection(self.get_clock(), qos_profile_system_default, value)
+            srv.configure_introspection(self.get_clock(), qos_profile_services_default, value)
 
     def _on_parameters(self, parameters: list[Any]) -> None:
         for parameter in parameters:
