@@ -218,8 +218,8 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
                 stop(proc, 20, 10)
     flat = [s for mine in answers for s in mine]
     worst = [max(mine) for mine in answers]
-    print(f'class: {count} simulated kernels, each its own domain ({min(domains)}-'
-          f'{max(domains)} from the registry) with the reference system '
+    print(f'class: {count} simulated kernels, each its own domain from the registry '
+          f'({",".join(map(str, sorted(domains)))}) with the reference system '
           f'(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)')
     print(f'  all kernels up (3 nodes each seen)                 {max(ups) - began:7.2f} s')
     print(f'  param_get /sensor sensor_rate, {rounds} rounds: median '
