@@ -27,8 +27,11 @@ VENV_BIN = REPO / '.venv' / 'bin'
 CHROMIUM_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
                  '--disable-background-networking', '--disable-component-update',
                  '--disable-sync', '--disable-dev-shm-usage']
-# JupyterLab's news pop-up would cover the lower right corner of every screenshot.
-LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'false'}}
+# JupyterLab's news pop-up would cover the lower right corner of every screenshot; a
+# windowed notebook keeps only the cells in view in the page (a cell count would stop
+# there, a screenshot of the notebook would be a window of it).
+LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'false'},
+                '@jupyterlab/notebook-extension/tracker': {'windowingMode': 'none'}}
 ERROR_MIME = 'application/vnd.jupyter.error'
 
 
@@ -192,18 +195,30 @@ class Notebook:
                 return
         raise AssertionError(f'{self.path}: could not select cell {index}')
 
+    def active(self, index: int) -> bool:
+        return 'jp-mod-active' in (self.cell(index).get_attribute('class') or '')
+
     def run(self, index: int, timeout: float = 180.0) -> None:
-        """Run one cell as a student does (select it, Shift+Enter) and wait for it."""
-        self.select(index)
+        """Run one cell as a student does (Shift+Enter on it) and wait for it.
+
+        Shift+Enter moves on to the next cell by itself: a click selects the cell only
+        when something else (a widget, a probe) took the selection away.
+        """
+        if not (self.active(index) and self.page.evaluate(
+                "() => !!document.activeElement?.closest?.('.jp-Notebook')")):
+            self.select(index)
         self.page.keyboard.press('Escape')  # command mode: Shift+Enter runs, never types
         self.page.keyboard.press('Shift+Enter')
         if not self.is_code(index):
             return
         prompt = self.cell(index).locator('.jp-InputPrompt')
-        if not wait_until(lambda: re.search(r'\[\d+\]', prompt.inner_text() or '') is not None,
+        if not wait_until(lambda: re.search(r'\[\d+\]', prompt.text_content() or '') is not None,
                           timeout):
             raise AssertionError(f'{self.path}: cell {index} still running after {timeout:g} s'
                                  f':\n{self.source(index)[:300]}')
+
+    def prompt(self, index: int) -> str:
+        return str(self.cell(index).locator('.jp-InputPrompt').text_content() or '')
 
     def run_all(self, timeout: float = 300.0) -> None:
         """Run ▸ Run All Cells from the menu bar, then wait until every code cell ran."""
@@ -232,17 +247,21 @@ class Notebook:
     def errors(self) -> list[str]:
         """Tracebacks and widgets that failed to display, anywhere in the notebook."""
         scope = self.page.locator('.jp-NotebookPanel:visible')
-        found = [str(e.text_content())[:600] for e in scope.locator(
-            f'.jp-OutputArea-output[data-mime-type="{ERROR_MIME}"]').all()]
+        # JupyterLab shows an exception as a stderr text output, like any stream: a
+        # traceback is what tells it from a warning a command printed.
+        found = [str(e.text_content())[-800:] for e in scope.locator(
+            f'.jp-OutputArea-output[data-mime-type="{ERROR_MIME}"], '
+            '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"]'
+            ':has-text("Traceback (most recent call last)")').all()]
         found += [str(e.text_content())[:300] for e in scope.locator(
             '.jupyter-widgets:has-text("Error displaying widget")').all()]
         return found
 
     def unrun(self) -> list[int]:
-        """Code cells that never ran (Run All stopped before them)."""
-        return [i for i in range(self.count()) if self.is_code(i)
+        """Code cells that never ran (an empty one, as Shift+Enter adds at the end, aside)."""
+        return [i for i in range(self.count()) if self.is_code(i) and self.source(i).strip()
                 and not re.search(r'\[\d+\]', self.cell(i).locator('.jp-InputPrompt')
-                                  .inner_text() or '')]
+                                  .text_content() or '')]
 
     def shot(self, locator: Any, path: Path) -> None:
         locator.scroll_into_view_if_needed()
