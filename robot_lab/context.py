@@ -68,6 +68,7 @@ class Session:
 
         apply_ros_defaults()
         self.domain_id = domain_id
+        self._closing = False  # close() has begun: a dying spin thread is expected
         self.context, self._owns_context = self._context_for(domain_id)
         self.node = rclpy.create_node(
             f'_robot_lab_{os.getpid()}_{domain_id}',
@@ -135,7 +136,10 @@ class Session:
                 # would leave the kernel's session without callbacks.
                 continue
             except Exception:
-                if self.context.ok():
+                # close() shuts the executor down while this thread may be building its
+                # wait set (rclpy then meets the destroyed guard condition as None): that
+                # is the end of spinning, not an error worth a traceback at exit.
+                if self.context.ok() and not self._closing:
                     raise
                 return
 
@@ -208,6 +212,7 @@ class Session:
 
     def close(self) -> None:
         """Stop the executor and, if this session created it, the context."""
+        self._closing = True
         # Best effort: at interpreter exit rclpy may already be half torn down.
         executors = [self.executor, self._nodes_executor]
         for executor in executors:
