@@ -9,7 +9,7 @@ nothing; a check cell that is missing scores 0.
 
 A check is judged by its own execution, not by what the kernel printed: the cell that
 runs is the instructor's source behind a fresh import of the checking helpers from the
-kit's own file (a student cell that patched `robot_lab.grading.check` patched a module
+kit's own files (a student cell that patched `robot_lab.grading.check` patched a module
 the check no longer uses), followed by a line that prints a random token. The check
 passed only if the token came (so the check ran to its end), the kernel's reply says
 `ok` (an exception handler that swallows errors still leaves an `error` reply) and no
@@ -37,7 +37,7 @@ from robot_lab.grading.exercises import Check, grade_id, graded_checks, kit_root
 
 __all__ = ['AnswerKey', 'identify', 'judge', 'known_exercises', 'student_of']
 
-_CHECK_HELPERS = Path(__file__).resolve().with_name('check.py')
+_CHECK_HELPERS = Path(__file__).resolve().with_name('check')  # the package's folder
 _ANSI = re.compile(r'\x1b\[[0-9;]*m')
 _OUTPUT_LIMIT = 2000  # characters of a check's printed lines kept for feedback
 _NBGRADER_FOLDERS = ('submitted', 'autograded')  # an nbgrader course's student folders
@@ -144,15 +144,21 @@ class AnswerKey:
         from IPython.core.inputtransformer2 import TransformerManager
 
         body = TransformerManager().transform_cell(check.source)
+        # Every module of the check package is dropped and read again from the kit's folder:
+        # the package goes into sys.modules first, so its imports of its own modules load
+        # them afresh from that folder instead of taking what a student cell patched.
+        name, folder = 'robot_lab.grading.check', str(_CHECK_HELPERS)
         return (
             'import importlib.util as _rl_util, sys as _rl_sys, robot_lab.grading as _rl_pkg\n'
-            f'_rl_spec = _rl_util.spec_from_file_location({"robot_lab.grading.check"!r}, '
-            f'{str(_CHECK_HELPERS)!r})\n'
+            f'_rl_stale = [n for n in _rl_sys.modules if (n + ".").startswith({name + "."!r})]\n'
+            '_rl_gone = [_rl_sys.modules.pop(n) for n in _rl_stale]\n'
+            f'_rl_spec = _rl_util.spec_from_file_location({name!r}, '
+            f'{folder + "/__init__.py"!r}, submodule_search_locations=[{folder!r}])\n'
             'check = _rl_util.module_from_spec(_rl_spec)\n'
+            f'_rl_sys.modules[{name!r}] = check\n'
             '_rl_spec.loader.exec_module(check)\n'
-            "_rl_sys.modules['robot_lab.grading.check'] = check\n"
             '_rl_pkg.check = check\n'
-            'del _rl_util, _rl_spec, _rl_sys, _rl_pkg\n'
+            'del _rl_util, _rl_spec, _rl_sys, _rl_pkg, _rl_stale, _rl_gone\n'
             f'{body}\n'
             f'print({token!r})\n'
         )

@@ -1,0 +1,85 @@
+"""What a notebook's check cell calls: real checks of the running system, one line each.
+
+Every check looks at the real graph (nodes, topics, parameters, logs, files), waits a
+bounded time for it to become true, prints one deterministic `✓ …` line when it is, and
+otherwise raises CheckError: what was expected, what was seen, what to try. A failing
+check is a failing cell, so nbval fails with it. Checks return nothing: a check cell's
+output is only its ✓ lines, the same on every run (nbval compares it).
+
+One module per thing checked (`graph`, `parameters`, `package`, `output`; `base` holds
+the error and the bounded wait); notebooks use them all as `check.<name>`. The grader
+loads this package afresh from the kit's files for each check cell (answer_key).
+"""
+
+from __future__ import annotations
+
+from robot_lab.grading.check.base import CheckError, eventually
+from robot_lab.grading.check.graph import (
+    graph_matches,
+    nodes_running,
+    responds,
+    topic_publishes,
+    topic_rate,
+    topics_exist,
+    wiring_is,
+)
+from robot_lab.grading.check.output import (
+    bag_contains,
+    command_prints,
+    first_time,
+    full_marks,
+    logs_contain,
+    no_errors,
+    plot_shows,
+)
+from robot_lab.grading.check.package import (
+    answered,
+    files_exist,
+    launch_file_nodes,
+    node_starts,
+    package_built,
+    readme_explains,
+    setup_py,
+    stop_node,
+)
+from robot_lab.grading.check.parameters import (
+    param_applied,
+    param_count,
+    param_described,
+    param_equals,
+    param_file_accepted,
+    param_refused,
+)
+
+__all__ = [
+    'CheckError',
+    'answered',
+    'bag_contains',
+    'command_prints',
+    'eventually',
+    'files_exist',
+    'first_time',
+    'full_marks',
+    'graph_matches',
+    'launch_file_nodes',
+    'logs_contain',
+    'no_errors',
+    'node_starts',
+    'nodes_running',
+    'package_built',
+    'param_applied',
+    'param_count',
+    'param_described',
+    'param_equals',
+    'param_file_accepted',
+    'param_refused',
+    'plot_shows',
+    'readme_explains',
+    'responds',
+    'setup_py',
+    'stop_node',
+    'topic_publishes',
+    'topic_rate',
+    'topics_exist',
+    'wiring_is',
+]

@@ -1,0 +1,200 @@
+"""Checks of the ROS graph: which nodes and topics run, what a topic carries, how often."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
+
+from robot_lab.errors import RobotLabError
+from robot_lab.grading.check.base import CheckError, passed, wait_until
+
+__all__ = [
+    'graph_matches',
+    'nodes_running',
+    'responds',
+    'topic_publishes',
+    'topic_rate',
+    'topics_exist',
+    'wiring_is',
+]
+
+
+def _deaths(launch: Any) -> list[str]:
+    """`label exited 1: <its last output line>` for each process of `launch` that stopped."""
+    notes = []
+    lines = list(launch.logs()) if launch is not None else []
+    for proc in getattr(launch, 'processes', []):
+        if proc.state == 'running':
+            continue
+        own = [line[len(proc.label) + 3:] for line in lines
+               if line.startswith(f'[{proc.label}] ')]
+        last = own[-1].strip() if own else 'no output'
+        notes.append(f'{proc.label} stopped (exit code {proc.exit_code}): {last}')
+    return notes
+
+
+def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = None) -> None:
+    """These nodes are in the graph (`ros2 node list` shows them).
+
+    Given the `launch` that started them, a failure also says which of its processes
+    stopped and the last line each printed (a node that refused a parameter says why).
+    """
+    from robot_lab.graph.api import node_list, wait_for_nodes
+
+    wanted = sorted('/' + n.lstrip('/') for n in names)
+    try:
+        wait_for_nodes(wanted, timeout=timeout)
+    except RobotLabError:
+        present = node_list(settle=False)
+        missing = [n for n in wanted if n not in present]
+        deaths = _deaths(launch)
+        raise CheckError(
+            f'nodes {", ".join(wanted)} running',
+            f'missing {", ".join(missing)} (running now: {", ".join(present) or "none"})'
+            + ''.join(f'; {d}' for d in deaths),
+            'read why it stopped: the last line above names the cause' if deaths else
+            'start them (the launch cell above) and look at their output for errors',
+        ) from None
+    passed(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
+
+
+def topics_exist(names: Iterable[str], timeout: float = 10.0) -> None:
+    """These topics are in the graph (`ros2 topic list` shows them)."""
+    from robot_lab.graph.api import topic_list
+
+    wanted = sorted('/' + n.lstrip('/') for n in names)
+
+    def _all_there() -> bool:
+        present = {name for name, _types in topic_list(settle=False)}
+        return all(n in present for n in wanted)
+
+    if not wait_until(_all_there, timeout):
+        present = sorted(name for name, _types in topic_list(settle=False))
+        raise CheckError(f'topics {", ".join(wanted)}',
+                          f'the graph has {", ".join(present) or "no topics"}',
+                          'start the nodes that publish or subscribe them')
+    passed(f'topics exist: {", ".join(wanted)}')
+
+
+def topic_publishes(topic: str, msg_type: str | None = None,
+                    where: Callable[[Any], bool] | None = None, timeout: float = 5.0,
+                    description: str | None = None) -> Any:
+    """A message arrives on `topic` (of `msg_type`; satisfying `where`) within `timeout` s.
+
+    Returns the first message that matched.
+    """
+    from robot_lab.graph.topics import echo_stream
+    from robot_lab.messages import message_to_dict, type_name
+
+    name = '/' + topic.lstrip('/')
+    what = f'a message on {name}' + (f' {description}' if description else '')
+    last: Any = None
+    try:
+        for msg in echo_stream(name, None, timeout=timeout):
+            last = msg
+            if msg_type is not None and type_name(msg) != msg_type:
+                raise CheckError(what, f'{name} carries {type_name(msg)}, not {msg_type}',
+                                  'check the publisher’s message type')
+            if where is None or where(msg):
+                passed(f'{name} publishes {type_name(msg)}' +
+                    (f' {description}' if description else ''))
+                return
+    except RobotLabError as err:
+        raise CheckError(what, f'none came: {err.message}',
+                          f'is the publisher running? `robot-lab topic info -v {name}`') from None
+    seen = 'nothing arrived' if last is None else f'the last one was {message_to_dict(last)}'
+    raise CheckError(what, f'within {timeout:g} s {seen}',
+                      'look at the node’s parameters and log output')
+
+
+def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
+               attempts: int = 2) -> None:
+    """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average).
+
+    On a loaded machine DDS can deliver a burst that skews one short window, so a rate
+    outside the band is measured again (up to `attempts` windows); a publisher that really
+    runs at the wrong rate fails every one of them.
+    """
+    from robot_lab.graph.api import topic_hz
+
+    name = '/' + topic.lstrip('/')
+    rates: list[float] = []
+    for _ in range(max(1, attempts)):
+        try:
+            stats = topic_hz(name, duration=duration)
+        except RobotLabError as err:
+            raise CheckError(f'{name} at {low:g}–{high:g} Hz', err.message,
+                              f'is the publisher running? `robot-lab topic info -v {name}`'
+                              ) from None
+        rates.append(stats.rate)
+        if low <= stats.rate <= high:
+            break
+    else:
+        measured = ', '.join(f'{r:.1f}' for r in rates)
+        raise CheckError(f'{name} at {low:g}–{high:g} Hz', f'it runs at {measured} Hz',
+                          'check the rate parameter of the publishing node')
+    passed(f'{name} publishes at {low:g}–{high:g} Hz')
+
+
+def graph_matches(nodes: Iterable[str], topics: Mapping[str, str], timeout: float = 5.0) -> None:
+    """The running graph has exactly these nodes, and each topic carries its stated type."""
+    from robot_lab.graph.api import node_list, topic_list
+
+    wanted = sorted(nodes)
+    if not wait_until(lambda: sorted(node_list(settle=False)) == wanted, timeout):
+        seen = sorted(node_list(settle=False))
+        raise CheckError(f'the nodes {", ".join(wanted)}', f'the graph has {", ".join(seen)}',
+                         'node names are the launch file’s name= attributes, with a leading /')
+    types = {name: kinds for name, kinds in topic_list(settle=False)}
+    for topic, kind in topics.items():
+        if kind not in types.get(topic, []):
+            real = types.get(topic)
+            raise CheckError(f'{topic} of type {kind}',
+                             f'{topic} is {real[0]}' if real else f'there is no topic {topic}',
+                             'types are written package/msg/Type, e.g. std_msgs/msg/Float32')
+    passed(f'{len(wanted)} nodes and {len(topics)} topics as you expected')
+
+
+def wiring_is(wiring: Callable[[str], Any], topic: str, publishers: list[str],
+              subscribers: list[str]) -> None:
+    """The student's `wiring(topic)` returns (publishers, subscribers) as the graph has them."""
+    want = (sorted(publishers), sorted(subscribers))
+    try:
+        # the graph may still be settling: ask again for a few seconds before judging
+        wait_until(lambda: tuple(wiring(topic)) == want, 5.0)
+        got = wiring(topic)
+    except Exception as err:
+        raise CheckError(f'wiring({topic!r}) to return {want}',
+                         f'it raised {type(err).__name__}: {err}',
+                         'run it in the answer cell and read the error line') from None
+    if got is None or tuple(got) != want:
+        raise CheckError(f'wiring({topic!r}) to return {want}', f'it returned {got!r}',
+                         'full names: namespace + "/" + name; sorted lists; publishers first')
+    passed(f'{topic}: {", ".join(want[0])} → {", ".join(want[1])}')
+
+
+def responds(in_topic: str, msg_type: str, values: Mapping[str, Any], out_topic: str,
+             where: Callable[[Any], bool], description: str, timeout: float = 5.0) -> None:
+    """While `values` are published on `in_topic` (10 Hz), `out_topic` carries a match."""
+    import threading
+
+    from robot_lab.graph.api import publish
+
+    stop = threading.Event()
+
+    def _feed() -> None:
+        while not stop.is_set():
+            publish(in_topic, msg_type, dict(values), wait_for_subscriber=0.0)
+            stop.wait(0.1)
+
+    feeder = threading.Thread(target=_feed, daemon=True)
+    feeder.start()
+    try:
+        topic_publishes(out_topic, where=where, timeout=timeout, description=description)
+    except CheckError as err:
+        raise CheckError(f'{out_topic} {description} while {in_topic} carries {dict(values)}',
+                         err.seen, 'compute the command from the message in your callback and '
+                                   'publish it there, once per message') from None
+    finally:
+        stop.set()
+        feeder.join(timeout=2.0)

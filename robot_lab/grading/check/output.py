@@ -1,0 +1,160 @@
+"""Checks of what a running system left behind: log lines, command output, plots, bags, grades."""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+from robot_lab.errors import RobotLabError
+from robot_lab.grading.check.base import CheckError, passed, wait_until
+
+__all__ = [
+    'bag_contains',
+    'command_prints',
+    'first_time',
+    'full_marks',
+    'logs_contain',
+    'no_errors',
+    'plot_shows',
+]
+
+
+def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
+    """A log line matching `pattern` (regex) shows up in a launch's output or a console."""
+    regex = re.compile(pattern)
+
+    def _lines() -> list[str]:
+        if hasattr(source, 'logs'):
+            return list(source.logs())
+        if hasattr(source, 'lines'):
+            return list(source.lines(level='DEBUG'))
+        raise TypeError(f'logs_contain() needs a LaunchHandle or a Console, not {source!r}')
+
+    found = wait_until(lambda: next((line for line in _lines() if regex.search(line)), None),
+                  timeout)
+    if not found:
+        tail = '\n'.join(_lines()[-8:])
+        raise CheckError(f'a log line matching {pattern!r}',
+                          f'within {timeout:g} s the last lines were:\n{tail}\n',
+                          'read the output above for errors (a process that died says why)')
+    passed(f'the log shows {regex.pattern!r}')
+
+
+def no_errors(launch: Any) -> None:
+    """A launch's processes are all running and none logged at ERROR or FATAL."""
+    errors = launch.logs(level='ERROR')
+    dead = [f'{p.label} ({p.state}, exit code {p.exit_code})' for p in launch.processes
+            if p.state != 'running']
+    if errors or dead:
+        seen = '; '.join([*(f'{d} stopped' for d in dead), *errors[-3:]])
+        raise CheckError('every process running and no error messages', seen,
+                         'read the first error line: it names the file and what to fix')
+    passed(f'{len(launch.processes)} processes running, no error messages')
+
+
+def command_prints(command: str, pattern: str, seconds: float = 5.0,
+                   cwd: str | Path | None = None) -> None:
+    """`command` (bash, as typed in a terminal) prints a line matching `pattern` within
+    `seconds`; then it gets Ctrl-C, and everything it started is stopped."""
+    import os
+    import signal
+    import subprocess
+
+    if not command.strip():
+        raise CheckError(f'a command that prints {pattern!r}', 'the command is empty',
+                         'write the command line in your answer cell')
+    proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    try:
+        out, _ = proc.communicate(timeout=seconds)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGINT)  # the Ctrl-C a terminal would send
+        try:
+            out, _ = proc.communicate(timeout=5.0)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, _ = proc.communicate()
+    lines = out.splitlines()
+    if not any(re.search(pattern, line) for line in lines):
+        tail = '\n'.join(lines[-4:]) or '(no output)'
+        raise CheckError(f'`{command}` to print {pattern!r}', f'it printed:\n{tail}\n',
+                         'read the last line: it names what is missing and how to fix it')
+    passed(f'`{command}` prints {pattern!r}')
+
+
+def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description: str,
+               timeout: float = 5.0, last: float = 1.0) -> None:
+    """The plotted values of `path` in its `last` seconds all satisfy `where` (waits)."""
+
+    def _probe() -> list[float] | None:
+        values = plot.values(path, last=last)
+        return values if values and all(where(v) for v in values) else None
+
+    values = wait_until(_probe, timeout)
+    if not values:
+        recent = plot.values(path, last=last)
+        seen = (f'the last values were {", ".join(f"{v:.2f}" for v in recent[-5:])}'
+                if recent else 'no samples arrived')
+        raise CheckError(f'{path} {description}', seen,
+                          'check the parameter you changed was accepted (✓ next to the slider)')
+    passed(f'{path} {description}')
+
+
+def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> None:
+    """The bag holds at least `counts[topic]` messages of each topic (`ros2 bag info`)."""
+    from robot_lab.bag.info import bag_info
+
+    try:
+        info = bag_info(bag)
+    except RobotLabError as err:
+        raise CheckError(f'a bag at {bag}', err.message, 'record it first (the cell above)') \
+            from None
+    have = {t.name: t.count for t in info.topics}
+    short = {t: have.get(t, 0) for t, n in counts.items() if have.get(t, 0) < n}
+    if short:
+        raise CheckError(
+            ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()),
+            'the bag has ' + ', '.join(f'{c} on {t}' for t, c in short.items()),
+            'record while the nodes run, for a few seconds')
+    passed('the bag holds ' + ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()))
+
+
+def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float], bool],
+               answer: Any) -> None:
+    """`answer` is the bag time (s) of the first `topic` message whose `field` satisfies
+    `where`, as `robot_lab.read_topic` gives times."""
+    from robot_lab.bag.read import read_topic
+
+    columns = read_topic(bag, topic, [field])
+    times = [t for t, v in zip(columns.t, columns[field], strict=True) if where(v)]
+    if not times:
+        raise CheckError(f'a {topic} message in the bag whose {field} matches',
+                         f'none of its {len(columns)} messages does',
+                         'record again: the parameter change must fall inside the recording')
+    if not isinstance(answer, int | float) or not math.isclose(answer, times[0], abs_tol=1e-6):
+        raise CheckError(f'{times[0]:.2f} s (the first match)', f'your answer is {answer!r}',
+                         'take the time of the first matching message, not the last or a count')
+    passed(f'that is the time of the first {topic} message whose {field} matches')
+
+
+def full_marks(report: str | Path) -> None:
+    """`robot-lab grade -o REPORT` gave every submission in it full marks."""
+    import csv
+
+    grades = Path(report) / 'grades.csv'
+    if not grades.is_file():
+        raise CheckError(f'a grade report in {Path(report).name}/', 'there is no grades.csv',
+                         'run the grading cell above and read its output')
+    with grades.open(newline='') as f:
+        rows = list(csv.DictReader(f))
+    short = [f'{r["student"]}: {r["score"]}/{r["max_score"]}' for r in rows
+             if float(r['score']) < float(r['max_score'])]
+    if not rows or short:
+        lost = [k for r in rows for k, v in r.items()
+                if k not in ('student', 'score', 'max_score') and v in ('0', '0.0')]
+        raise CheckError('full marks from the grader', '; '.join(short) or 'no rows',
+                         f'read the feedback of {", ".join(lost) or "each check"} above')
+    passed(', '.join(f'{r["student"]}: {r["score"]}/{r["max_score"]}' for r in rows))
