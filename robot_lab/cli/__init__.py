@@ -11,13 +11,13 @@ import argparse
 import importlib
 import os
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from types import ModuleType
 
 from robot_lab import __version__
 from robot_lab.errors import RobotLabError
 
-__all__ = ['main', 'ros2_main']
+__all__ = ['main', 'ros2_main', 'run_sub_verb']
 
 # verb -> module under robot_lab.cli (the order is the order of `--help`)
 VERBS: dict[str, str] = {
@@ -74,6 +74,17 @@ def _parser(prog: str, only: str | None = None) -> argparse.ArgumentParser:
         # `args._parser`: a verb with sub-verbs prints its own help when given none.
         verb_parser.set_defaults(_main=module.main, _parser=verb_parser)
     return parser
+
+
+def run_sub_verb(args: argparse.Namespace, chosen: str | None,
+                 verbs: Mapping[str, Callable[[argparse.Namespace], int]]) -> int:
+    """Run the sub-verb (`topic list`, `bag info`, ...) the command line chose; given none,
+    print the verb's help and succeed, as ros2cli does."""
+    verb = verbs.get(chosen or '')
+    if verb is None:
+        args._parser.print_help()
+        return 0
+    return verb(args)
 
 
 def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:

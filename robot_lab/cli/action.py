@@ -7,6 +7,8 @@ import queue
 import sys
 from typing import Any
 
+from robot_lab.cli import run_sub_verb
+
 HELP = 'Various action related sub-commands'
 
 
@@ -43,12 +45,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'info': _info, 'type': _type, 'send_goal': _send_goal}
-    verb = verbs.get(args.action_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.action_verb, {
+        'list': _list, 'info': _info, 'type': _type, 'send_goal': _send_goal,
+    })
 
 
 def _list(args: argparse.Namespace) -> int:

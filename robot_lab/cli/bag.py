@@ -8,6 +8,8 @@ import sys
 import time
 from types import FrameType
 
+from robot_lab.cli import run_sub_verb
+
 HELP = 'Various rosbag related sub-commands'
 
 
@@ -205,9 +207,6 @@ def _reindex(args: argparse.Namespace) -> int:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'record': _record, 'info': _info, 'play': _play, 'reindex': _reindex}
-    verb = verbs.get(args.bag_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.bag_verb, {
+        'record': _record, 'info': _info, 'play': _play, 'reindex': _reindex,
+    })

@@ -6,6 +6,8 @@ import argparse
 import sys
 from typing import TYPE_CHECKING
 
+from robot_lab.cli import run_sub_verb
+
 if TYPE_CHECKING:
     from robot_lab.graph.interfaces import InterfaceKind
 
@@ -63,13 +65,9 @@ def _kinds(args: argparse.Namespace) -> tuple[InterfaceKind, ...]:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'show': _show, 'list': _list, 'package': _package, 'packages': _packages,
-             'proto': _proto}
-    verb = verbs.get(args.interface_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.interface_verb, {
+        'show': _show, 'list': _list, 'package': _package, 'packages': _packages, 'proto': _proto,
+    })
 
 
 def _show(args: argparse.Namespace) -> int:

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from robot_lab.cli import run_sub_verb
+
 HELP = 'Various lifecycle related sub-commands'
 
 
@@ -35,12 +37,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'nodes': _nodes, 'get': _get, 'list': _list, 'set': _set}
-    verb = verbs.get(args.lifecycle_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.lifecycle_verb, {
+        'nodes': _nodes, 'get': _get, 'list': _list, 'set': _set,
+    })
 
 
 def _nodes(args: argparse.Namespace) -> int:

@@ -6,6 +6,8 @@ import argparse
 import re
 import sys
 
+from robot_lab.cli import run_sub_verb
+
 HELP = 'Various param related sub-commands'
 
 # ParameterType -> the label `ros2 param get` prints before the value
@@ -55,13 +57,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'get': _get, 'set': _set, 'describe': _describe, 'dump': _dump,
-             'load': _load}
-    verb = verbs.get(args.param_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.param_verb, {
+        'list': _list, 'get': _get, 'set': _set, 'describe': _describe, 'dump': _dump,
+        'load': _load,
+    })
 
 
 def _list(args: argparse.Namespace) -> int:

@@ -7,6 +7,7 @@ import argparse
 import sys
 import time
 
+from robot_lab.cli import run_sub_verb
 from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various service related sub-commands'
@@ -86,13 +87,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'type': _type, 'find': _find, 'info': _info, 'call': _call,
-             'echo': _echo}
-    verb = verbs.get(args.service_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.service_verb, {
+        'list': _list, 'type': _type, 'find': _find, 'info': _info, 'call': _call, 'echo': _echo,
+    })
 
 
 def _typed(args: argparse.Namespace) -> list[tuple[str, list[str]]]:

@@ -11,6 +11,7 @@ import sys
 import time
 from typing import Any
 
+from robot_lab.cli import run_sub_verb
 from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various topic related sub-commands'
@@ -201,13 +202,10 @@ def _add_qos_arguments(parser: argparse.ArgumentParser, verb: str, default: str)
 
 
 def main(args: argparse.Namespace) -> int:
-    verbs = {'list': _list, 'info': _info, 'type': _type, 'echo': _echo, 'hz': _hz, 'pub': _pub,
-             'bw': _bw, 'delay': _delay, 'find': _find}
-    verb = verbs.get(args.topic_verb or '')
-    if verb is None:
-        args._parser.print_help()
-        return 0
-    return verb(args)
+    return run_sub_verb(args, args.topic_verb, {
+        'list': _list, 'info': _info, 'type': _type, 'echo': _echo, 'hz': _hz, 'pub': _pub,
+        'bw': _bw, 'delay': _delay, 'find': _find,
+    })
 
 
 def _list(args: argparse.Namespace) -> int:
