@@ -12,6 +12,7 @@ import sys
 import threading
 import time
 from collections.abc import Iterator, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import psutil
@@ -182,6 +183,19 @@ def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,
         timeout=timeout, cwd=cwd, env=full_env, check=False,
     )
 
+
+
+def cli_ok(*args: str) -> str:
+    """`robot-lab ARGS` that must succeed: its stdout (a failure shows both streams)."""
+    result = run_cli(*args)
+    assert result.returncode == 0, f'{args}: {result.stdout}{result.stderr}'
+    return result.stdout
+
+
+def cli_ok_all(*commands: Sequence[str]) -> list[str]:
+    """Several cold commands at once (each mostly waits out discovery), outputs in order."""
+    with ThreadPoolExecutor(len(commands)) as pool:
+        return list(pool.map(lambda args: cli_ok(*args), commands))
 
 # --- seed packages (Lab 1.3, Chapter 6) built once per run with the venv's colcon ----------
 

@@ -12,7 +12,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc, reference_system, run_cli
+from conftest import BIN, Proc, cli_ok, reference_system, run_cli
 
 from robot_lab.params import load_param_file
 
@@ -24,24 +24,18 @@ def system(ros_domain: int) -> Iterator[dict[str, Proc]]:
         yield procs
 
 
-def ok(*args: str) -> str:
-    result = run_cli(*args)
-    assert result.returncode == 0, f'{args}: {result.stdout}{result.stderr}'
-    return result.stdout
-
-
 def test_node_list_prints_exactly_the_three_nodes(system: dict[str, Proc]) -> None:
-    assert ok('node', 'list') == '/controller\n/robot\n/sensor\n'
+    assert cli_ok('node', 'list') == '/controller\n/robot\n/sensor\n'
 
 
 def test_node_list_all_shows_hidden_nodes_too(system: dict[str, Proc]) -> None:
-    lines = ok('node', 'list', '--all').splitlines()
+    lines = cli_ok('node', 'list', '--all').splitlines()
     assert {'/controller', '/robot', '/sensor'} <= set(lines)
     assert any(line.startswith('/_robot_lab_') for line in lines)  # the CLI's own session
 
 
 def test_node_info_layout(system: dict[str, Proc]) -> None:
-    out = ok('node', 'info', '/controller')
+    out = cli_ok('node', 'info', '/controller')
     assert out.startswith(
         '/controller\n'
         '  Subscribers:\n'
@@ -65,7 +59,7 @@ def test_unknown_node(system: dict[str, Proc]) -> None:
 
 
 def test_topic_list_with_types(system: dict[str, Proc]) -> None:
-    lines = ok('topic', 'list', '-t').splitlines()
+    lines = cli_ok('topic', 'list', '-t').splitlines()
     for expected in ('/sensor/temperature [std_msgs/msg/Float32]',
                      '/robot/status [std_msgs/msg/String]',
                      '/cmd_vel [geometry_msgs/msg/Twist]'):
@@ -74,53 +68,54 @@ def test_topic_list_with_types(system: dict[str, Proc]) -> None:
 
 
 def test_topic_info_and_type(system: dict[str, Proc]) -> None:
-    assert ok('topic', 'info', '/sensor/temperature') == (
+    assert cli_ok('topic', 'info', '/sensor/temperature') == (
         'Type: std_msgs/msg/Float32\nPublisher count: 1\nSubscription count: 1\n'
     )
-    verbose = ok('topic', 'info', '-v', '/robot/status')
+    verbose = cli_ok('topic', 'info', '-v', '/robot/status')
     assert 'Node name: controller\nNode namespace: /\nTopic type: std_msgs/msg/String\n' in verbose
     assert 'Endpoint type: PUBLISHER' in verbose and 'Reliability: RELIABLE' in verbose
-    assert ok('topic', 'type', '/cmd_vel') == 'geometry_msgs/msg/Twist\n'
+    assert cli_ok('topic', 'type', '/cmd_vel') == 'geometry_msgs/msg/Twist\n'
 
 
 def test_param_get(system: dict[str, Proc]) -> None:
-    assert ok('param', 'get', '/sensor', 'sensor_rate') == 'Integer value is: 10\n'
-    assert ok('param', 'get', '/robot', 'robot_name') == 'String value is: my_robot\n'
-    assert ok('param', 'get', '/sensor', 'use_sim_time') == 'Boolean value is: False\n'
+    assert cli_ok('param', 'get', '/sensor', 'sensor_rate') == 'Integer value is: 10\n'
+    assert cli_ok('param', 'get', '/robot', 'robot_name') == 'String value is: my_robot\n'
+    assert cli_ok('param', 'get', '/sensor', 'use_sim_time') == 'Boolean value is: False\n'
 
 
 def test_param_list(system: dict[str, Proc]) -> None:
-    out = ok('param', 'list')
+    out = cli_ok('param', 'list')
     assert '/sensor:\n  noise_level\n  sensor_rate\n' in out
     assert out.index('/controller:') < out.index('/robot:') < out.index('/sensor:')
-    assert ok('param', 'list', '/robot') == (
+    assert cli_ok('param', 'list', '/robot') == (
         '  robot_name\n  start_type_description_service\n  use_sim_time\n'
     )
 
 
 def test_param_set_noise_then_echo_shows_base_temperature(system: dict[str, Proc]) -> None:
     try:
-        assert ok('param', 'set', '/sensor', 'noise_level', '0.0') == 'Set parameter successful\n'
-        assert ok('topic', 'echo', '/sensor/temperature', '--once') == 'data: 22.5\n---\n'
+        assert cli_ok('param', 'set', '/sensor', 'noise_level', '0.0') == \
+            'Set parameter successful\n'
+        assert cli_ok('topic', 'echo', '/sensor/temperature', '--once') == 'data: 22.5\n---\n'
     finally:
-        ok('param', 'set', '/sensor', 'noise_level', '0.1')
+        cli_ok('param', 'set', '/sensor', 'noise_level', '0.1')
 
 
 def test_threshold_flips_status_to_high_and_stops_the_robot(system: dict[str, Proc]) -> None:
-    ok('param', 'set', '/sensor', 'noise_level', '0.0')
+    cli_ok('param', 'set', '/sensor', 'noise_level', '0.0')
     try:
-        assert ok('param', 'set', '/controller', 'temp_threshold', '20.0') == (
+        assert cli_ok('param', 'set', '/controller', 'temp_threshold', '20.0') == (
             'Set parameter successful\n'
         )
-        status = ok('topic', 'echo', '/robot/status', '--times', '3', '--field', 'data')
+        status = cli_ok('topic', 'echo', '/robot/status', '--times', '3', '--field', 'data')
         assert status.splitlines()[-2] == 'HIGH (temp: 22.5°C)'
-        speed = ok('topic', 'echo', '/cmd_vel', '-n', '3', '--field', 'linear.x')
+        speed = cli_ok('topic', 'echo', '/cmd_vel', '-n', '3', '--field', 'linear.x')
         assert speed.splitlines()[-2] == '0.0'
         system['controller'].wait_for(r'Temperature HIGH: 22\.50°C', timeout=5)
     finally:
-        ok('param', 'set', '/controller', 'temp_threshold', '25.0')
-        ok('param', 'set', '/sensor', 'noise_level', '0.1')
-    status = ok('topic', 'echo', '/robot/status', '--times', '3', '--field', 'data')
+        cli_ok('param', 'set', '/controller', 'temp_threshold', '25.0')
+        cli_ok('param', 'set', '/sensor', 'noise_level', '0.1')
+    status = cli_ok('topic', 'echo', '/robot/status', '--times', '3', '--field', 'data')
     assert status.splitlines()[-2].startswith('OK (temp: ')
 
 
@@ -131,8 +126,8 @@ def test_wrong_type_is_refused_and_node_keeps_publishing(system: dict[str, Proc]
         "got 'Type.STRING'\n"
     )
     assert system['sensor'].popen.poll() is None
-    assert ok('param', 'get', '/sensor', 'noise_level') == 'Double value is: 0.1\n'
-    assert ok('topic', 'echo', '/sensor/temperature', '--once').startswith('data: 2')
+    assert cli_ok('param', 'get', '/sensor', 'noise_level') == 'Double value is: 0.1\n'
+    assert cli_ok('topic', 'echo', '/sensor/temperature', '--once').startswith('data: 2')
 
 
 def test_out_of_range_is_refused_with_the_range(system: dict[str, Proc]) -> None:
@@ -141,11 +136,11 @@ def test_out_of_range_is_refused_with_the_range(system: dict[str, Proc]) -> None
     assert 'Min: 0.0, Max: 5.0' in result.stderr
     result = run_cli('param', 'set', '/sensor', 'sensor_rate', '500')
     assert 'Setting parameter failed: ' in result.stderr and 'Max: 100' in result.stderr
-    assert ok('param', 'get', '/sensor', 'sensor_rate') == 'Integer value is: 10\n'
+    assert cli_ok('param', 'get', '/sensor', 'sensor_rate') == 'Integer value is: 10\n'
 
 
 def test_param_describe_layout(system: dict[str, Proc]) -> None:
-    assert ok('param', 'describe', '/sensor', 'sensor_rate') == (
+    assert cli_ok('param', 'describe', '/sensor', 'sensor_rate') == (
         'Parameter name: sensor_rate\n'
         '  Type: integer\n'
         '  Description: Publish rate of /sensor/temperature in Hz\n'
@@ -157,7 +152,7 @@ def test_param_describe_layout(system: dict[str, Proc]) -> None:
 
 
 def test_param_dump_loads_back(system: dict[str, Proc], tmp_path: Path) -> None:
-    out = ok('param', 'dump', '/controller')
+    out = cli_ok('param', 'dump', '/controller')
     assert out.startswith('/controller:\n  ros__parameters:\n    control_rate: 20\n')
     dumped = tmp_path / 'controller.yaml'
     dumped.write_text(out)
@@ -168,14 +163,14 @@ def test_param_dump_loads_back(system: dict[str, Proc], tmp_path: Path) -> None:
     try:
         result = run_cli('param', 'load', '/controller', str(dumped))
         assert 'Set parameter max_speed successful' in result.stdout
-        speed = ok('topic', 'echo', '/cmd_vel', '-n', '3', '--field', 'linear.x')
+        speed = cli_ok('topic', 'echo', '/cmd_vel', '-n', '3', '--field', 'linear.x')
         assert speed.splitlines()[-2] == '1.5'
     finally:
-        ok('param', 'set', '/controller', 'max_speed', '0.5')
+        cli_ok('param', 'set', '/controller', 'max_speed', '0.5')
 
 
 def test_topic_hz_reports_ten_hertz(system: dict[str, Proc]) -> None:
-    out = ok('topic', 'hz', '/sensor/temperature', '--window', '20', '--duration', '4')
+    out = cli_ok('topic', 'hz', '/sensor/temperature', '--window', '20', '--duration', '4')
     rates = [float(m) for m in re.findall(r'^average rate: (\d+\.\d{3})$', out, re.M)]
     assert rates, out
     assert abs(rates[-1] - 10.0) <= 0.2, out
@@ -190,7 +185,7 @@ def test_topic_pub_reaches_a_subscriber(system: dict[str, Proc]) -> None:
         # With no publisher yet, echo subscribes best-effort (as ros2cli does), and the
         # publisher can match the echo's reader before that reader has matched it: a single
         # message may be lost (real ros2 too), so send a few.
-        out = ok('topic', 'pub', '/chatter', 'std_msgs/msg/String', '{data: hi}',
+        out = cli_ok('topic', 'pub', '/chatter', 'std_msgs/msg/String', '{data: hi}',
                  '--times', '20', '--rate', '10')
         assert 'publisher: beginning loop\n' in out
         assert "publishing #1: std_msgs.msg.String(data='hi')\n\n" in out
@@ -215,9 +210,9 @@ def test_echo_unknown_topic(system: dict[str, Proc]) -> None:
 
 
 def test_service_list_and_interface_show(system: dict[str, Proc]) -> None:
-    services = ok('service', 'list', '-t').splitlines()
+    services = cli_ok('service', 'list', '-t').splitlines()
     assert '/sensor/set_parameters [rcl_interfaces/srv/SetParameters]' in services
-    assert ok('interface', 'show', 'geometry_msgs/msg/Twist', '--no-comments') == (
+    assert cli_ok('interface', 'show', 'geometry_msgs/msg/Twist', '--no-comments') == (
         'Vector3  linear\n\tfloat64 x\n\tfloat64 y\n\tfloat64 z\n'
         'Vector3  angular\n\tfloat64 x\n\tfloat64 y\n\tfloat64 z\n'
     )

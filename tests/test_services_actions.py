@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import re
 import threading
-from collections.abc import Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Iterator
 
 import pytest
-from conftest import BIN, Proc, run_cli
+from conftest import BIN, Proc, cli_ok, cli_ok_all, run_cli
 
 import robot_lab
 from robot_lab.errors import GraphError
@@ -37,20 +36,8 @@ def servers(ros_domain: int) -> Iterator[dict[str, Proc]]:
             proc.stop()
 
 
-def ok(*args: str) -> str:
-    result = run_cli(*args)
-    assert result.returncode == 0, f'{args}: {result.stdout}{result.stderr}'
-    return result.stdout
-
-
-def ok_all(*commands: Sequence[str]) -> list[str]:
-    """Several cold commands at once (each mostly waits out discovery), outputs in order."""
-    with ThreadPoolExecutor(len(commands)) as pool:
-        return list(pool.map(lambda args: ok(*args), commands))
-
-
 def test_service_list_type_find_info(servers: dict[str, Proc]) -> None:
-    listed, kind, found, info = ok_all(
+    listed, kind, found, info = cli_ok_all(
         ('service', 'list', '-t'), ('service', 'type', '/enable'),
         ('service', 'find', 'std_srvs/srv/Trigger'), ('service', 'info', '/enable'))
     assert '/enable [std_srvs/srv/SetBool]' in listed.splitlines()
@@ -63,7 +50,7 @@ def test_service_list_type_find_info(servers: dict[str, Proc]) -> None:
 
 
 def test_service_call_prints_request_and_response(servers: dict[str, Proc]) -> None:
-    out = ok('service', 'call', '/enable', 'std_srvs/srv/SetBool', '{data: true}')
+    out = cli_ok('service', 'call', '/enable', 'std_srvs/srv/SetBool', '{data: true}')
     # 'waiting for service...' only if the cold process had not yet discovered the server
     assert out.removeprefix('waiting for service to become available...\n') == (
         'requester: making request: std_srvs.srv.SetBool_Request(data=True)\n\n'
@@ -71,7 +58,8 @@ def test_service_call_prints_request_and_response(servers: dict[str, Proc]) -> N
         "std_srvs.srv.SetBool_Response(success=True, message='enabled')\n\n"
     )
     servers['switch'].wait_for(r'\[switch\]: Robot enabled')
-    repeated = ok('service', 'call', '/get_state', 'std_srvs/srv/Trigger', '-r', '20', '-n', '2')
+    repeated = cli_ok('service', 'call', '/get_state', 'std_srvs/srv/Trigger',
+                      '-r', '20', '-n', '2')
     assert repeated.count("std_srvs.srv.Trigger_Response(success=True, message='enabled')") == 2
 
 
@@ -96,7 +84,7 @@ def test_call_service_from_a_notebook(servers: dict[str, Proc]) -> None:
 
 
 def test_action_list_type_info(servers: dict[str, Proc]) -> None:
-    listed, kind, info, node = ok_all(
+    listed, kind, info, node = cli_ok_all(
         ('action', 'list', '-t'), ('action', 'type', '/fibonacci'),
         ('action', 'info', '/fibonacci', '-t'), ('node', 'info', '/fibonacci_action_server'))
     assert listed == '/fibonacci [test_msgs/action/Fibonacci]\n'
@@ -113,7 +101,7 @@ def test_action_list_type_info(servers: dict[str, Proc]) -> None:
 
 
 def test_action_send_goal_with_feedback(servers: dict[str, Proc]) -> None:
-    out = ok('action', 'send_goal', '--feedback', '/fibonacci', 'test_msgs/action/Fibonacci',
+    out = cli_ok('action', 'send_goal', '--feedback', '/fibonacci', 'test_msgs/action/Fibonacci',
              '{order: 3}')
     goal_id = re.search(r'Goal accepted with ID: ([0-9a-f]{32})\n', out)
     assert goal_id is not None, out
@@ -154,13 +142,13 @@ def test_send_goal_from_a_notebook_feedback_and_cancel(servers: dict[str, Proc])
 
 
 def test_interface_verbs() -> None:
-    assert ok('interface', 'package', 'std_srvs') == (
+    assert cli_ok('interface', 'package', 'std_srvs') == (
         'std_srvs/srv/Empty\nstd_srvs/srv/SetBool\nstd_srvs/srv/Trigger\n')
-    assert 'test_msgs\n' in ok('interface', 'packages', '-a')
-    listed = ok('interface', 'list', '-a').splitlines()
+    assert 'test_msgs\n' in cli_ok('interface', 'packages', '-a')
+    listed = cli_ok('interface', 'list', '-a').splitlines()
     assert listed[0] == 'Actions:' and '    test_msgs/action/Fibonacci' in listed
-    assert ok('interface', 'proto', 'test_msgs/action/Fibonacci') == '"order: 0\n"\n'
-    assert ok('interface', 'proto', 'geometry_msgs/msg/Vector3', '--no-quotes') == (
+    assert cli_ok('interface', 'proto', 'test_msgs/action/Fibonacci') == '"order: 0\n"\n'
+    assert cli_ok('interface', 'proto', 'geometry_msgs/msg/Vector3', '--no-quotes') == (
         'x: 0.0\ny: 0.0\nz: 0.0\n\n')
     missing = run_cli('interface', 'package', 'nope')
     assert missing.returncode == 1 and "Unknown package 'nope'" in missing.stderr

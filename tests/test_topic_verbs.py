@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Iterator
 
 import pytest
-from conftest import BIN, Proc, run_cli
+from conftest import BIN, Proc, cli_ok_all, run_cli
 
 import robot_lab
 from robot_lab.errors import GraphError
@@ -33,23 +32,11 @@ def pose(ros_domain: int) -> Iterator[Proc]:
         proc.stop()
 
 
-def ok(*args: str) -> str:
-    result = run_cli(*args)
-    assert result.returncode == 0, f'{args}: {result.stdout}{result.stderr}'
-    return result.stdout
-
-
-def ok_all(*commands: Sequence[str]) -> list[str]:
-    """Several cold commands at once (each mostly waits out discovery), outputs in order."""
-    with ThreadPoolExecutor(len(commands)) as pool:
-        return list(pool.map(lambda args: ok(*args), commands))
-
-
 def test_bw_delay_find_info(pose: Proc) -> None:
     from geometry_msgs.msg import PoseStamped
     from rclpy.serialization import serialize_message
 
-    bw, delay, found, count, info = ok_all(
+    bw, delay, found, count, info = cli_ok_all(
         ('topic', 'bw', '/pose', '--duration', '2.5'),
         ('topic', 'delay', '/pose', '--duration', '2.5'),
         ('topic', 'find', 'geometry_msgs/msg/PoseStamped'),
