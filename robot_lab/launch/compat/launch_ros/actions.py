@@ -63,6 +63,19 @@ def _parameters(parameters: Iterable[Any]) -> list[Any]:
     return result
 
 
+def _node_fields(parameters: Iterable[Any] | None, remappings: Iterable[tuple[Any, Any]] | None,
+                 ros_arguments: Iterable[Any] | None, arguments: Iterable[Any] | None,
+                 kwargs: dict[str, Any]) -> dict[str, Any]:
+    """What Node and LifecycleNode take alike, as their steps want it (lists, our options)."""
+    return {
+        'parameters': _parameters(parameters) if parameters is not None else None,
+        'remappings': list(remappings) if remappings is not None else None,
+        'ros_arguments': list(ros_arguments) if ros_arguments is not None else None,
+        'arguments': list(arguments) if arguments is not None else None,
+        'options': process_options(**kwargs),
+    }
+
+
 class Node(NodeStep):
     def __init__(self, *, executable: Any, package: Any = None, name: Any = None,
                  namespace: Any = None, exec_name: Any = None,
@@ -74,11 +87,7 @@ class Node(NodeStep):
         kwargs.pop('name', None)
         super().__init__(
             executable, package=package, name=name, namespace=namespace, exec_name=exec_name,
-            parameters=_parameters(parameters) if parameters is not None else None,
-            remappings=list(remappings) if remappings is not None else None,
-            ros_arguments=list(ros_arguments) if ros_arguments is not None else None,
-            arguments=list(arguments) if arguments is not None else None,
-            options=process_options(**kwargs),
+            **_node_fields(parameters, remappings, ros_arguments, arguments, kwargs),
         )
         _place(self, condition)
 
@@ -94,11 +103,7 @@ class LifecycleNode(LifecycleNodeStep):
         super().__init__(
             executable, autostart=autostart, package=package, name=name, namespace=namespace,
             exec_name=exec_name,
-            parameters=_parameters(parameters) if parameters is not None else None,
-            remappings=list(remappings) if remappings is not None else None,
-            ros_arguments=list(ros_arguments) if ros_arguments is not None else None,
-            arguments=list(arguments) if arguments is not None else None,
-            options=process_options(**kwargs),
+            **_node_fields(parameters, remappings, ros_arguments, arguments, kwargs),
         )
         _place(self, condition)
 
