@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
 from typing import Any
 
 from robot_lab.cli import run_sub_verb
@@ -373,32 +374,40 @@ def _echo(args: argparse.Namespace) -> int:
     return 0
 
 
-def _wait_for_topic(sess: Any, topic: str, end: float | None) -> bool:
-    """ros2topic's blocking type lookup: warn once, then wait for a publisher (bounded by
-    --duration); False when it never came."""
-    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, wait_until
+def _meter_when_published(
+        name: str, duration: float | None, open_meter: Callable[[str, Any], Any],
+) -> tuple[Any, str, float | None] | None:
+    """How hz, bw and delay start in ros2cli: the blocking type lookup (warn once, then
+    wait for a publisher, bounded by --duration), then `open_meter(topic, session)`.
+
+    Returns (meter, full topic name, when to stop), or None when the topic never came.
+    """
+    from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
+
+    topic = absolute_name(name)
+    sess = get_session(None)
+    end = None if duration is None else time.monotonic() + duration
 
     def has_type() -> bool | None:
         return True if any(n == topic for n, _ in sess.node.get_topic_names_and_types()) else None
 
-    if wait_until(has_type, LOOKUP_TIMEOUT) is not None:
-        return True
-    print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
-    remaining = None if end is None else max(0.0, end - time.monotonic())
-    return wait_until(has_type, 1e9 if remaining is None else remaining) is not None
+    if wait_until(has_type, LOOKUP_TIMEOUT) is None:
+        print(f'WARNING: topic [{topic}] does not appear to be published yet', flush=True)
+        remaining = None if end is None else max(0.0, end - time.monotonic())
+        if wait_until(has_type, 1e9 if remaining is None else remaining) is None:
+            return None
+    return open_meter(topic, sess), topic, end
 
 
 def _hz(args: argparse.Namespace) -> int:
-    from robot_lab.graph.discovery import absolute_name, get_session
     from robot_lab.graph.topics import rate_subscription
 
-    topic = absolute_name(args.topic_name)
-    sess = get_session(None)
-    start = time.monotonic()
-    end = None if args.duration is None else start + args.duration
-    if not _wait_for_topic(sess, topic, end):
+    started = _meter_when_published(
+        args.topic_name, args.duration,
+        lambda topic, sess: rate_subscription(topic, args.window_size, session=sess))
+    if started is None:
         return 0
-    meter = rate_subscription(topic, args.window_size, session=sess)
+    meter, _topic, end = started
     try:
         # ros2cli prints about once a second of message time, starting a second after the
         # first interval was measured.
@@ -435,15 +444,14 @@ def _every_second(meter: Any, end: float | None, report: Any) -> None:
 
 
 def _bw(args: argparse.Namespace) -> int:
-    from robot_lab.graph.discovery import absolute_name, get_session
     from robot_lab.graph.topic_stats import TopicMeter
 
-    topic = absolute_name(args.topic)
-    sess = get_session(None)
-    end = None if args.duration is None else time.monotonic() + args.duration
-    if not _wait_for_topic(sess, topic, end):
+    started = _meter_when_published(
+        args.topic, args.duration,
+        lambda topic, sess: TopicMeter.bandwidth(topic, args.window, session=sess))
+    if started is None:
         return 0
-    meter = TopicMeter.bandwidth(topic, args.window, session=sess)
+    meter, topic, end = started
     print(f'Subscribed to [{topic}]', flush=True)
 
     def report() -> None:
@@ -456,15 +464,14 @@ def _bw(args: argparse.Namespace) -> int:
 
 
 def _delay(args: argparse.Namespace) -> int:
-    from robot_lab.graph.discovery import absolute_name, get_session
     from robot_lab.graph.topic_stats import TopicMeter
 
-    topic = absolute_name(args.topic)
-    sess = get_session(None)
-    end = None if args.duration is None else time.monotonic() + args.duration
-    if not _wait_for_topic(sess, topic, end):
+    started = _meter_when_published(
+        args.topic, args.duration,
+        lambda topic, sess: TopicMeter.delay(topic, args.window, session=sess))
+    if started is None:
         return 0
-    meter = TopicMeter.delay(topic, args.window, session=sess)
+    meter, _topic, end = started
     printed = [0]
 
     def report() -> None:
