@@ -1,15 +1,20 @@
 """How long grading takes: per solution notebook (target ≤ 30 s each), the fixed cost of a
-kernel, generating the exercises, and a batch of unanswered exercises graded with -j.
+kernel, generating the exercises, and a batch of unanswered exercises graded with -j;
+and for package submissions (issue 12): the median seconds per package at --jobs 1
+(aim ≤ 10 s), the minutes for a class of 30 at --jobs 2 (aim ≤ 3 min on 2 cores), and
+the grader's peak memory (its own process, and its whole tree of jobs).
 
 Median over RUNS runs, with the load average (other work on the machine slows kernels).
 
-    .venv/bin/python bench/bench_grading.py [--runs 3] [--domain 96]
+    .venv/bin/python bench/bench_grading.py [--runs 3] [--domain 96] [--only packages]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -18,6 +23,7 @@ import time
 from pathlib import Path
 
 import nbformat
+import psutil
 
 from robot_lab.grading.exercises import build_exercises, kit_root
 from robot_lab.grading.grade import GradeResult, grade
@@ -34,15 +40,75 @@ def timed(fn: object, runs: int) -> tuple[float, list[float]]:
     return statistics.median(times), times
 
 
+def _tree_rss(proc: psutil.Process) -> tuple[int, int]:
+    """(RSS of `proc`, RSS of `proc` and all its descendants) in bytes, now."""
+    own = total = 0
+    with contextlib.suppress(psutil.Error):
+        own = total = proc.memory_info().rss
+        for child in proc.children(recursive=True):
+            with contextlib.suppress(psutil.Error):
+                total += child.memory_info().rss
+    return own, total
+
+
+def bench_packages(args: argparse.Namespace) -> None:
+    from robot_lab.grading.package_grade import grade_package, resolve_rubric
+    from robot_lab.grading.submission import Submission
+
+    rubric = resolve_rubric('ch6-lab1', None)
+    reference = kit_root() / 'tests' / 'data' / 'class_ch6' / 'reference'
+    reports = []
+
+    def one() -> None:
+        reports.append(grade_package(Submission('reference', reference), rubric))
+
+    median, times = timed(one, args.runs)
+    scores = sorted({f'{r.score:g}/{r.max_score:g}' for r in reports})
+    runs = ', '.join(f'{t:.1f}' for t in times)
+    print(f'package submission, --jobs 1: median {median:.2f} s per submission '
+          f'(runs {runs}; scores {", ".join(scores)})')
+    with tempfile.TemporaryDirectory() as tmp:
+        class_dir = Path(tmp) / 'class'
+        for i in range(args.class_size):
+            shutil.copytree(reference, class_dir / f'student{i:02d}')
+        cmd = [str(BIN / 'robot-lab'), 'grade', str(class_dir), '--lab', 'ch6-lab1',
+               '-o', str(Path(tmp) / 'out'), '--jobs', '2']
+        start = time.monotonic()
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                text=True)
+        grader = psutil.Process(proc.pid)
+        peak_own = peak_tree = 0
+        while proc.poll() is None:
+            own, tree = _tree_rss(grader)
+            peak_own, peak_tree = max(peak_own, own), max(peak_tree, tree)
+            time.sleep(0.2)
+        wall = time.monotonic() - start
+        out = proc.stdout.read() if proc.stdout else ''
+        full = sum(1 for line in out.splitlines() if line.endswith(': 13/13'))
+        print(f'class of {args.class_size} packages, --jobs 2: {wall / 60:.2f} min '
+              f'({wall / args.class_size:.1f} s per submission; {full} at full marks; '
+              f'exit {proc.returncode})')
+        print(f'grader peak memory: {peak_own / 2**20:.0f} MB (its own process), '
+              f'{peak_tree / 2**20:.0f} MB with its jobs and their nodes')
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument('--runs', type=int, default=3)
     parser.add_argument('--domain', type=int, default=96, help='first ROS domain used')
     parser.add_argument('--jobs', type=int, default=4, help='-j for the exercise batch')
+    parser.add_argument('--only', choices=('all', 'notebooks', 'packages'), default='all')
+    parser.add_argument('--class-size', type=int, default=30,
+                        help='package submissions in the class run (default: 30)')
     args = parser.parse_args()
     os.environ['ROS_DOMAIN_ID'] = str(args.domain)
     root = kit_root()
     print(f'load average at start: {os.getloadavg()[0]:.2f}')
+    if args.only in ('all', 'packages'):
+        bench_packages(args)
+        if args.only == 'packages':
+            print(f'load average at end: {os.getloadavg()[0]:.2f}')
+            return
 
     with tempfile.TemporaryDirectory() as tmp:
         empty = Path(tmp) / 'empty.ipynb'
