@@ -30,7 +30,8 @@ import browser_lab
 import pytest
 from browser_lab import REPO, VENV_BIN, Lab, Notebook, wait_until
 
-pytestmark = pytest.mark.browser
+# A test runs the notebooks before its own first (course order): more than one's timeout.
+pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
 CHROMIUM = browser_lab.chromium()
 try:
