@@ -150,7 +150,7 @@ def test_run_errors_name_what_exists() -> None:
     res = run_cli('run', 'robot_lab', 'no_such_node')
     assert res.returncode == 1
     assert "executable 'no_such_node' not found" in res.stderr
-    assert 'controller_node, robot_node, sensor_node' in res.stderr
+    assert 'controller_node, fibonacci_node, robot_node, sensor_node, switch_node' in res.stderr
 
 
 def test_version_says_what_ros2_is() -> None:

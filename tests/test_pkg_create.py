@@ -267,7 +267,8 @@ def test_pkg_list_prefix_executables_over_the_index() -> None:
     exes = run_cli('pkg', 'executables', 'robot_lab')
     assert exes.returncode == 0
     assert exes.stdout.splitlines() == [
-        'robot_lab controller_node', 'robot_lab robot_node', 'robot_lab sensor_node',
+        'robot_lab controller_node', 'robot_lab fibonacci_node', 'robot_lab robot_node',
+        'robot_lab sensor_node', 'robot_lab switch_node',
     ]
     full = run_cli('pkg', 'executables', 'robot_lab', '--full-path')
     paths = [Path(p) for p in full.stdout.splitlines()]

@@ -104,6 +104,11 @@ def test_pub_once_transient_local_reaches_a_late_subscriber(pose: Proc) -> None:
         proc.stop()
     assert 'Waiting for' not in proc.output
     assert late[0].data == 'kept'
+    # Echoing a reliable transient-local topic must not change rclpy's shared sensor-data
+    # preset: every plot and meter of the process subscribes with it (they went deaf).
+    from rclpy.qos import DurabilityPolicy, ReliabilityPolicy, qos_profile_sensor_data
+    assert qos_profile_sensor_data.durability == DurabilityPolicy.VOLATILE
+    assert qos_profile_sensor_data.reliability == ReliabilityPolicy.BEST_EFFORT
 
 
 def test_pub_errors_are_one_line(pose: Proc) -> None:

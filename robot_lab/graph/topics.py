@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 import queue
 import threading
@@ -199,7 +200,9 @@ def _echo_qos(sess: Session, topic: str) -> Any:
     every publisher offers it, so the subscription matches all of them."""
     from rclpy.qos import QoSDurabilityPolicy, QoSPresetProfiles, QoSReliabilityPolicy
 
-    qos = QoSPresetProfiles.SENSOR_DATA.value
+    # A copy: the preset is rclpy's module-wide qos_profile_sensor_data, which every plot
+    # and meter of this process subscribes with.
+    qos = copy.copy(QoSPresetProfiles.SENSOR_DATA.value)
     pubs = sess.node.get_publishers_info_by_topic(topic)
     if pubs and all(p.qos_profile.reliability == QoSReliabilityPolicy.RELIABLE for p in pubs):
         qos.reliability = QoSReliabilityPolicy.RELIABLE
@@ -417,7 +420,7 @@ def qos_profile(profile: str = 'default', *, reliability: str | None = None,
                 fix=f'one of: {", ".join(kind.short_keys())}',
             ) from None
 
-    qos = lookup(QoSPresetProfiles, profile, 'profile')
+    qos = copy.copy(lookup(QoSPresetProfiles, profile, 'profile'))  # never the shared preset
     if history:
         qos.history = lookup(QoSHistoryPolicy, history, 'history')
     if durability:
