@@ -222,6 +222,7 @@ function render({ model, el }) {
     const note = model.get('note') || (frozen !== null && cfg.live ? 'paused' : '');
     const text = `${counts} samples${note ? '  \u2014  ' + note : ''}`;
     if (status.textContent !== text) status.textContent = text;
+    root.dataset.ylims = JSON.stringify(cfg.panels.map((_, p) => ylims[p]));
     return true;
   };
   const stop = animate(root, cfg.fps, draw);
