@@ -143,7 +143,9 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         old_enough = now - session.created >= window
         deadline = start + timeout
         if expectation is True:
-            old_enough, settle = True, min(settle, ready_settle)
+            # Every announced node is seen; a fresh session still waits out its window,
+            # since a node nobody announced (a kernel's, a `ros2 run`) may not be heard yet.
+            settle = min(settle, ready_settle)
         elif expectation is False:
             # Nodes are on their way: a quiet graph is not a complete one yet.
             old_enough, deadline = False, start + max(timeout, EXPECTED_TIMEOUT)
