@@ -311,7 +311,7 @@ def shots(request: pytest.FixtureRequest) -> Iterator[Path]:
         reporter.write_line(f'browser screenshots: {folder}')
 
 
-@pytest.fixture(scope='session')
+@pytest.fixture(scope='module')  # Playwright's sync loop must not outlive these tests
 def course(shots: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Course]:
     scratch = tmp_path_factory.mktemp('browser')
     root = scratch / 'course'
