@@ -284,27 +284,39 @@ class StaleNames:
     name listed more times than it has /parameter_events or /rosout publishers, for longer
     than STALE_AFTER, is listed only as often as it has them. A fresh session (no daemon)
     cannot hold such entries and is not filtered.
+
+    Each name keeps the ages of its entries without endpoints, oldest first: an entry that
+    gains endpoints is the newest one (a node just discovered), an entry that leaves the
+    list is the oldest (a ghost that went). So the next launch of the same nodes beside
+    old ghosts is listed at once, each name once, before its endpoints arrive.
     """
 
     def __init__(self, stale_after: float = STALE_AFTER) -> None:
         self.stale_after = stale_after
-        self._short_since: dict[str, float] = {}
+        self._waiting: dict[str, list[float]] = {}  # name -> since when, per extra entry
+        self._live: dict[str, int] = {}
         self._lock = threading.Lock()
 
     def audit(self, listed: list[str], live: Mapping[str, int],
               now: float | None = None) -> None:
-        """Note which names are listed more often than they have endpoints."""
+        """Note which names are listed more often than they have endpoints, since when."""
         now = time.monotonic() if now is None else now
         counts: dict[str, int] = {}
         for name in listed:
             counts[name] = counts.get(name, 0) + 1
         with self._lock:
-            for name in list(self._short_since):
-                if counts.get(name, 0) <= live.get(name, 0):
-                    del self._short_since[name]
-            for name, count in counts.items():
-                if count > live.get(name, 0):
-                    self._short_since.setdefault(name, now)
+            for name in set(counts) | set(self._waiting):
+                extra = max(0, counts.get(name, 0) - live.get(name, 0))
+                waiting = self._waiting.get(name, [])
+                gained = live.get(name, 0) > self._live.get(name, 0)
+                while len(waiting) > extra:  # endpoints came (newest) or an entry went
+                    waiting.pop(-1 if gained else 0)
+                waiting.extend([now] * (extra - len(waiting)))
+                if waiting:
+                    self._waiting[name] = waiting
+                else:
+                    self._waiting.pop(name, None)
+            self._live = {name: live.get(name, 0) for name in counts}
 
     def filter(self, listed: list[str], live: Mapping[str, int],
                now: float | None = None) -> list[str]:
@@ -312,16 +324,14 @@ class StaleNames:
         now = time.monotonic() if now is None else now
         self.audit(listed, live, now)
         with self._lock:
-            stale = {name for name, since in self._short_since.items()
-                     if now - since >= self.stale_after}
+            hidden = {name: sum(now - since >= self.stale_after for since in waiting)
+                      for name, waiting in self._waiting.items()}
+        shown = {name: listed.count(name) - hidden.get(name, 0) for name in set(listed)}
         kept: list[str] = []
         for name in listed:
-            if name in stale and kept.count(name) >= live.get(name, 0):
-                continue
-            kept.append(name)
+            if kept.count(name) < shown[name]:
+                kept.append(name)
         return kept
-
-
 
 
 class _Server:
@@ -339,7 +349,7 @@ class _Server:
         self.graph = graph_dir()
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
-        from robot_lab.graph import nodes, services, topics
+        from robot_lab.graph import services, topics
 
         def hidden(request: dict[str, Any]) -> bool:
             return bool(request.get('include_hidden', False))
@@ -347,8 +357,7 @@ class _Server:
         return {
             'ping': lambda r: {'pid': os.getpid(),
                                'age': time.monotonic() - self.session.created},
-            'node_list': lambda r: self.current_nodes(
-                nodes.node_list(hidden(r), session=self.session)),
+            'node_list': lambda r: self.node_list(hidden(r)),
             'topic_list': lambda r: topics.topic_list(hidden(r), session=self.session),
             'service_list': lambda r: services.service_list_typed(hidden(r),
                                                                   session=self.session),
@@ -372,6 +381,31 @@ class _Server:
             dead = sum(1 for pid in pids if (name, pid) in ended)
             live[name], gone[name] = len(pids) - dead, dead
         return live, gone
+
+    def node_list(self, include_hidden: bool) -> list[str]:
+        """`node list` from the warm graph, settled on what `current_nodes` keeps.
+
+        The launches' announced nodes must be seen among the nodes kept, not merely among
+        the names rmw lists: right after a kernel was killed with -9, its nodes' stale
+        names would otherwise pass for the next launch's nodes not yet discovered, and the
+        list would come back with the first node only.
+        """
+        from robot_lab.graph.discovery import full_node_names, settled
+        from robot_lab.graph.expected import expected_nodes
+
+        def probe() -> list[str]:
+            return self.current_nodes(full_node_names(self.session, include_hidden))
+
+        def ready() -> bool | None:
+            expected = expected_nodes(self.graph)
+            if expected is None:
+                return False  # a launch is starting: its nodes are coming
+            if not expected:
+                return None
+            return expected <= set(self.current_nodes(
+                full_node_names(self.session, include_hidden=True)))
+
+        return settled(self.session, probe, ready=ready, ready_settle=0.0)
 
     def current_nodes(self, listed: list[str]) -> list[str]:
         live, gone = self._live()
