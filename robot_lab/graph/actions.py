@@ -231,7 +231,15 @@ def send_goal(name: str, type_name: str, goal: str | Mapping[str, Any] | Any = N
     cls = action_class(type_name)
     message = goal if isinstance(goal, cls.Goal) else message_from_yaml(cls.Goal, goal)
     client = action_client(action, type_name, session=sess)
-    if wait_until(lambda: True if client.server_is_ready() else None, server_timeout) is None:
+    # The feedback and status topics too: a goal sent before the client heard the server's
+    # feedback publisher loses the first feedback (ros2cli's `--feedback` can print none).
+    topics = [f'{action}/_action/feedback', f'{action}/_action/status']
+
+    def _ready() -> bool | None:
+        return True if client.server_is_ready() and all(
+            sess.node.count_publishers(t) > 0 for t in topics) else None
+
+    if wait_until(_ready, server_timeout) is None:
         raise GraphError(
             f"action server '{action}' not available within {server_timeout:g} s",
             fix='is it running? `robot-lab action list -t` shows the actions',
