@@ -22,6 +22,14 @@ __all__ = [
 ]
 
 
+def _shown(pattern: str) -> str:
+    """A pattern as a student reads it: quoted, a literal without its escapes (`[robot]`),
+    a regex as written (never repr's doubled backslashes)."""
+    if not re.search(r'(?<!\\)[.^$*+?{}\[\]|()]|\\\w', pattern):
+        return "'" + re.sub(r'\\(.)', r'\1', pattern) + "'"
+    return f"'{pattern}'"
+
+
 def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
     """A log line matching `pattern` (regex) shows up in a launch's output or a console."""
     regex = re.compile(pattern)
@@ -37,10 +45,10 @@ def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
                   timeout)
     if not found:
         tail = '\n'.join(_lines()[-8:])
-        raise CheckError(f'a log line matching {pattern!r}',
+        raise CheckError(f'a log line matching {_shown(pattern)}',
                           f'within {timeout:g} s the last lines were:\n{tail}\n',
                           'read the output above for errors (a process that died says why)')
-    passed(f'the log shows {regex.pattern!r}')
+    passed(f'the log shows {_shown(pattern)}')
 
 
 def no_errors(launch: Any) -> None:
@@ -64,7 +72,7 @@ def command_prints(command: str, pattern: str, seconds: float = 5.0,
     import subprocess
 
     if not command.strip():
-        raise CheckError(f'a command that prints {pattern!r}', 'the command is empty',
+        raise CheckError(f'a command that prints {_shown(pattern)}', 'the command is empty',
                          'write the command line in your answer cell')
     proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True, start_new_session=True)
@@ -80,9 +88,9 @@ def command_prints(command: str, pattern: str, seconds: float = 5.0,
     lines = out.splitlines()
     if not any(re.search(pattern, line) for line in lines):
         tail = '\n'.join(lines[-4:]) or '(no output)'
-        raise CheckError(f'`{command}` to print {pattern!r}', f'it printed:\n{tail}\n',
+        raise CheckError(f'`{command}` to print {_shown(pattern)}', f'it printed:\n{tail}\n',
                          'read the last line: it names what is missing and how to fix it')
-    passed(f'`{command}` prints {pattern!r}')
+    passed(f'`{command}` prints {_shown(pattern)}')
 
 
 def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description: str,
