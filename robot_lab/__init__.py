@@ -53,6 +53,7 @@ _API: dict[str, str] = {
     'param_list': 'robot_lab.graph.api',
     'param_get': 'robot_lab.graph.api',
     'param_set': 'robot_lab.graph.api',
+    'param_delete': 'robot_lab.graph.api',
     'param_describe': 'robot_lab.graph.api',
     'param_dump': 'robot_lab.graph.api',
     'param_load': 'robot_lab.graph.api',

@@ -139,6 +139,30 @@ def test_out_of_range_is_refused_with_the_range(system: dict[str, Proc]) -> None
     assert cli_ok('param', 'get', '/sensor', 'sensor_rate') == 'Integer value is: 10\n'
 
 
+DYNAMIC_NODE = """
+import rclpy
+from rcl_interfaces.msg import ParameterDescriptor
+rclpy.init()
+node = rclpy.create_node('scratch')
+node.declare_parameter('gain', 2.5, ParameterDescriptor(dynamic_typing=True))
+print('up', flush=True)
+rclpy.spin(node)
+"""
+
+
+def test_param_delete_as_ros2param(system: dict[str, Proc], start) -> None:  # type: ignore[no-untyped-def]
+    """`param delete` sets PARAMETER_NOT_SET; the node decides, as with ros2param."""
+    result = run_cli('param', 'delete', '/sensor', 'noise_level')  # statically typed
+    assert result.returncode == 0 and result.stdout == ''
+    assert result.stderr.startswith('Deleting parameter failed: '), result.stderr
+    assert cli_ok('param', 'get', '/sensor', 'noise_level') == 'Double value is: 0.1\n'
+    scratch = start(str(BIN / 'python'), '-c', DYNAMIC_NODE)
+    scratch.wait_for('^up$')
+    assert cli_ok('param', 'get', '/scratch', 'gain') == 'Double value is: 2.5\n'
+    assert cli_ok('param', 'delete', '/scratch', 'gain') == 'Deleted parameter successfully\n'
+    assert 'gain' not in cli_ok('param', 'list', '/scratch').split()
+
+
 def test_param_describe_layout(system: dict[str, Proc]) -> None:
     assert cli_ok('param', 'describe', '/sensor', 'sensor_rate') == (
         'Parameter name: sensor_rate\n'

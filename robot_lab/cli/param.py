@@ -1,4 +1,4 @@
-"""`robot-lab param list|get|set|describe|dump|load`: prints what `ros2 param …` prints."""
+"""`robot-lab param list|get|set|delete|describe|dump|load`: prints what `ros2 param …` prints."""
 
 from __future__ import annotations
 
@@ -40,6 +40,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     setter.add_argument('parameter_name', help='Name of the parameter')
     setter.add_argument('value', help='Value of the parameter')
 
+    delete = sub.add_parser('delete', help='Delete parameter')
+    delete.add_argument('node_name', help='Name of the ROS node')
+    delete.add_argument('parameter_name', help='Name of the parameter')
+
     describe = sub.add_parser('describe', help='Show descriptive information about declared '
                               'parameters')
     describe.add_argument('node_name', help='Name of the ROS node')
@@ -58,8 +62,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     return run_sub_verb(args, args.param_verb, {
-        'list': _list, 'get': _get, 'set': _set, 'describe': _describe, 'dump': _dump,
-        'load': _load,
+        'list': _list, 'get': _get, 'set': _set, 'delete': _delete, 'describe': _describe,
+        'dump': _dump, 'load': _load,
     })
 
 
@@ -99,6 +103,18 @@ def _set(args: argparse.Namespace) -> int:
         # ros2cli prints the node's reason on stderr and still exits 0
         print('Setting parameter failed' + (f': {result.reason}' if result.reason else ''),
               file=sys.stderr)
+    return 0
+
+
+def _delete(args: argparse.Namespace) -> int:
+    from robot_lab.graph.parameters import param_delete
+
+    result = param_delete(args.node_name, args.parameter_name)
+    reason = f': {result.reason}' if result.reason else ''
+    if result.successful:
+        print('Deleted parameter successfully' + reason)
+    else:  # ros2param: the node's reason on stderr, exit code 0
+        print('Deleting parameter failed' + reason, file=sys.stderr)
     return 0
 
 

@@ -26,6 +26,7 @@ from robot_lab.graph.nodes import NodeInfo, node_info, node_list, wait_for_nodes
 from robot_lab.graph.parameters import (
     ParamDescription,
     SetResult,
+    param_delete,
     param_describe,
     param_dump,
     param_get,
@@ -80,6 +81,7 @@ __all__ = [
     'interface_show',
     'node_info',
     'node_list',
+    'param_delete',
     'param_describe',
     'param_dump',
     'param_get',

@@ -26,6 +26,7 @@ __all__ = [
     'ParamDescription',
     'SetResult',
     'call_parameter_service',
+    'param_delete',
     'param_describe',
     'param_dump',
     'param_get',
@@ -214,6 +215,16 @@ def param_set(node: str, name: str, value: Any, session: Session | None = None) 
             'and range',
         )
     return _python_value(_to_msg(name, value).value)
+
+
+def param_delete(node: str, name: str, session: Session | None = None) -> SetResult:
+    """Undeclare a parameter, as `ros2 param delete` does: set it to PARAMETER_NOT_SET.
+
+    The node decides: rclpy refuses for a statically typed parameter (the kit's nodes
+    declare theirs with a type), and the result carries its reason.
+    """
+    (result,) = set_parameters(node, {name: None}, session=session)
+    return result
 
 
 @dataclass
