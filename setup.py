@@ -62,8 +62,9 @@ setup(
         # The whole kit as students use it: real ROS 2 Jazzy from PyPI wheels.
         'kit': KIT,
         # Everything `./kit test` and CI need on top of the kit.
-        'test': [*KIT, 'pytest', 'pytest-timeout', 'nbval', 'ruff', 'mypy', 'types-PyYAML',
-                 'types-psutil', 'playwright', 'jupyterhub', 'jupyter-repo2docker'],
+        'test': [*KIT, 'pytest', 'pytest-timeout', 'pytest-xdist', 'nbval', 'ruff', 'mypy',
+                 'types-PyYAML', 'types-psutil', 'playwright', 'jupyterhub',
+                 'jupyter-repo2docker'],
     },
     zip_safe=True,
     maintainer='robot_lab maintainers',

@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import psutil
 import pytest
@@ -36,14 +37,81 @@ apply_ros_defaults()
 # Graph verbs start no daemon of their own here (one per test domain would outlive the run);
 # tests/test_graph_fresh.py turns it on where it checks it.
 os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
+
+# Where each run's domains go (offsets from the base; `./kit test` uses base 0). Modules run
+# two at a time (`./kit test` runs pytest-xdist workers), so every module has a domain of its
+# own for the whole run, and so has everything else that runs ROS beside them:
+#   1-50, 60, 71-79, 89-92   test modules, in sorted order
+#   51-59   extra domains for one module's concurrent jobs (extra_domain(k))
+#   61-69   nbval's notebooks (lesson n: 60 + n, robot_lab/grading/course.py)
+#   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
+#   80-88   the browser tests' JupyterLab kernels (80 + lesson)
+#   93-101  the Unix users of tests/test_domains.py (their registry's pool)
+_MODULE_SLOTS = [*range(1, 51), 60, *range(71, 80), *range(89, 93)]
 _modules: dict[str, int] = {}
+
+
+def domain_at(offset: int) -> int:
+    """The domain at `offset` of this run's layout (above), wrapped into 1-101."""
+    return (_BASE + offset - 1) % 101 + 1
+
+
+def extra_domain(k: int) -> int:
+    """The k-th (0-8) domain reserved for one module's jobs beside its own (test_grading)."""
+    assert 0 <= k < 9, 'extra domains are 51-59: take a module slot instead'
+    return domain_at(51 + k)
+
+
+# Groups that take longest go to the workers first (the scheduler below hands groups out in
+# collection order), so the run does not end waiting on one of them.
+_SLOW_FIRST = ('notebooks', 'tests/browser/test_browser_course.py',
+               'tests/test_grade_package.py', 'tests/test_grading.py', 'tests/test_cli_inspect.py',
+               'tests/test_graph_api.py', 'tests/test_nbgrader.py', 'tests/test_capstone.py')
+
+
+def _group(nodeid: str) -> str:
+    """The unit of work a worker gets: a test module, or all notebooks (nbval runs them in
+    order, in one workspace: 02 builds on the package 01 created)."""
+    path = nodeid.split('::', 1)[0]
+    return 'notebooks' if path.startswith('notebooks/') else path
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """pytest-xdist (`./kit test -n 2`): whole groups per worker, in collection order.
+
+    A module's fixtures (a running system) and its ROS domain stay on one worker. xdist's
+    own `--dist loadgroup` cannot be used: it renames items through an attribute pytest 9
+    no longer reads.
+    """
+    from xdist.scheduler import LoadScopeScheduling
+
+    class ByGroup(LoadScopeScheduling):  # type: ignore[misc]
+        def _split_scope(self, nodeid: str) -> str:
+            return _group(nodeid)
+
+    config.option.loadscopereorder = False
+    return ByGroup(config, log)
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Slow groups first; module domains by sorted name, which every worker computes alike."""
+    modules = sorted({item.module.__name__ for item in items
+                      if isinstance(item, pytest.Function) and item.module is not None})
+    if len(modules) > len(_MODULE_SLOTS):
+        raise pytest.UsageError(f'tests/conftest.py: {len(modules)} test modules but '
+                                f'{len(_MODULE_SLOTS)} domain slots; add slots to _MODULE_SLOTS')
+    _modules.update({name: domain_at(_MODULE_SLOTS[i]) for i, name in enumerate(modules)})
+    rank = {name: i for i, name in enumerate(_SLOW_FIRST)}
+    items.sort(key=lambda item: rank.get(_group(item.nodeid), len(rank)))
 
 
 @pytest.fixture(autouse=True, scope='module')
 def ros_domain(request: pytest.FixtureRequest) -> Iterator[int]:
     """A ROS_DOMAIN_ID of this module's own, so modules never hear each other."""
     name = request.module.__name__
-    domain = _modules.setdefault(name, (_BASE + len(_modules)) % 100 + 1)
+    slot = _MODULE_SLOTS[len(_modules) % len(_MODULE_SLOTS)]  # a module not collected up front
+    domain = _modules.setdefault(name, domain_at(slot))
     old = os.environ.get('ROS_DOMAIN_ID')
     os.environ['ROS_DOMAIN_ID'] = str(domain)
     yield domain

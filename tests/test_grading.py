@@ -11,7 +11,6 @@ from __future__ import annotations
 import contextlib
 import csv
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -22,7 +21,7 @@ from typing import Any
 import nbformat
 import psutil
 import pytest
-from conftest import BIN, REPO, run_cli
+from conftest import BIN, REPO, extra_domain, run_cli
 
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.answer_key import student_of
@@ -170,8 +169,7 @@ def unanswered() -> Iterator[Any]:
     at a time (`-j 3`, one ROS domain per slot, well away from the test modules' domains)
     while the solutions are graded in the foreground; the last test collects the results.
     """
-    base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
-    first = (base + 6) % 98 + 1  # three domains after the test modules' and the forgeries'
+    first = extra_domain(0)  # and the next two: -j 3 gives slot k the domain first + k
     proc = spawn([str(BIN / 'robot-lab'), 'grade', str(REPO / 'exercises'), '--json',
                   '-j', '3', '--domain-id', str(first), '--timeout', '30'],
                  stderr=subprocess.DEVNULL)
@@ -411,9 +409,8 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
     for name, nb in forged.items():
         (class_dir / name).parent.mkdir(parents=True, exist_ok=True)
         (class_dir / f'{name}.ipynb').write_text(nbformat.writes(nb) + '\n')
-    base = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
     done = run_cli('grade', str(class_dir), '--json', '-j', '2', '--solutions', str(solutions),
-                   '--domain-id', str(base + 4), '--timeout', '20',
+                   '--domain-id', str(extra_domain(3)), '--timeout', '20',
                    '--executed', str(tmp_path / 'executed'), '-o', str(tmp_path / 'out'),
                    timeout=300)
     assert done.returncode == 0, done.stderr

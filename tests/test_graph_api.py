@@ -191,13 +191,19 @@ def test_waits_time_out_with_a_clear_error(system: dict[str, Proc]) -> None:
 def test_kernel_interrupt_keeps_the_session_working(system: dict[str, Proc]) -> None:
     """Cell 1 makes the session, cell 2 is interrupted mid-wait, cell 3 carries on."""
     first = session()
+    # A kernel raises KeyboardInterrupt on SIGINT; a pytest-xdist worker ignores SIGINT,
+    # which would make interrupt_main() a no-op.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, _thread.interrupt_main)
     timer.start()
     start = time.monotonic()
-    with pytest.raises(KeyboardInterrupt):
-        robot_lab.echo('/never', msg_type='std_msgs/msg/String', timeout=30)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            robot_lab.echo('/never', msg_type='std_msgs/msg/String', timeout=30)
+    finally:
+        timer.join()
+        signal.signal(signal.SIGINT, previous)
     assert time.monotonic() - start < 5
-    timer.join()
     again = session()
     assert again is first and again.ok
     assert robot_lab.node_list() == ['/controller', '/robot', '/sensor']

@@ -165,9 +165,8 @@ def _get(url: str) -> object:
 def test_kit_lab_serves_the_course_copy_with_ros_terminals(tmp_path: Path) -> None:
     """`./kit lab`: JupyterLab rooted at the student's copy, its terminal a ROS terminal."""
     env, course, workspace = _kit_home(tmp_path)
-    # A domain of this test run's own (the kit's warm graph daemon joins it too).
-    env['ROS_DOMAIN_ID'] = str((int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '0')) + 9)
-                               % 100 + 1)
+    # This module's domain (the kit's warm graph daemon joins it too).
+    env['ROS_DOMAIN_ID'] = os.environ['ROS_DOMAIN_ID']
     env.update(JUPYTER_CONFIG_DIR=str(tmp_path / 'jupyter_config'),
                JUPYTER_DATA_DIR=str(tmp_path / 'jupyter_data'),
                JUPYTER_RUNTIME_DIR=str(tmp_path / 'jupyter_runtime'))

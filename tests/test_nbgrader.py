@@ -15,11 +15,10 @@ from pathlib import Path
 
 import psutil
 import pytest
-from conftest import BIN, REPO
+from conftest import BIN, REPO, domain_at
 
 from robot_lab.grading.release import release_course
 
-BASE = int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '30'))
 EXERCISE = 'ex06_ros_bags'  # the quickest exercise to run
 PASSED = 'Success! Your notebook passes all the tests.'
 FAILED = 'VALIDATION FAILED ON'
@@ -30,8 +29,8 @@ def _nbgrader(*args: str, cwd: Path, workspace: Path, marker: str,
     env = dict(os.environ)
     env.update({
         'PATH': f'{BIN}{os.pathsep}{env.get("PATH", "")}',  # nbgrader runs `alembic`
-        # Lesson set-up picks domain base + lesson number (exercises: + 0): 21..29 for base 20.
-        'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE': str(BASE + 1),
+        # Lesson set-up picks domain base + lesson number; exercises (exNN) add 0.
+        'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE': str(domain_at(70)),
         'ROBOT_LAB_WORKSPACE': str(workspace),
         'ROBOT_LAB_NBGRADER_RUN': marker,
         'JUPYTER_DATA_DIR': str(cwd / '.jupyter-data'),
