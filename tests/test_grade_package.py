@@ -308,3 +308,37 @@ def test_nothing_outlives_a_grader_killed_with_sigkill(tmp_path: Path) -> None:
     finally:
         if proc.poll() is None:
             proc.kill()
+
+
+FORK_BOMB = """
+import os, sys, time
+from robot_lab.grading.rubric import Limits
+from robot_lab.grading.sandbox import enter
+enter(Limits(processes=48), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')))
+forked = 0
+try:
+    for _ in range(400):
+        if os.fork() == 0:
+            time.sleep(60)
+            os._exit(0)
+        forked += 1
+except OSError as exc:
+    print('refused after', forked, exc.errno, flush=True)
+else:
+    print('forked all', forked, flush=True)
+"""
+
+
+def test_a_fork_bomb_stops_at_the_process_limit(tmp_path: Path) -> None:
+    """The rubric's `processes` binds a job whoever runs the grader: the rlimit for a user,
+    a pids cgroup for root (whom RLIMIT_NPROC does not bind)."""
+    from robot_lab.grading.rubric import Limits
+    from robot_lab.grading.sandbox import run_job
+
+    run = run_job(tmp_path, 11, Limits(processes=48, wall_seconds=60), 'tok-fork-bomb',
+                  argv=['-c', FORK_BOMB])
+    found = re.search(r'refused after (\d+) 11', run.output)
+    assert found, run.output  # EAGAIN before 400 forks
+    assert int(found.group(1)) <= 48
+    assert not _job_processes('tok-fork-bomb')
+    assert not Path('/sys/fs/cgroup/pids/robot_lab-tok-fork-bomb').exists()

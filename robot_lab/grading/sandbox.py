@@ -10,8 +10,10 @@ process the submission started, forked daemons included. Without namespaces the 
 its own process group, which the grader kills, and every process carries a token in its
 environment that a final sweep looks for.
 
-Inside, `enter()` applies the resource limits (CPU seconds, address space, file size, and
-process count where the kernel enforces it: not for root) that every child inherits.
+Inside, `enter()` applies the resource limits (CPU seconds, address space, file size,
+process count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
+a grader running as root puts each job in a cgroup of its own whose `pids.max` bounds its
+processes and threads instead (the v1 pids hierarchy, or v2 with pids enabled).
 """
 
 from __future__ import annotations
@@ -35,9 +37,12 @@ from pathlib import Path
 from robot_lab.grading.rubric import Limits
 from robot_lab.process import spawn
 
-__all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'run_job', 'sweep']
+__all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job',
+           'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
+CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
+_CGROUP_ROOTS = (Path('/sys/fs/cgroup/pids'), Path('/sys/fs/cgroup'))
 _UNSHARE = ['--user', '--map-root-user', '--net', '--pid', '--fork', '--kill-child']
 
 
@@ -102,8 +107,62 @@ def _init_process() -> None:
             os._exit(os.waitstatus_to_exitcode(status) & 0xFF)
 
 
+def pids_cgroup(name: str, processes: int) -> Path | None:
+    """A new cgroup capped at `processes` tasks, when this process is root and may make
+    one (where RLIMIT_NPROC binds, None: the rlimit does the job)."""
+    if os.geteuid() != 0:
+        return None
+    for base in _CGROUP_ROOTS:
+        if not (base / 'cgroup.procs').is_file():
+            continue
+        if base == Path('/sys/fs/cgroup'):  # v2: the pids controller must be on for children
+            with contextlib.suppress(OSError):
+                if 'pids' not in (base / 'cgroup.subtree_control').read_text().split():
+                    continue
+        _remove_stale_cgroups(base)
+        group = base / f'robot_lab-{name}'
+        try:
+            group.mkdir()
+        except OSError:
+            continue
+        try:
+            (group / 'pids.max').write_text(str(processes))
+            return group
+        except OSError:
+            _remove_cgroup(group)
+    return None
+
+
+def _remove_stale_cgroups(base: Path) -> None:
+    """Remove the empty job cgroups of graders that were killed (-9) before cleaning up;
+    a group made in the last minute may belong to a job about to enter it."""
+    for group in base.glob('robot_lab-*'):
+        with contextlib.suppress(OSError):
+            if time.time() - group.stat().st_mtime > 60:
+                group.rmdir()  # fails while tasks are in it
+
+
+def _remove_cgroup(group: Path) -> None:
+    """rmdir the job's cgroup once its last task has gone (a killed task takes a moment)."""
+    deadline = time.monotonic() + 5.0
+    while True:
+        try:
+            group.rmdir()
+            return
+        except FileNotFoundError:
+            return
+        except OSError:
+            if time.monotonic() > deadline:
+                return
+            time.sleep(0.05)
+
+
 def enter(limits: Limits, in_namespace: bool) -> None:
-    """Run first thing in the job: loopback up, own process group, resource limits."""
+    """Run first thing in the job: its cgroup, loopback up, own process group, limits."""
+    group = os.environ.get(CGROUP_VAR)
+    if group:
+        with contextlib.suppress(OSError):  # '0': this process, whatever its PID namespace
+            Path(group, 'cgroup.procs').write_text('0')
     if in_namespace:
         _loopback_up()
         if os.getpid() == 1:
@@ -179,6 +238,9 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         'PYTHONUNBUFFERED': '1', 'ROBOT_LAB_NO_DAEMON': '1',
     })
     env.pop('ROS_STATIC_PEERS', None)
+    group = pids_cgroup(token, limits.processes)
+    if group is not None:
+        env[CGROUP_VAR] = str(group)
     cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
         cmd = [shutil.which('unshare') or 'unshare', *_UNSHARE, *cmd]
@@ -194,6 +256,8 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         finally:
             _kill(proc, isolated)
     sweep(token)
+    if group is not None:
+        _remove_cgroup(group)
     code = None if timed_out else proc.returncode
     return JobRun(code, timed_out, _tail(log, limits.output_kb * 1024),
                   time.monotonic() - started, isolated)
