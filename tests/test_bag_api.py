@@ -121,7 +121,7 @@ def test_existing_folder_and_missing_topics_are_errors(tmp_path: Path) -> None:
 def test_read_topic_gives_columns_for_plots(system_bag: Path) -> None:
     temps = robot_lab.read_topic(system_bag, '/sensor/temperature')
     expected = [m.data for m in _rosbags(system_bag, '/sensor/temperature')]
-    assert 12 <= len(temps) <= 22  # 10 Hz for 2 s, less discovery time
+    assert 10 <= len(temps) <= 22  # 10 Hz for 2 s, less discovery time (at most 1 s)
     assert temps['data'] == pytest.approx(expected)
     assert temps.t[0] >= 0 and temps.t == sorted(temps.t) and temps.t[-1] < 2.5
     cmd = robot_lab.read_topic(system_bag, 'cmd_vel', fields=('linear.x', 'angular/z'))

@@ -45,6 +45,12 @@ def rosbags_messages(bag: Path, topic: str) -> list[tuple[int, Any]]:
     return out
 
 
+def _three_seconds_at(rate: float, count: int) -> bool:
+    """A `--duration 3` recording of a `rate` Hz topic: at most 3 s of it, and at least
+    half (the recorder's subscription needs discovery first, slower on a busy machine)."""
+    return 1.5 * rate <= count <= 3 * rate + 3
+
+
 @pytest.fixture(scope='module')
 def bags(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Path]]:
     """Record the running reference system for 3 s into an mcap and a sqlite3 bag."""
@@ -116,9 +122,9 @@ def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
         assert msgtype == {'/sensor/temperature': 'std_msgs/msg/Float32',
                            '/robot/status': 'std_msgs/msg/String',
                            '/cmd_vel': 'geometry_msgs/msg/Twist'}[topic]
-    assert 24 <= counts['/sensor/temperature'] <= 32  # 10 Hz for 3 s
-    assert 48 <= counts['/robot/status'] <= 63  # 20 Hz for 3 s
-    assert 48 <= counts['/cmd_vel'] <= 63
+    assert _three_seconds_at(10, counts['/sensor/temperature'])
+    assert _three_seconds_at(20, counts['/robot/status'])
+    assert _three_seconds_at(20, counts['/cmd_vel'])
     assert int(lines[8].split()[-1]) == sum(counts.values())
     assert lines[-2:] == ['Service:           0', 'Service information: ']
 
@@ -139,14 +145,15 @@ def test_info_of_the_single_mcap_file_matches_the_folder(bags: dict[str, Path]) 
 def test_rosbags_reads_what_was_recorded(bags: dict[str, Path]) -> None:
     temps = rosbags_messages(bags['mcap'], '/sensor/temperature')
     statuses = rosbags_messages(bags['mcap'], '/robot/status')
-    assert 24 <= len(temps) <= 32
-    assert 48 <= len(statuses) <= 63
+    assert _three_seconds_at(10, len(temps))
+    assert _three_seconds_at(20, len(statuses))
     assert all(15.0 < msg.data < 35.0 for _, msg in temps)  # 22.5 °C plus noise
     assert all(re.match(r'(OK|HIGH)\b.*°C\)$', msg.data) for _, msg in statuses), statuses[:3]
     stamps = [t for t, _ in temps]
     assert stamps == sorted(stamps)
     gaps = [(b - a) / 1e9 for a, b in itertools.pairwise(stamps)]
     assert 0.08 < statistics.median(gaps) < 0.12  # recorded at the sensor's 10 Hz
+    assert max(gaps) < 0.3  # and none lost between the first and the last
     # mcap channel metadata carries what rosbag2's mcap reader looks for.
     from rosbags.rosbag2.storage_mcap import McapReader
 
@@ -274,7 +281,7 @@ def test_seed_db3_single_file_info_and_play(bags: dict[str, Path]) -> None:
     assert 'ROS Distro:        jazzy' in info.stdout
     match = re.search(r'Topic: /robot/status \| Type: std_msgs/msg/String \| Count: (\d+)',
                       info.stdout)
-    assert match and 48 <= int(match.group(1)) <= 63
+    assert match and _three_seconds_at(20, int(match.group(1)))
     recorded = [msg.data for _, msg in rosbags_messages(db3, '/robot/status')]
     assert len(recorded) == int(match.group(1))
     listener = _Listener('/robot/status', String)
