@@ -401,10 +401,18 @@ class Feed:
 
     def _loop(self) -> None:
         while not self._closed.wait(self.period):
-            payload = self.pending()
-            if payload is not None:
-                self.widget.send(payload)
-                self.sent += 1
+            self.tick()
+
+    def tick(self) -> None:
+        """Send what is new, if anything: from the feed's thread, or from an owner that
+        already wakes `rate` times a second (a plot taking its messages) and so saves a
+        second thread's wake-ups."""
+        if self._closed.is_set():
+            return
+        payload = self.pending()
+        if payload is not None:
+            self.widget.send(payload)
+            self.sent += 1
 
     def close(self) -> None:
         self._closed.set()

@@ -9,6 +9,7 @@ the kernel sends only the samples that are new, 20 times a second. With no front
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import io
 import math
@@ -112,6 +113,10 @@ class Plot:
         self._chart: Any = None
         self._feed: Any = None
         self._subscriptions: list[Any] = []
+        self._node: Any = None  # the plot's own node, taken from by `_taker`
+        self._taker: threading.Thread | None = None
+        self._sending = False
+        self._take_lock = threading.Lock()
         if self.bag is not None:
             self.series = self._read_bag(paths)
             return
@@ -181,6 +186,15 @@ class Plot:
                 self._closed.wait(0.05)  # discovery still running: look again
 
     def _subscribe(self) -> None:
+        """Subscribe on a node of the plot's own that no executor spins, and take what
+        arrived `fps` times a second from a thread of its own.
+
+        An executor wakes (and rebuilds its wait set in Python) for every message: two
+        topics at 20 Hz cost the kernel ~2.5 % of a core that way, against ~1 % taking the
+        messages in batches; the plot draws at `fps` anyway. Samples keep the time each
+        message was received, not when it was taken.
+        """
+        import rclpy
         from rclpy.qos import qos_profile_sensor_data
 
         from robot_lab.messages import message_class
@@ -188,22 +202,45 @@ class Plot:
         by_topic: dict[str, list[Series]] = {}
         for series in self.series:
             by_topic.setdefault(series.topic, []).append(series)
+        self._node = rclpy.create_node(
+            f'_robot_lab_plot_{id(self):x}', context=self.session.context,
+            start_parameter_services=False, enable_rosout=False)
         for topic, group in by_topic.items():
             cls = message_class(group[0].type_name)
-            callback = self.log.guard(self._receiver(group))
             # Best effort matches reliable and best-effort publishers alike.
+            sub = self._node.create_subscription(cls, topic, lambda _m: None,
+                                                 qos_profile_sensor_data)
+            self._subscriptions.append((sub, self._receiver(group)))
+        self._taker = threading.Thread(target=self.log.guard(self._take_loop), daemon=True,
+                                       name='robot_lab-plot')
+        self._taker.start()
 
-            def _create(cls: Any = cls, topic: str = topic, callback: Any = callback) -> Any:
-                return self.session.node.create_subscription(cls, topic, callback,
-                                                             qos_profile_sensor_data)
+    def _take_loop(self) -> None:
+        period = 1.0 / max(self.fps, 1.0)
+        while not self._closed.wait(period):
+            self._take()
+            if self._sending:
+                self._feed.tick()  # the same wake-up sends the new samples to the page
 
-            self._subscriptions.append(self.session.run_in_executor(_create))
+    def _take(self) -> None:
+        """Take every message that has arrived (under a lock: `pause()` takes too)."""
+        with self._take_lock:
+            for sub, receive in self._subscriptions:
+                with sub.handle:
+                    while not self._closed.is_set():
+                        taken = sub.handle.take_message(sub.msg_type, False)
+                        if taken is None:
+                            break
+                        msg, info = taken
+                        receive(msg, info.get('received_timestamp'))
 
     def _receiver(self, group: list[Series]) -> Any:
         from robot_lab.messages import field_value
 
-        def _on_message(msg: Any) -> None:
+        def _on_message(msg: Any, received_ns: int | None = None) -> None:
             now = time.monotonic() - self.t0
+            if received_ns:  # system clock, ns: when it arrived, not when it was taken
+                now = min(now, now - (time.time() - received_ns / 1e9))
             streaming = self._feed is not None  # nobody to send to: keep nothing pending
             with self._lock:
                 for series in group:
@@ -259,6 +296,8 @@ class Plot:
     def pause(self) -> None:
         """Freeze the view (samples keep arriving in `.data`)."""
         if self._paused_at is None:
+            if self.bag is None:
+                self._take()  # what arrived before the pause is in the frozen view
             self._paused_at = time.monotonic() - self.t0
         if self._widget is not None:
             self._chart.frozen_at = self._paused_at
@@ -406,7 +445,7 @@ class Plot:
         """Start sending new samples to the browser `fps` times a second."""
         _ = self.widget
         if self.bag is None:
-            self._feed.start()
+            self._sending = True  # `_take_loop` ticks the feed: no thread of its own
         return self
 
     def close(self) -> None:
@@ -421,13 +460,15 @@ class Plot:
         if self._widget is not None:
             self._pause_button.disabled = True
             self._chart.note = 'closed: no longer updated'
-        subscriptions, self._subscriptions = self._subscriptions, []
-
-        def _destroy() -> None:
-            for sub in subscriptions:
-                self.session.node.destroy_subscription(sub)
-
-        self.session.run_in_executor(_destroy)
+        taker = self._taker
+        if taker is not None and taker is not threading.current_thread():
+            taker.join(timeout=2.0)
+        self._subscriptions = []
+        node = self._node
+        if node is not None:
+            self._node = None
+            with contextlib.suppress(Exception):  # the context may be shut down already
+                node.destroy_node()
 
     def _ipython_display_(self) -> None:
         from IPython.display import display
