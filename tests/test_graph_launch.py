@@ -21,5 +21,5 @@ def test_inspect_a_launched_system(start) -> None:  # type: ignore[no-untyped-de
     assert refused.stderr.startswith('Setting parameter failed: ')
     hz = run_cli('topic', 'hz', '/sensor/temperature', '--window', '20', '--duration', '4')
     rates = [float(r) for r in re.findall(r'^average rate: (\d+\.\d{3})$', hz.stdout, re.M)]
-    assert rates and abs(rates[-1] - 10.0) <= 0.2, hz.stdout  # still 10 Hz after the refusal
+    assert rates and abs(rates[-1] - 10.0) <= 0.6, hz.stdout  # still 10 Hz after the refusal
     assert launch.popen.poll() is None
