@@ -109,9 +109,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 @pytest.fixture(autouse=True, scope='module')
 def ros_domain(request: pytest.FixtureRequest) -> Iterator[int]:
     """A ROS_DOMAIN_ID of this module's own, so modules never hear each other."""
-    name = request.module.__name__
-    slot = _MODULE_SLOTS[len(_modules) % len(_MODULE_SLOTS)]  # a module not collected up front
-    domain = _modules.setdefault(name, domain_at(slot))
+    domain = _modules[request.module.__name__]  # laid out at collection, above
     old = os.environ.get('ROS_DOMAIN_ID')
     os.environ['ROS_DOMAIN_ID'] = str(domain)
     yield domain

@@ -210,7 +210,9 @@ class Plot:
             # Best effort matches reliable and best-effort publishers alike.
             sub = self._node.create_subscription(cls, topic, lambda _m: None,
                                                  qos_profile_sensor_data)
-            self._subscriptions.append((sub, self._receiver(group)))
+            # Guarded per message, as a callback was: one bad message is logged, the
+            # plot keeps taking the others.
+            self._subscriptions.append((sub, self.log.guard(self._receiver(group))))
         self._taker = threading.Thread(target=self.log.guard(self._take_loop), daemon=True,
                                        name='robot_lab-plot')
         self._taker.start()
@@ -240,7 +242,7 @@ class Plot:
         def _on_message(msg: Any, received_ns: int | None = None) -> None:
             now = time.monotonic() - self.t0
             if received_ns:  # system clock, ns: when it arrived, not when it was taken
-                now = min(now, now - (time.time() - received_ns / 1e9))
+                now -= max(0.0, time.time() - received_ns / 1e9)
             streaming = self._feed is not None  # nobody to send to: keep nothing pending
             with self._lock:
                 for series in group:
@@ -463,12 +465,12 @@ class Plot:
         taker = self._taker
         if taker is not None and taker is not threading.current_thread():
             taker.join(timeout=2.0)
-        self._subscriptions = []
-        node = self._node
-        if node is not None:
-            self._node = None
-            with contextlib.suppress(Exception):  # the context may be shut down already
-                node.destroy_node()
+        with self._take_lock:  # a `pause()` from another thread may be taking
+            self._subscriptions = []
+            node, self._node = self._node, None
+            if node is not None:
+                with contextlib.suppress(Exception):  # the context may be shut down already
+                    node.destroy_node()
 
     def _ipython_display_(self) -> None:
         from IPython.display import display
