@@ -141,6 +141,26 @@ def test_stale_names_are_dropped_after_a_grace_period() -> None:
     assert ghosts.filter(['/a', '/b'], {}, now=320.0) == []
 
 
+def test_per_node_queries_wait_for_endpoints_tied_to_a_node(tmp_path, monkeypatch) -> None:
+    """CI once printed `Action servers: 0` for a live server: the server's node was known,
+    its endpoints were seen, but the message tying them to it had not arrived."""
+    from types import SimpleNamespace
+
+    from robot_lab.graph.discovery import UNKNOWN_NODE, endpoints_attributed
+
+    monkeypatch.setenv('XDG_RUNTIME_DIR', str(tmp_path))  # no launch announces nodes
+    owner = {'/fibonacci/_action/status': UNKNOWN_NODE}
+    node = SimpleNamespace(
+        get_topic_names_and_types=lambda: [(t, ['x']) for t in owner],
+        get_publishers_info_by_topic=lambda t: [SimpleNamespace(node_name=owner[t])],
+        get_subscriptions_info_by_topic=lambda t: [],
+    )
+    ready = endpoints_attributed(SimpleNamespace(node=node, domain_id=0))  # type: ignore
+    assert ready() is False  # keep waiting, up to EXPECTED_TIMEOUT
+    owner['/fibonacci/_action/status'] = 'fibonacci_action_server'
+    assert ready() is None  # as without a launch: the usual window and settling
+
+
 def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:
     """ros2cli's behaviour: a command that found no daemon leaves one for the next command.
 

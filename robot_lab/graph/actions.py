@@ -20,6 +20,7 @@ from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import (
     LOOKUP_TIMEOUT,
     absolute_name,
+    endpoints_attributed,
     full_node_names,
     get_session,
     settled,
@@ -110,11 +111,12 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
             found += [(full, list(t)) for n, t in entries if n == action]
         return found
 
+    # A node's endpoints can be seen before they are tied to it: wait for that.
     return settled(sess, lambda: ActionInfo(
         name=action,
         clients=by_node(get_action_client_names_and_types_by_node),
         servers=by_node(get_action_server_names_and_types_by_node),
-    ))
+    ), ready=endpoints_attributed(sess))
 
 
 def action_class(type_name: str) -> Any:

@@ -30,6 +30,7 @@ __all__ = [
     'SETTLE',
     'WARM_SETTLE',
     'absolute_name',
+    'endpoints_attributed',
     'full_node_names',
     'get_session',
     'launched_nodes_seen',
@@ -57,6 +58,8 @@ EXPECTED_TIMEOUT = 5.0
 # How long a lookup of a named node/topic waits for discovery before calling it unknown.
 LOOKUP_TIMEOUT = 2.5
 POLL = 0.02
+# rmw_dds_common's name for an endpoint whose node has not been announced (yet).
+UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 
 
 def get_session(session: Session | None) -> Session:
@@ -112,6 +115,28 @@ def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
         return expected <= set(full_node_names(session, include_hidden=True))
 
     return seen
+
+
+def endpoints_attributed(session: Session) -> Callable[[], bool | None]:
+    """A probe for `settled` before per-node queries: False while discovery has an
+    endpoint it cannot yet tie to a node (a node's endpoints are mapped to it by messages
+    of their own, which can come after the node's name), else as `launched_nodes_seen`."""
+    launched = launched_nodes_seen(session)
+    node = session.node
+
+    def unattributed() -> bool:
+        for topic, _ in node.get_topic_names_and_types():
+            for info in (*node.get_publishers_info_by_topic(topic),
+                         *node.get_subscriptions_info_by_topic(topic)):
+                if info.node_name == UNKNOWN_NODE:
+                    return True
+        return False
+
+    def ready() -> bool | None:
+        seen = launched()
+        return False if seen is False or unattributed() else seen
+
+    return ready
 
 
 def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,

@@ -10,6 +10,7 @@ from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import (
     LOOKUP_TIMEOUT,
     absolute_name,
+    endpoints_attributed,
     full_node_names,
     get_session,
     settled,
@@ -173,7 +174,8 @@ def node_info(name: str, include_hidden: bool = False,
     def query(method: Callable[[Any, str, str], Any]) -> NamesAndTypes:
         return _by_node(method, node, base, namespace, include_hidden)
 
-    # A fresh session may have the node but not yet all of its endpoints.
+    # A fresh session may have the node but not yet all of its endpoints, or have seen
+    # endpoints it cannot yet tie to the node.
     return settled(sess, lambda: NodeInfo(
         name=full,
         subscribers=query(Node.get_subscriber_names_and_types_by_node),
@@ -182,4 +184,4 @@ def node_info(name: str, include_hidden: bool = False,
         service_clients=query(Node.get_client_names_and_types_by_node),
         action_servers=query(get_action_server_names_and_types_by_node),
         action_clients=query(get_action_client_names_and_types_by_node),
-    ))
+    ), ready=endpoints_attributed(sess))
