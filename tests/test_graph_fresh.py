@@ -141,6 +141,26 @@ def test_stale_names_are_dropped_after_a_grace_period() -> None:
     assert ghosts.filter(['/a', '/b'], {}, now=320.0) == []
 
 
+def test_a_name_a_live_launcher_vouches_for_is_never_hidden(tmp_path, monkeypatch) -> None:
+    """The stale-name guesses yield to a running launcher: a ghost of /robot that left the
+    list as the new /robot came (no endpoints yet) must not hide the new one."""
+    from robot_lab.graph.expected import LaunchAnnouncement
+
+    server = daemon._Server(idle_timeout=60)
+    server.graph = tmp_path
+    monkeypatch.setattr(server, '_live', lambda: ({'/controller': 1}, {}))
+    server.stale = StaleNames(stale_after=2.5)
+    server.stale.filter(['/controller', '/robot'], {'/controller': 1}, now=time.monotonic() - 9)
+    assert server.current_nodes(['/controller', '/robot']) == ['/controller']  # a ghost
+    announcement = LaunchAnnouncement(tmp_path)
+    announcement.update([('/controller', os.getpid()), ('/robot', os.getpid())])
+    try:
+        assert server.current_nodes(['/controller', '/robot']) == ['/controller', '/robot']
+        assert server.current_nodes(['/controller']) == ['/controller']  # nothing invented
+    finally:
+        announcement.close()
+
+
 def test_per_node_queries_wait_for_endpoints_tied_to_a_node(tmp_path, monkeypatch) -> None:
     """CI once printed `Action servers: 0` for a live server: the server's node was known,
     its endpoints were seen, but the message tying them to it had not arrived."""

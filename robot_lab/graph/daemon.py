@@ -408,6 +408,8 @@ class _Server:
         return settled(self.session, probe, ready=ready, ready_settle=0.0)
 
     def current_nodes(self, listed: list[str]) -> list[str]:
+        from robot_lab.graph.expected import expected_nodes
+
         live, gone = self._live()
         kept: list[str] = []
         for name in listed:
@@ -415,7 +417,13 @@ class _Server:
                 gone[name] -= 1
                 continue
             kept.append(name)
-        return self.stale.filter(kept, live)
+        kept = self.stale.filter(kept, live)
+        # A name a running launcher vouches for (its process is alive) is no ghost: the
+        # guesses above must not hide it while rmw lists it (CI once saw a fresh launch
+        # listed as /controller alone beside a killed kernel's ghosts).
+        shown = set(kept)
+        vouched = (expected_nodes(self.graph) or set()) - shown
+        return sorted(kept + [name for name in dict.fromkeys(listed) if name in vouched])
 
     def audit(self) -> None:
         """Between requests (every half second): remember the launchers' nodes, watch the
