@@ -163,6 +163,21 @@ def test_param_delete_as_ros2param(system: dict[str, Proc], start) -> None:  # t
     assert 'gain' not in cli_ok('param', 'list', '/scratch').split()
 
 
+def test_param_get_of_a_parameter_the_node_lacks(system: dict[str, Proc], start) -> None:  # type: ignore[no-untyped-def]
+    """ros2param's two answers: an rclpy node returns no value (an error, exit 1); a node
+    that allows undeclared parameters returns PARAMETER_NOT_SET (a line, exit 0)."""
+    result = run_cli('param', 'get', '/sensor', 'no_such')
+    assert result.returncode == 1 and result.stdout == ''
+    assert result.stderr.startswith("Parameter not set: 'no_such' on /sensor"), result.stderr
+    assert 'param list /sensor' in result.stderr
+    scratch = start(str(BIN / 'python'), '-c', DYNAMIC_NODE.replace(
+        "'scratch'", "'open', allow_undeclared_parameters=True"))
+    scratch.wait_for('^up$')
+    result = run_cli('param', 'get', '/open', 'no_such')
+    assert (result.returncode, result.stdout) == (0, 'Parameter not set.\n'), result
+    assert cli_ok('param', 'get', '/open', 'gain') == 'Double value is: 2.5\n'
+
+
 def test_param_describe_layout(system: dict[str, Proc]) -> None:
     assert cli_ok('param', 'describe', '/sensor', 'sensor_rate') == (
         'Parameter name: sensor_rate\n'

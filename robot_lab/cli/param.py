@@ -88,7 +88,13 @@ def _list(args: argparse.Namespace) -> int:
 def _get(args: argparse.Namespace) -> int:
     from robot_lab.graph.parameters import param_get_typed
 
-    ptype, value = param_get_typed(args.node_name, args.parameter_name)
+    ptype, value = param_get_typed(args.node_name, args.parameter_name, unset_ok=True)
+    if ptype == 0:
+        # ros2param's words and exit status for a parameter the node does not have
+        print(value if args.hide_type else 'Parameter not set.')
+        print(f'hint: `ros2 param list {args.node_name}` lists the parameters it has',
+              file=sys.stderr)
+        return 0
     print(value if args.hide_type else f'{_GET_LABELS[ptype]} {value}')
     return 0
 

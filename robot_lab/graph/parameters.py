@@ -144,11 +144,18 @@ def param_get(node: str, name: str, session: Session | None = None) -> Any:
     return typed[1]
 
 
-def param_get_typed(node: str, name: str, session: Session | None = None) -> tuple[int, Any]:
-    """(ParameterType, value): `param get` prints the type's label before the value."""
+def param_get_typed(node: str, name: str, session: Session | None = None,
+                    unset_ok: bool = False) -> tuple[int, Any]:
+    """(ParameterType, value): `param get` prints the type's label before the value.
+
+    A parameter the node does not have raises, unless `unset_ok`: then (0, None), the
+    PARAMETER_NOT_SET answer `ros2 param get` prints as "Parameter not set.".
+    """
     sess = get_session(session)
     full = _target(sess, node)
     values = _get_values(sess, full, [name])
+    if unset_ok and values and values[0].type == 0:
+        return 0, None
     if not values or values[0].type == 0:
         raise GraphError(
             f"Parameter not set: '{name}' on {full}",
