@@ -1,11 +1,11 @@
 """Temporary Unix users for the isolation and hub tests (root only).
 
 Each user gets a home under a world-traversable temporary folder and runs commands with
-`setpriv` (parent-death signal kept, so nothing outlives pytest). The venv's interpreter
-may live where other users cannot go (e.g. /root/.pyenv): then every command runs in a
-private mount namespace where a tmpfs covers the closed folder and only the interpreter's
-tree is bound back in. With `netns`, commands run in a network namespace holding only
-loopback (SUBNET discovery then cannot reach a LAN).
+`setpriv` (parent-death signal kept, so nothing outlives pytest). The checkout or the
+venv's interpreter may live where other users cannot go (a 0700 `mktemp -d`, /root/.pyenv):
+then every command runs in a private mount namespace where a tmpfs covers each closed
+folder and only the tree that is needed is bound back in. With `netns`, commands run in
+a network namespace holding only loopback (SUBNET discovery then cannot reach a LAN).
 """
 
 from __future__ import annotations
@@ -31,16 +31,38 @@ def can_create_users() -> str | None:
     for tool in ('useradd', 'userdel', 'setpriv', 'unshare', 'nsenter', 'ip'):
         if shutil.which(tool) is None:
             return f'{tool} is not installed'
+    unreadable = _unreadable()
+    if unreadable is not None:
+        return (f'{unreadable} is not readable by other users (a clone made under umask '
+                f'077?): run `chmod -R o+rX {REPO}` to let the test users run the kit')
     return None
 
 
-def _closed_ancestor() -> tuple[Path, Path] | None:
-    """(folder others cannot enter, its child on the interpreter's path), if any."""
-    real = Path(os.path.realpath(sys.executable))
-    for parent in reversed(real.parents):
-        if parent != Path('/') and not parent.stat().st_mode & 0o001:
-            return parent, parent / real.relative_to(parent).parts[0]
+REPO = Path(__file__).resolve().parent.parent
+
+
+def _unreadable() -> Path | None:
+    """A file of the checkout other users cannot read (a clone made under umask 077)."""
+    for path in (REPO / 'robot_lab' / '__init__.py', BIN / 'robot-lab'):
+        if path.exists() and not os.stat(path).st_mode & 0o004:
+            return path
     return None
+
+
+def _closed_ancestors() -> list[tuple[Path, list[Path]]]:
+    """(folder others cannot enter, its children on paths they must reach), outermost first.
+
+    They must reach the checkout (its venv and the editable robot_lab) and the interpreter
+    the venv links to (e.g. under /root/.pyenv), wherever those live.
+    """
+    found: dict[Path, set[Path]] = {}
+    for target in (REPO, Path(os.path.realpath(sys.executable))):
+        for parent in target.parents:
+            if parent != Path('/') and not parent.stat().st_mode & 0o001:
+                found.setdefault(parent, set()).add(
+                    parent / target.relative_to(parent).parts[0])
+    return [(closed, sorted(found[closed]))
+            for closed in sorted(found, key=lambda p: len(p.parts))]
 
 
 @dataclass
@@ -58,9 +80,10 @@ class UnixUsers:
         self.root = root
         self.users: dict[str, User] = {}
         self._prefix = f'rl{os.getpid() % 100000}'
-        self._closed = _closed_ancestor()
+        self._closed = _closed_ancestors()
         self._hold = root / 'hold'
-        self._hold.mkdir()
+        for i in range(max((len(keeps) for _, keeps in self._closed), default=0)):
+            (self._hold / str(i)).mkdir(parents=True)
         self._netns: subprocess.Popen[bytes] | None = None
         if netns:
             # Lives until its stdin closes; every wrapped command joins its network.
@@ -93,11 +116,13 @@ class UnixUsers:
         """`argv` run as `user` (same pid: every wrapper execs the next); `None`: as root,
         in the same file system view (a JupyterHub that starts the users' servers)."""
         steps = []
-        if self._closed is not None:
-            closed, keep = self._closed
-            steps += [f'mount --bind {keep} {self._hold}',
-                      f'mount -t tmpfs -o mode=0755 tmpfs {closed}',
-                      f'mkdir -p {keep}', f'mount --move {self._hold} {keep}']
+        for closed, keeps in self._closed:  # cover it, then put back only what is needed
+            holds = [self._hold / str(i) for i in range(len(keeps))]
+            pairs = list(zip(keeps, holds, strict=True))
+            steps += [f'mount --bind {keep} {hold}' for keep, hold in pairs]
+            steps.append(f'mount -t tmpfs -o mode=0755 tmpfs {closed}')
+            steps += [f'mkdir -p {keep} && mount --move {hold} {keep}'
+                      for keep, hold in pairs]
         if user is None:
             steps.append('exec "$@"')
         else:
