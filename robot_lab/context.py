@@ -10,6 +10,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import os
+import re
 import sys
 import threading
 import time
@@ -19,12 +20,19 @@ from typing import Any, TypeVar
 from robot_lab.env import apply_ros_defaults
 from robot_lab.errors import GraphError
 
-__all__ = ['Session', 'session', 'shutdown_sessions']
+__all__ = ['Session', 'is_session_node', 'session', 'shutdown_sessions']
 
 T = TypeVar('T')
 
 _LOCK = threading.Lock()
 _SESSIONS: dict[int, Session] = {}
+# A session's hidden node, `_robot_lab_<pid>_<domain>`: it has no parameter services.
+_SESSION_NODE = re.compile(r'/_robot_lab_\d+_\d+')
+
+
+def is_session_node(full_name: str) -> bool:
+    """Whether `/name` is a robot_lab session's own node (any process's)."""
+    return _SESSION_NODE.fullmatch(full_name) is not None
 
 
 def _init_args() -> list[str] | None:

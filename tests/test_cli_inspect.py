@@ -90,6 +90,14 @@ def test_param_list(system: dict[str, Proc]) -> None:
     assert cli_ok('param', 'list', '/robot') == (
         '  robot_name\n  start_type_description_service\n  use_sim_time\n'
     )
+    # Hidden nodes too: the kit's own (the daemon's, this command's) have no parameter
+    # services, which ros2param reports on a line of their own and goes on.
+    every = cli_ok('param', 'list', '--include-hidden-nodes')
+    assert re.search(r'^Wait for service timed out waiting for parameter services for node '
+                     r'/_robot_lab_\d+_\d+$', every, re.M), every
+    assert re.sub(r'(?m)^Wait for.*\n', '', every) == out
+    assert '_robot_lab_' not in out
+    assert cli_ok('param', 'list', '--no-daemon') == out
 
 
 def test_param_set_noise_then_echo_shows_base_temperature(system: dict[str, Proc]) -> None:

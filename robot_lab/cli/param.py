@@ -7,6 +7,7 @@ import re
 import sys
 
 from robot_lab.cli import run_sub_verb
+from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various param related sub-commands'
 
@@ -27,8 +28,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         'expression will be showed. Supports `re` regex syntax.')
     lister.add_argument('--param-prefixes', nargs='+', default=[],
                         help='Only list parameters with the provided prefixes')
+    lister.add_argument('--include-hidden-nodes', action='store_true',
+                        help='Consider hidden nodes as well')
     lister.add_argument('--param-type', action='store_true',
                         help='Print parameter types with parameter names')
+    add_no_daemon(lister)
 
     get = sub.add_parser('get', help='Get parameter')
     get.add_argument('node_name', help='Name of the ROS node')
@@ -70,9 +74,21 @@ def main(args: argparse.Namespace) -> int:
 def _list(args: argparse.Namespace) -> int:
     from robot_lab.graph import api
 
-    by_node = api.param_list(args.node_name, prefixes=args.param_prefixes)
+    # ros2param takes the node names from the daemon when one runs: a warm graph is
+    # complete where a fresh process may not have heard every node yet.
+    among: list[str] | None = None
+    if not args.node_name:
+        among = ask_daemon(args, 'node_list', include_hidden=args.include_hidden_nodes)
+        if among is None:
+            among = api.node_list(include_hidden=args.include_hidden_nodes)
+    by_node = api.param_list(args.node_name, prefixes=args.param_prefixes, among=among)
     pattern = re.compile(args.filter[0]) if args.filter else None
-    for node, names in sorted(by_node.items()):
+    for node in sorted(set(among or by_node)):
+        if node not in by_node:  # ros2param's line, on stdout, and on to the next node
+            print('Wait for service timed out waiting for parameter services for node '
+                  f'{node}')
+            continue
+        names = by_node[node]
         if pattern is not None:
             names = [n for n in names if pattern.match(n)]
         if not args.node_name and names:

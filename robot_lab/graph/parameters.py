@@ -109,16 +109,37 @@ def call_parameter_service(sess: Session, node: str, service: str, srv_type: Any
 
 
 def param_list(node: str | None = None, prefixes: list[str] | None = None,
-               session: Session | None = None) -> dict[str, list[str]]:
-    """Sorted parameter names per node: of `node`, or of every node in the graph."""
+               session: Session | None = None, *, include_hidden: bool = False,
+               among: list[str] | None = None) -> dict[str, list[str]]:
+    """Sorted parameter names per node: of `node`, or of every node in the graph (or of
+    the nodes `among`, e.g. a warm daemon's answer, as ros2param asks its daemon).
+
+    Listing many nodes, one without parameter services (a hidden node that never started
+    them, a node that died) is left out after the wait, as ros2param goes on past it.
+    """
     from rcl_interfaces.srv import ListParameters
 
+    from robot_lab.context import is_session_node
+
     sess = get_session(session)
-    nodes = [_target(sess, node)] if node else node_list(session=sess)
+    if node:
+        nodes = [_target(sess, node)]
+    elif among is not None:
+        nodes = sorted(set(among))
+    else:
+        nodes = node_list(include_hidden=include_hidden, session=sess)
     result: dict[str, list[str]] = {}
     for full in nodes:
         request = ListParameters.Request(prefixes=list(prefixes or []))
-        response = call_parameter_service(sess, full, 'list_parameters', ListParameters, request)
+        if not node and is_session_node(full):
+            continue  # known to have none: no need to wait for them
+        try:
+            response = call_parameter_service(sess, full, 'list_parameters', ListParameters,
+                                              request)
+        except GraphError:
+            if node:
+                raise
+            continue
         result[full] = sorted(response.result.names)
     return result
 
