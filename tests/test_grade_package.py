@@ -145,29 +145,35 @@ def make_class(root: Path) -> Path:
     return root
 
 
-def _job_processes(token: str | None = None) -> list[psutil.Process]:
-    """Processes of grading jobs (carrying the job token), or of the job `token`."""
+def _job_processes(token: str | None = None, run: str | None = None) -> list[psutil.Process]:
+    """Processes of grading jobs (carrying the job token): of the job `token`, or of the
+    grader started with RUN_VAR=`run` (jobs inherit the grader's environment), so another
+    test module grading at the same time on another worker is not counted."""
     found = []
     for proc in psutil.process_iter():
         try:
-            value = proc.environ().get(TOKEN_VAR)
+            env = proc.environ()
         except psutil.Error:
             continue
-        if value is not None and token in (None, value):
+        value = env.get(TOKEN_VAR)
+        if value is not None and token in (None, value) and run in (None, env.get(RUN_VAR)):
             found.append(proc)
     return found
+
+
+RUN_VAR = 'ROBOT_LAB_TEST_GRADE_RUN'
 
 
 @pytest.fixture(scope='module')
 def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, object]:
     root = make_class(tmp_path_factory.mktemp('class'))
     out = tmp_path_factory.mktemp('out')
-    before = {p.pid for p in _job_processes()}
+    run = f'class-{os.getpid()}-{time.monotonic_ns()}'
     started = time.monotonic()
     done = run_cli('grade', str(root), '--lab', 'ch6-lab1', '-o', str(out), '--jobs', '2',
-                   timeout=1500)
+                   timeout=1500, env={RUN_VAR: run})
     elapsed = time.monotonic() - started
-    leftovers = [p for p in _job_processes() if p.pid not in before]
+    leftovers = _job_processes(run=run)
     return {'done': done, 'out': out, 'elapsed': elapsed, 'leftovers': leftovers,
             'root': root}
 
