@@ -15,6 +15,7 @@ from typing import Any
 import yaml
 
 from robot_lab.bag.read import STORAGE_SUFFIXES, open_bag
+from robot_lab.bag.services import event_topic, is_service_event, service_name
 from robot_lab.errors import BagError
 
 __all__ = ['BagInfo', 'ServiceInfo', 'TopicInfo', 'bag_info', 'format_info', 'format_verbose',
@@ -203,11 +204,7 @@ def _time_point(ns: int) -> str:
 
 
 def _is_service_event(topic: TopicInfo) -> bool:
-    return (
-        '/srv/' in topic.type
-        and topic.type.endswith('_Event')
-        and topic.name.endswith('/_service_event')
-    )
+    return is_service_event(topic.name, topic.type)
 
 
 @dataclass
@@ -247,7 +244,7 @@ def service_info(bag: str | Path) -> list[ServiceInfo]:
         for conn in conns:
             if conn.topic not in seen:
                 seen[conn.topic] = (set(), set())
-                out.append(ServiceInfo(conn.topic[: -len('/_service_event')],
+                out.append(ServiceInfo(service_name(conn.topic),
                                        conn.msgtype[: -len('_Event')], 0, 0,
                                        conn.ext.serialization_format))
         for conn, _stamp, data in bag_messages(reader, conns):
@@ -261,7 +258,7 @@ def service_info(bag: str | Path) -> list[ServiceInfo]:
             elif kind in (2, 3):  # RESPONSE_SENT, RESPONSE_RECEIVED
                 responses.add((gid, seq))
     for item in out:
-        requests, responses = seen[item.name + '/_service_event']
+        requests, responses = seen[event_topic(item.name)]
         item.request_count, item.response_count = len(requests), len(responses)
     return out
 
@@ -317,7 +314,7 @@ def format_info(info: BagInfo) -> str:
         lines.append('Topic information: ')
     lines.append('Service:           ' + str(len(services)))
     service_lines = [
-        f'Service: {s.name[: -len("/_service_event")]} | '
+        f'Service: {service_name(s.name)} | '
         f'Type: {s.type[: -len("_Event")]} | Event Count: {s.count} | '
         f'Serialization Format: {s.serialization_format}'
         for s in services

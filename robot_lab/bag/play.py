@@ -19,7 +19,15 @@ from typing import Any
 
 from robot_lab.bag.qos import load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
-from robot_lab.errors import BagError
+from robot_lab.bag.services import (
+    REQUEST_SOURCES,
+    RequestSource,
+    ServiceRequestSender,
+    event_topic,
+    is_service_event,
+    service_name,
+)
+from robot_lab.errors import BagError, GraphError
 
 __all__ = ['Player', 'play']
 
@@ -49,6 +57,9 @@ class Player:
         log: Callable[[str], None] | None = None,
         node_name: str = NODE_NAME,
         qos_overrides: Mapping[str, Any] | str | Path | None = None,
+        services: Iterable[str] | None = None,
+        publish_service_requests: bool = False,
+        service_requests_source: RequestSource = 'service_introspection',
     ) -> None:
         if rate <= 0:
             raise BagError(f'{rate} is not in the valid range (> 0.0)', fix='e.g. --rate 2')
@@ -62,6 +73,14 @@ class Player:
         self.only = (
             None if topics is None else [t if t.startswith('/') else '/' + t for t in topics]
         )
+        # rosbag2 filters topics and services apart: `--topics` leaves services alone
+        self.only_services = None if services is None else [event_topic(s) for s in services]
+        if service_requests_source not in REQUEST_SOURCES:
+            raise BagError(f'Unknown service requests source {service_requests_source!r}',
+                           fix='use ' + ' or '.join(REQUEST_SOURCES))
+        self.publish_service_requests = publish_service_requests
+        self.service_requests_source: RequestSource = service_requests_source
+        self._senders: dict[str, ServiceRequestSender] = {}  # event topic -> its client
         if delay < 0:
             raise BagError(f'Value {delay} is less than zero.', fix='--delay 0 or more')
         self.start_offset = start_offset
@@ -145,10 +164,11 @@ class Player:
             conns = list(reader.connections)
             self.start_ns = int(reader.start_time) if reader.message_count else 0
             self.end_ns = max(self.start_ns, int(reader.end_time) - 1)
-        wanted = conns if self.only is None else [c for c in conns if c.topic in self.only]
-        if self.only is not None:
-            for name in sorted(set(self.only) - {c.topic for c in conns}):
-                self._log('WARN', f"Topic '{name}' is not in the bag; nothing to play for it")
+        wanted = [c for c in conns if self._selected(c.topic, c.msgtype)]
+        for kind, only in (('Topic', self.only), ('Service', self.only_services)):
+            for name in sorted(set(only or ()) - {c.topic for c in conns}):
+                shown = name if kind == 'Topic' else service_name(name)
+                self._log('WARN', f"{kind} '{shown}' is not in the bag; nothing to play for it")
         sess = session(self.domain_id)
         self._session = sess
         self._node = rclpy.create_node(
@@ -156,6 +176,9 @@ class Player:
             enable_rosout=False,
         )
         for conn in wanted:
+            if self.publish_service_requests and is_service_event(conn.topic, conn.msgtype):
+                self._add_sender(conn)
+                continue
             try:
                 cls = message_class_for(conn.msgtype, self.bag, conn.topic)
             except BagError as exc:
@@ -173,9 +196,30 @@ class Player:
                 self.counts[conn.topic] = 0
             self._connections.append(conn)
         self.total = sum(int(c.msgcount) for c in self._connections)
+        if self._senders:  # the clients' responses need spinning
+            sess.add_node(self._node)
         self._thread = threading.Thread(target=self._run, name='robot_lab-bag-player', daemon=True)
         self._thread.start()
         return self
+
+    def _selected(self, topic: str, msgtype: str) -> bool:
+        only = self.only_services if is_service_event(topic, msgtype) else self.only
+        return only is None or topic in only
+
+    def _add_sender(self, conn: Any) -> None:
+        if conn.topic in self._senders:
+            self._connections.append(conn)
+            return
+        try:
+            sender = ServiceRequestSender(self._node, conn.topic, conn.msgtype,
+                                          self.service_requests_source, self._log)
+        except GraphError as exc:
+            self._log('WARN', f"Ignoring a service '{service_name(conn.topic)}', "
+                              f'reason: {exc}')
+            return
+        self._senders[conn.topic] = sender
+        self.counts[conn.topic] = 0
+        self._connections.append(conn)
 
     def pause(self) -> None:
         with self._cond:
@@ -267,11 +311,19 @@ class Player:
             matched = all(
                 pub.get_subscription_count() >= self._node.count_subscribers(topic)
                 for topic, pub in self._publishers.items()
-            )
+            ) and self._services_ready()
             if settled and matched:
                 return
             with self._cond:
                 self._cond.wait(0.02)
+
+    def _services_ready(self) -> bool:
+        """Every recorded service the graph shows a server for is ready for requests."""
+        if not self._senders:
+            return True
+        served = {name for name, _types in self._node.get_service_names_and_types()}
+        return all(sender.client.service_is_ready() for sender in self._senders.values()
+                   if sender.service in served)
 
     def _run(self) -> None:
         try:
@@ -288,10 +340,14 @@ class Player:
                 if not self._play_once(first) or not self.loop:
                     break
             self._flush_publishers()
+            for sender in self._senders.values():
+                sender.wait_for_answers()
         except BaseException as exc:
             self.error = exc
         finally:
             try:
+                if self._senders:
+                    self._session.remove_node(self._node)
                 for pub in self._publishers.values():
                     self._node.destroy_publisher(pub)
                 self._node.destroy_node()
@@ -301,7 +357,8 @@ class Player:
 
     def _play_once(self, first: int) -> bool:
         with open_bag(self.bag) as reader:
-            conns = [c for c in reader.connections if c.topic in self._publishers]
+            conns = [c for c in reader.connections
+                     if c.topic in self._publishers or c.topic in self._senders]
             if not conns:
                 return False
             # rosbag2 seeks only for a start offset: a message stamped before the metadata's
@@ -310,7 +367,12 @@ class Player:
             for conn, stamp, data in bag_messages(reader, conns, start=since):
                 if not self._wait_until(stamp):
                     return False
-                self._publishers[conn.topic].publish(bytes(data))
+                sender = self._senders.get(conn.topic)
+                if sender is None:
+                    self._publishers[conn.topic].publish(bytes(data))
+                elif not sender.send(bytes(data)):
+                    self._position_ns = stamp  # a response, or a request it could not send
+                    continue
                 self._position_ns = stamp
                 self.played += 1
                 self.counts[conn.topic] += 1
@@ -339,6 +401,9 @@ def play(
     domain_id: int | None = None,
     log: Callable[[str], None] | None = None,
     qos_overrides: Mapping[str, Any] | str | Path | None = None,
+    services: Iterable[str] | None = None,
+    publish_service_requests: bool = False,
+    service_requests_source: RequestSource = 'service_introspection',
 ) -> Player:
     """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
 
@@ -347,9 +412,14 @@ def play(
     many seconds before playing (each loop), as `ros2 bag play --delay`. Each topic
     offers the QoS its recorded publishers offered (rosbag2's rule, robot_lab.bag.qos);
     `qos_overrides` ({topic: QoSProfile} or a `--qos-profile-overrides-path` YAML file) wins.
+    `topics` and `services` select what plays, each on its own (as rosbag2 filters);
+    `publish_service_requests` sends recorded requests to the live services instead of
+    republishing their `_service_event` messages.
     """
     player = Player(
         bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset, delay=delay,
-        domain_id=domain_id, log=log, qos_overrides=qos_overrides,
+        domain_id=domain_id, log=log, qos_overrides=qos_overrides, services=services,
+        publish_service_requests=publish_service_requests,
+        service_requests_source=service_requests_source,
     )
     return player.start()

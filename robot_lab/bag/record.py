@@ -23,6 +23,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from robot_lab.bag.services import SERVICE_EVENT, event_topic
 from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
 from robot_lab.errors import BagError, GraphError
 
@@ -61,9 +62,6 @@ def type_hash_string(type_hash: Any) -> str:
     return 'RIHS01_' + bytes(type_hash.value).hex()
 
 
-SERVICE_EVENT = '/_service_event'
-
-
 def _is_hidden(topic: str) -> bool:
     return any(part.startswith('_') for part in topic.split('/'))
 
@@ -96,7 +94,7 @@ class Recorder:
     ) -> None:
         names = [t if t.startswith('/') else '/' + t for t in topics]
         # rosbag2's --service NAME / --all-services: the services' introspection topics
-        names += [(s if s.startswith('/') else '/' + s) + SERVICE_EVENT for s in services]
+        names += [event_topic(s) for s in services]
         if not names and not all_topics and not all_services:
             raise BagError(
                 'Need to specify at least one option out of --all or topics to record',

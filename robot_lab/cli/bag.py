@@ -94,6 +94,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       'the beginning on reaching the end and plays indefinitely.')
     play.add_argument('--topics', nargs='+', default=None, metavar='topic',
                       help='Space-delimited list of topics to play.')
+    play.add_argument('--services', nargs='+', default=None, metavar='service',
+                      help='Space-delimited list of services to play.')
+    play.add_argument('--publish-service-requests', action='store_true', default=False,
+                      help='Publish recorded service requests instead of recorded service '
+                      'events')
+    play.add_argument('--service-requests-source', default='service_introspection',
+                      choices=['service_introspection', 'client_introspection'],
+                      help='Determine the source of the service requests to be replayed. '
+                      'This option only makes sense if the "--publish-service-requests" '
+                      'option is set. By default, the service requests replaying from '
+                      'recorded service introspection message.')
     play.add_argument('-d', '--delay', type=_not_negative_float, default=0.0,
                       help='Sleep duration before play (each loop), in seconds. Negative '
                       'durations invalid.')
@@ -182,7 +193,9 @@ def _play(args: argparse.Namespace) -> int:
     player = Player(
         args.bag_path, rate=args.rate, loop=args.loop, topics=args.topics,
         start_offset=args.start_offset, delay=args.delay, log=_err,
-        qos_overrides=args.qos_profile_overrides_path,
+        qos_overrides=args.qos_profile_overrides_path, services=args.services,
+        publish_service_requests=args.publish_service_requests,
+        service_requests_source=args.service_requests_source,
     )
     player.start()
     try:
