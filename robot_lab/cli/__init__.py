@@ -87,6 +87,17 @@ def run_sub_verb(args: argparse.Namespace, chosen: str | None,
     return verb(args)
 
 
+def print_names(found: Sequence[tuple[str, Sequence[str]]], *, count: bool,
+                show_types: bool) -> None:
+    """`topic|service|action list`'s output: a count (`-c`), or a name per line, with its
+    types in brackets under `-t`."""
+    if count:
+        print(len(found))
+        return
+    for name, types in found:
+        print(f'{name} [{", ".join(types)}]' if show_types else name)
+
+
 def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
     # rclpy's parameter services import numpy, whose OpenBLAS pool spins a thread for
     # ~80 ms of CPU at start-up: a one-shot command (and the daemon and nodes it may start)

@@ -7,7 +7,7 @@ import queue
 import sys
 from typing import Any
 
-from robot_lab.cli import run_sub_verb
+from robot_lab.cli import print_names, run_sub_verb
 
 HELP = 'Various action related sub-commands'
 
@@ -53,12 +53,7 @@ def main(args: argparse.Namespace) -> int:
 def _list(args: argparse.Namespace) -> int:
     from robot_lab.graph.actions import action_list
 
-    found = action_list()
-    if args.count_actions:
-        print(len(found))
-        return 0
-    for name, types in found:
-        print(f'{name} [{", ".join(types)}]' if args.show_types else name)
+    print_names(action_list(), count=args.count_actions, show_types=args.show_types)
     return 0
 
 

@@ -7,7 +7,7 @@ import argparse
 import sys
 import time
 
-from robot_lab.cli import run_sub_verb
+from robot_lab.cli import print_names, run_sub_verb
 from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various service related sub-commands'
@@ -103,12 +103,7 @@ def _typed(args: argparse.Namespace) -> list[tuple[str, list[str]]]:
 
 
 def _list(args: argparse.Namespace) -> int:
-    found = _typed(args)
-    if args.count_services:
-        print(len(found))
-        return 0
-    for name, types in found:
-        print(f'{name} [{", ".join(types)}]' if args.show_types else name)
+    print_names(_typed(args), count=args.count_services, show_types=args.show_types)
     return 0
 
 

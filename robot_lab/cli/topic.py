@@ -12,7 +12,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from robot_lab.cli import run_sub_verb
+from robot_lab.cli import print_names, run_sub_verb
 from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various topic related sub-commands'
@@ -240,11 +240,7 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _print_topics(args: argparse.Namespace, topics: list[tuple[str, list[str]]]) -> None:
-    if args.count_topics:
-        print(len(topics))
-        return
-    for name, types in topics:
-        print(f'{name} [{", ".join(types)}]' if args.show_types else name)
+    print_names(topics, count=args.count_topics, show_types=args.show_types)
 
 
 def _info(args: argparse.Namespace) -> int:

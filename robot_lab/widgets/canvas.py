@@ -48,6 +48,17 @@ function addStyle() {
     }
   }, 0), true);
 }
+function mount(el, kind) {  // [root, canvas, status line], in the widget's element
+  addStyle();
+  const root = document.createElement('div');
+  root.className = 'rl-canvas ' + kind;
+  const canvas = document.createElement('canvas');
+  const status = document.createElement('div');
+  status.className = 'rl-status';
+  root.append(canvas, status);
+  el.appendChild(root);
+  return [root, canvas, status];
+}
 function sizeCanvas(root, canvas, height) {
   const width = Math.max(200, Math.min(root.clientWidth || 800, 960));
   const dpr = window.devicePixelRatio || 1;
@@ -115,15 +126,8 @@ function needsRescale(cur, want) {
   return (want[1] - want[0]) < 0.25 * (cur[1] - cur[0]);
 }
 function render({ model, el }) {
-  addStyle();
   const cfg = model.get('config');
-  const root = document.createElement('div');
-  root.className = 'rl-canvas rl-chart';
-  const canvas = document.createElement('canvas');
-  const status = document.createElement('div');
-  status.className = 'rl-status';
-  root.append(canvas, status);
-  el.appendChild(root);
+  const [root, canvas, status] = mount(el, 'rl-chart');
   const series = cfg.series.map((s) => ({ ...s, t: [], v: [], total: 0 }));
   const ylims = {};
   let now = 0, nowAt = performance.now(), dirty = true;
@@ -234,15 +238,8 @@ export default { render };
 
 _POSE_ESM = _STYLE + r"""
 function render({ model, el }) {
-  addStyle();
   const cfg = model.get('config');
-  const root = document.createElement('div');
-  root.className = 'rl-canvas rl-pose';
-  const canvas = document.createElement('canvas');
-  const status = document.createElement('div');
-  status.className = 'rl-status';
-  root.append(canvas, status);
-  el.appendChild(root);
+  const [root, canvas, status] = mount(el, 'rl-pose');
   let xs = [], ys = [], pose = [0, 0, 0], twist = [0, 0], count = 0, dirty = true;
   let view = null;  // [xmin, xmax, ymin, ymax] in metres: grows to keep the robot in sight
   const take = (msg) => {
