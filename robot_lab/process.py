@@ -46,6 +46,7 @@ def spawn(
     stderr: int | IO[Any] | None = subprocess.STDOUT,
     shell: bool = False,
     pass_fds: Sequence[int] = (),
+    stdin: int | IO[Any] | None = subprocess.DEVNULL,
 ) -> subprocess.Popen[bytes]:
     """Start `cmd`; it dies with this process (SIGKILL) if this process dies first.
 
@@ -56,7 +57,7 @@ def spawn(
         list(cmd) if not shell else ' '.join(cmd),
         env=dict(env) if env is not None else None,
         cwd=cwd,
-        stdin=subprocess.DEVNULL,
+        stdin=stdin,
         stdout=stdout,
         stderr=stderr,
         shell=shell,

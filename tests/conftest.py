@@ -123,9 +123,10 @@ class Proc:
     """A running child with its merged output collected line by line in a thread."""
 
     def __init__(self, cmd: Sequence[str], env: dict[str, str] | None = None,
-                 cwd: str | Path | None = None) -> None:
+                 cwd: str | Path | None = None, stdin: int | None = None) -> None:
         self.cmd = list(cmd)
-        self.popen = spawn(self.cmd, env=env, cwd=cwd)
+        self.popen = (spawn(self.cmd, env=env, cwd=cwd) if stdin is None
+                      else spawn(self.cmd, env=env, cwd=cwd, stdin=stdin))
         self.lines: list[str] = []
         self._queue: queue.Queue[str | None] = queue.Queue()
         self._reader = threading.Thread(target=self._read, daemon=True)

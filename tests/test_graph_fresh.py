@@ -179,6 +179,14 @@ def test_per_node_queries_wait_for_endpoints_tied_to_a_node(tmp_path, monkeypatc
     assert ready() is False  # keep waiting, up to EXPECTED_TIMEOUT
     owner['/fibonacci/_action/status'] = 'fibonacci_action_server'
     assert ready() is None  # as without a launch: the usual window and settling
+    # `topic info -v` waits for its own topic's endpoints only (CI once printed a
+    # publisher of /cmd_vel as `Node name: _NODE_NAME_UNKNOWN_`)
+    owner['/cmd_vel'] = UNKNOWN_NODE
+    one = endpoints_attributed(SimpleNamespace(node=node, domain_id=0),  # type: ignore
+                               '/fibonacci/_action/status')
+    assert one() is None and ready() is False
+    owner['/cmd_vel'] = 'controller'
+    assert ready() is None
 
 
 def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:

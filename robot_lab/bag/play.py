@@ -60,6 +60,7 @@ class Player:
         services: Iterable[str] | None = None,
         publish_service_requests: bool = False,
         service_requests_source: RequestSource = 'service_introspection',
+        start_paused: bool = False,
     ) -> None:
         if rate <= 0:
             raise BagError(f'{rate} is not in the valid range (> 0.0)', fix='e.g. --rate 2')
@@ -99,7 +100,8 @@ class Player:
         self.counts: dict[str, int] = {}
         self.error: BaseException | None = None
         self._cond = threading.Condition()
-        self._paused = False
+        self._paused = bool(start_paused)  # rosbag2's -p/--start-paused
+        self._steps = 0  # play_next() calls the playing thread has not served yet
         self._stop = False
         self._done = threading.Event()
         self._thread: threading.Thread | None = None
@@ -116,7 +118,7 @@ class Player:
         self.keep_timing = False
 
     # ---------------------------------------------------------------- state
-    def _log(self, level: str, text: str) -> None:
+    def log(self, level: str, text: str) -> None:
         line = _log_line(level, self.node_name, text)
         self.log_lines.append(line)
         if self._log_fn is not None:
@@ -154,7 +156,16 @@ class Player:
     # ---------------------------------------------------------------- control
     def start(self) -> Player:
         """Check the bag, create the publishers and start playing (returns at once)."""
-        if self._thread is not None:
+        if self._thread is None:
+            self.open()
+            self._thread = threading.Thread(target=self._run, name='robot_lab-bag-player',
+                                            daemon=True)
+            self._thread.start()
+        return self
+
+    def open(self) -> Player:
+        """Check the bag and create the publishers, not playing yet (`start()` plays)."""
+        if self._node is not None:
             return self
         import rclpy
 
@@ -168,7 +179,7 @@ class Player:
         for kind, only in (('Topic', self.only), ('Service', self.only_services)):
             for name in sorted(set(only or ()) - {c.topic for c in conns}):
                 shown = name if kind == 'Topic' else service_name(name)
-                self._log('WARN', f"{kind} '{shown}' is not in the bag; nothing to play for it")
+                self.log('WARN', f"{kind} '{shown}' is not in the bag; nothing to play for it")
         sess = session(self.domain_id)
         self._session = sess
         self._node = rclpy.create_node(
@@ -182,12 +193,12 @@ class Player:
             try:
                 cls = message_class_for(conn.msgtype, self.bag, conn.topic)
             except BagError as exc:
-                self._log('WARN', f"Ignoring a topic '{conn.topic}', reason: {exc}")
+                self.log('WARN', f"Ignoring a topic '{conn.topic}', reason: {exc}")
                 continue
             if conn.topic not in self._publishers:
                 qos = publisher_qos(
                     conn.topic, getattr(conn.ext, 'offered_qos_profiles', None) or [],
-                    self.qos_overrides, self._log,
+                    self.qos_overrides, self.log,
                 )
                 self.qos[conn.topic] = qos
                 self._publishers[conn.topic] = self._node.create_publisher(
@@ -198,8 +209,6 @@ class Player:
         self.total = sum(int(c.msgcount) for c in self._connections)
         if self._senders:  # the clients' responses need spinning
             sess.add_node(self._node)
-        self._thread = threading.Thread(target=self._run, name='robot_lab-bag-player', daemon=True)
-        self._thread.start()
         return self
 
     def _selected(self, topic: str, msgtype: str) -> bool:
@@ -212,9 +221,9 @@ class Player:
             return
         try:
             sender = ServiceRequestSender(self._node, conn.topic, conn.msgtype,
-                                          self.service_requests_source, self._log)
+                                          self.service_requests_source, self.log)
         except GraphError as exc:
-            self._log('WARN', f"Ignoring a service '{service_name(conn.topic)}', "
+            self.log('WARN', f"Ignoring a service '{service_name(conn.topic)}', "
                               f'reason: {exc}')
             return
         self._senders[conn.topic] = sender
@@ -226,7 +235,7 @@ class Player:
             if not self._paused:
                 self._anchor_bag = self._virtual_now()
                 self._paused = True
-                self._log('INFO', 'Pausing play.')
+                self.log('INFO', 'Pausing play.')
             self._cond.notify_all()
 
     def resume(self) -> None:
@@ -234,7 +243,7 @@ class Player:
             if self._paused:
                 self._anchor_wall = time.monotonic()
                 self._paused = False
-                self._log('INFO', 'Resuming play.')
+                self.log('INFO', 'Resuming play.')
             self._cond.notify_all()
 
     def toggle_paused(self) -> None:
@@ -243,27 +252,44 @@ class Player:
         else:
             self.pause()
 
+    def play_next(self, timeout: float = 5.0) -> bool:
+        """While paused, publish the next message now (rosbag2's play_next); True once out."""
+        with self._cond:
+            if not self._paused:
+                self.log('WARN', 'Called play next, but not in paused state.')
+                return False
+            before = self.played
+            self._steps += 1
+            self._cond.notify_all()
+            over = self._cond.wait_for(
+                lambda: self.played > before or self._stop or self._done.is_set(), timeout)
+            if self.played == before:  # nothing left to play, or stopped: take the step back
+                self._steps = max(0, self._steps - 1)
+            return bool(over) and self.played > before
+
     def set_rate(self, rate: float) -> bool:
         if rate <= 0:
-            self._log('WARN', f'Failed to set rate to invalid value {rate}')
+            self.log('WARN', f'Failed to set rate to invalid value {rate}')
             return False
         with self._cond:
             self._anchor_bag = self._virtual_now()
             self._anchor_wall = time.monotonic()
             self._rate = float(rate)
             self._cond.notify_all()
-        self._log('INFO', f'Set rate to {rate:g}')
+        self.log('INFO', f'Set rate to {rate:g}')
         return True
 
     def stop(self, timeout: float = 10.0) -> None:
         """Stop playing now (publishers are destroyed; the bag is untouched)."""
         with self._cond:
             if not self._stop and self._thread is not None and not self._done.is_set():
-                self._log('INFO', 'Stopping playback.')
+                self.log('INFO', 'Stopping playback.')
             self._stop = True
             self._cond.notify_all()
         if self._thread is not None:
             self._thread.join(timeout)
+        elif self._node is not None and not self._done.is_set():
+            self._close()  # opened, never started
 
     def wait(self, timeout: float | None = None) -> bool:
         """Block until playback ends (never, with loop=True, unless stopped)."""
@@ -289,18 +315,23 @@ class Player:
             return self._anchor_bag
         return self._anchor_bag + int((time.monotonic() - self._anchor_wall) * self._rate * 1e9)
 
-    def _wait_until(self, stamp: int) -> bool:
-        """Sleep until bag time `stamp` is due; False if stopped meanwhile."""
+    def _wait_until(self, stamp: int) -> str | None:
+        """Sleep until bag time `stamp` is due ('due'), or a play_next() call releases it
+        while paused ('step'); None if stopped meanwhile."""
         with self._cond:
             while not self._stop:
                 if self._paused:
+                    if self._steps:
+                        self._steps -= 1
+                        self._anchor_bag = max(self._anchor_bag, stamp)  # the clock jumps
+                        return 'step'
                     self._cond.wait()
                     continue
                 remaining = (stamp - self._virtual_now()) / 1e9 / self._rate
                 if remaining <= 0:
-                    return True
+                    return 'due'
                 self._cond.wait(remaining)
-            return False
+            return None
 
     def _wait_for_matches(self) -> None:
         """Give subscribers the graph already knows the chance to match before message 1."""
@@ -327,7 +358,7 @@ class Player:
 
     def _run(self) -> None:
         try:
-            self._log('INFO', 'Playback until timestamp: -1')
+            self.log('INFO', 'Playback until timestamp: -1')
             self._wait_for_matches()
             first = self.start_ns + int(self.start_offset * 1e9)
             while not self._stop:
@@ -345,15 +376,20 @@ class Player:
         except BaseException as exc:
             self.error = exc
         finally:
-            try:
-                if self._senders:
-                    self._session.remove_node(self._node)
-                for pub in self._publishers.values():
-                    self._node.destroy_publisher(pub)
-                self._node.destroy_node()
-            except Exception:  # the context was shut down first (kernel exit): nothing to free
-                pass
-            self._done.set()
+            self._close()
+
+    def _close(self) -> None:
+        try:
+            if self._senders:
+                self._session.remove_node(self._node)
+            for pub in self._publishers.values():
+                self._node.destroy_publisher(pub)
+            self._node.destroy_node()
+        except Exception:  # the context was shut down first (kernel exit): nothing to free
+            pass
+        self._done.set()
+        with self._cond:
+            self._cond.notify_all()  # a play_next() waiting for a message that never comes
 
     def _play_once(self, first: int) -> bool:
         with open_bag(self.bag) as reader:
@@ -365,19 +401,26 @@ class Player:
             # starting_time (rosbag2's own 5-file split test bag has them) still plays.
             since = first if self.start_offset > 0 else None
             for conn, stamp, data in bag_messages(reader, conns, start=since):
-                if not self._wait_until(stamp):
+                how = self._wait_until(stamp)
+                if how is None:
                     return False
                 sender = self._senders.get(conn.topic)
                 if sender is None:
                     self._publishers[conn.topic].publish(bytes(data))
                 elif not sender.send(bytes(data)):
                     self._position_ns = stamp  # a response, or a request it could not send
+                    if how == 'step':
+                        with self._cond:
+                            self._steps += 1  # play_next goes on to a message it can send
                     continue
                 self._position_ns = stamp
                 self.played += 1
                 self.counts[conn.topic] += 1
                 if self.keep_timing:
                     self.published.append((conn.topic, stamp, time.monotonic()))
+                if how == 'step':
+                    with self._cond:
+                        self._cond.notify_all()  # play_next() is waiting for this one
         self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
 
@@ -404,6 +447,7 @@ def play(
     services: Iterable[str] | None = None,
     publish_service_requests: bool = False,
     service_requests_source: RequestSource = 'service_introspection',
+    start_paused: bool = False,
 ) -> Player:
     """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
 
@@ -414,12 +458,13 @@ def play(
     `qos_overrides` ({topic: QoSProfile} or a `--qos-profile-overrides-path` YAML file) wins.
     `topics` and `services` select what plays, each on its own (as rosbag2 filters);
     `publish_service_requests` sends recorded requests to the live services instead of
-    republishing their `_service_event` messages.
+    republishing their `_service_event` messages. `start_paused` starts paused: `resume()`,
+    or `play_next()` to publish one message at a time.
     """
     player = Player(
         bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset, delay=delay,
         domain_id=domain_id, log=log, qos_overrides=qos_overrides, services=services,
         publish_service_requests=publish_service_requests,
-        service_requests_source=service_requests_source,
+        service_requests_source=service_requests_source, start_paused=start_paused,
     )
     return player.start()

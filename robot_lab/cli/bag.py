@@ -3,12 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
+import threading
 import time
+from collections.abc import Callable
 from types import FrameType
+from typing import TYPE_CHECKING
 
 from robot_lab.cli import run_sub_verb
+
+if TYPE_CHECKING:
+    from robot_lab.bag.play import Player
 
 HELP = 'Various rosbag related sub-commands'
 
@@ -105,6 +112,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       'This option only makes sense if the "--publish-service-requests" '
                       'option is set. By default, the service requests replaying from '
                       'recorded service introspection message.')
+    play.add_argument('-p', '--start-paused', action='store_true', default=False,
+                      help='Start the playback player in a paused state.')
+    play.add_argument('--disable-keyboard-controls', action='store_true',
+                      help='disables keyboard controls for playback')
     play.add_argument('-d', '--delay', type=_not_negative_float, default=0.0,
                       help='Sleep duration before play (each loop), in seconds. Negative '
                       'durations invalid.')
@@ -195,15 +206,77 @@ def _play(args: argparse.Namespace) -> int:
         start_offset=args.start_offset, delay=args.delay, log=_err,
         qos_overrides=args.qos_profile_overrides_path, services=args.services,
         publish_service_requests=args.publish_service_requests,
-        service_requests_source=args.service_requests_source,
+        service_requests_source=args.service_requests_source, start_paused=args.start_paused,
     )
-    player.start()
+    player.open()  # a bag that cannot be played is refused before the keys are announced
+    restore: Callable[[], None] = (
+        _no_terminal if args.disable_keyboard_controls else _keyboard_controls(player))
     try:
+        player.start()
         while not player.wait(0.1):
             pass
     except KeyboardInterrupt:
         player.stop()
+    finally:
+        restore()
     return 0
+
+
+# rosbag2's default key bindings: (key name, terminal bytes, what it does)
+_KEYS = (('SPACE', b' ', 'Pause/Resume'), ('CURSOR_RIGHT', b'\x1b[C', 'Play Next Message'),
+         ('CURSOR_UP', b'\x1b[A', 'Increase Rate 10%'),
+         ('CURSOR_DOWN', b'\x1b[B', 'Decrease Rate 10%'))
+
+
+def _no_terminal() -> None:
+    """Nothing to restore: the terminal was never changed."""
+
+
+def _keyboard_controls(player: Player) -> Callable[[], None]:
+    """rosbag2's keyboard controls in a terminal: SPACE pauses/resumes, → publishes the
+    next message while paused, ↑/↓ change the rate by 0.1. Returns what restores the
+    terminal. Without a terminal on stdin the keys are announced and ignored, as rosbag2
+    does."""
+    actions: dict[bytes, Callable[[], object]] = {
+        b' ': player.toggle_paused,
+        b'\x1b[C': player.play_next,
+        b'\x1b[A': lambda: player.set_rate(round(player.rate + 0.1, 6)),
+        b'\x1b[B': lambda: player.set_rate(round(player.rate - 0.1, 6)),
+    }
+    player.log('INFO', 'Adding keyboard callbacks.')
+    for name, _key, what in _KEYS:
+        player.log('INFO', f'Press {name} for {what}')
+    try:
+        fd = sys.stdin.fileno()
+        terminal = os.isatty(fd)
+    except (AttributeError, ValueError, OSError):
+        terminal = False
+    if not terminal:
+        _err('stdin is not a terminal device. Keyboard handling disabled.')
+        return _no_terminal
+    import termios
+    import tty
+
+    saved = termios.tcgetattr(fd)
+    tty.setcbreak(fd)  # keys arrive one by one, unechoed; Ctrl-C still interrupts
+
+    def read_keys() -> None:
+        while True:
+            try:
+                data = os.read(fd, 32)
+            except OSError:
+                return
+            if not data:
+                return
+            while data:  # an arrow key is three bytes; several keys may come at once
+                size = 3 if data.startswith(b'\x1b[') else 1
+                key, data = data[:size], data[size:]
+                action = actions.get(key)
+                if action is not None:
+                    action()
+
+    threading.Thread(target=read_keys, name='robot_lab-bag-keys', daemon=True).start()
+    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)
 
 
 def _reindex(args: argparse.Namespace) -> int:

@@ -117,17 +117,20 @@ def launched_nodes_seen(session: Session) -> Callable[[], bool | None]:
     return seen
 
 
-def endpoints_attributed(session: Session) -> Callable[[], bool | None]:
+def endpoints_attributed(session: Session,
+                         topic: str | None = None) -> Callable[[], bool | None]:
     """A probe for `settled` before per-node queries: False while discovery has an
-    endpoint it cannot yet tie to a node (a node's endpoints are mapped to it by messages
-    of their own, which can come after the node's name), else as `launched_nodes_seen`."""
+    endpoint (of `topic`, or of any topic) it cannot yet tie to a node (a node's endpoints
+    are mapped to it by messages of their own, which can come after the node's name), else
+    as `launched_nodes_seen`."""
     launched = launched_nodes_seen(session)
     node = session.node
 
     def unattributed() -> bool:
-        for topic, _ in node.get_topic_names_and_types():
-            for info in (*node.get_publishers_info_by_topic(topic),
-                         *node.get_subscriptions_info_by_topic(topic)):
+        topics = [topic] if topic else [t for t, _ in node.get_topic_names_and_types()]
+        for topic_name in topics:
+            for info in (*node.get_publishers_info_by_topic(topic_name),
+                         *node.get_subscriptions_info_by_topic(topic_name)):
                 if info.node_name == UNKNOWN_NODE:
                     return True
         return False

@@ -17,6 +17,7 @@ from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import (
     LOOKUP_TIMEOUT,
     absolute_name,
+    endpoints_attributed,
     get_session,
     settled,
     wait_until,
@@ -191,8 +192,9 @@ def topic_info(name: str, verbose: bool = False, timeout: float = LOOKUP_TIMEOUT
             subscribers=[_endpoint(i) for i in sess.node.get_subscriptions_info_by_topic(topic)],
         )
 
-    # A fresh session may know one end of the topic and not yet the other (or its node).
-    return settled(sess, probe)
+    # A fresh session may know one end of the topic and not yet the other, or an endpoint
+    # and not yet its node (`_NODE_NAME_UNKNOWN_` in `topic info -v`).
+    return settled(sess, probe, ready=endpoints_attributed(sess, topic))
 
 
 def _echo_qos(sess: Session, topic: str) -> Any:
