@@ -219,3 +219,56 @@ def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:
         if terminal.poll() is None:
             terminal.kill()
         daemon.stop()
+
+
+def test_action_answers_wait_for_the_servers_services(tmp_path, monkeypatch) -> None:
+    """CI printed `Action servers: 0` for a live server even after cebd99a: its status
+    topic was tied to the node, its send_goal service not yet. A status publisher with no
+    server found (or a status reader with no client) keeps `action info` and `node info`
+    waiting; the answer comes once the services arrive."""
+    import time
+    from types import SimpleNamespace
+
+    import rclpy.action.graph as action_graph
+
+    from robot_lab.graph.actions import action_info
+    from robot_lab.graph.nodes import node_info
+
+    monkeypatch.setenv('XDG_RUNTIME_DIR', str(tmp_path))  # no launch announces nodes
+    arrives = time.monotonic() + 0.6  # the server's services, 0.6 s from now
+    status = '/fibonacci/_action/status'
+    kind = ['test_msgs/action/Fibonacci']
+
+    def servers(_node: object, name: str, _ns: str) -> list[tuple[str, list[str]]]:
+        late = time.monotonic() < arrives
+        return [] if late or name != 'fibonacci_action_server' else [('/fibonacci', kind)]
+
+    monkeypatch.setattr(action_graph, 'get_action_server_names_and_types_by_node', servers)
+    monkeypatch.setattr(action_graph, 'get_action_client_names_and_types_by_node',
+                        lambda *_: [])
+    node = SimpleNamespace(
+        get_node_names_and_namespaces=lambda: [('fibonacci_action_server', '/')],
+        get_topic_names_and_types=lambda: [(status, ['action_msgs/msg/GoalStatusArray'])],
+        get_publishers_info_by_topic=lambda t: [
+            SimpleNamespace(node_name='fibonacci_action_server')],
+        get_subscriptions_info_by_topic=lambda t: [],
+        count_publishers=lambda t: 1 if t == status else 0,
+        count_subscribers=lambda t: 0,
+        get_publisher_names_and_types_by_node=lambda n, ns: [(status, ['x'])],
+        get_subscriber_names_and_types_by_node=lambda n, ns: [],
+        get_service_names_and_types_by_node=lambda n, ns: [],
+        get_client_names_and_types_by_node=lambda n, ns: [],
+    )
+    warm = SimpleNamespace(node=node, domain_id=0, created=time.monotonic() - 60)
+    info = action_info('/fibonacci', session=warm)  # type: ignore[arg-type]
+    assert time.monotonic() >= arrives
+    assert info.servers == [('/fibonacci_action_server', kind)]
+    arrives = time.monotonic() + 0.6
+    from rclpy.node import Node
+
+    for method in ('get_publisher_names_and_types_by_node',
+                   'get_subscriber_names_and_types_by_node',
+                   'get_service_names_and_types_by_node', 'get_client_names_and_types_by_node'):
+        monkeypatch.setattr(Node, method, lambda self, n, ns, m=method: getattr(node, m)(n, ns))
+    shown = node_info('/fibonacci_action_server', session=warm)  # type: ignore[arg-type]
+    assert shown.action_servers == [('/fibonacci', kind)]

@@ -111,12 +111,30 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
             found += [(full, list(t)) for n, t in entries if n == action]
         return found
 
-    # A node's endpoints can be seen before they are tied to it: wait for that.
-    return settled(sess, lambda: ActionInfo(
-        name=action,
-        clients=by_node(get_action_client_names_and_types_by_node),
-        servers=by_node(get_action_server_names_and_types_by_node),
-    ), ready=endpoints_attributed(sess))
+    def probe() -> ActionInfo:
+        return ActionInfo(name=action,
+                          clients=by_node(get_action_client_names_and_types_by_node),
+                          servers=by_node(get_action_server_names_and_types_by_node))
+
+    # A node's endpoints can be seen before they are tied to it: wait for that. Its
+    # service endpoints (send_goal, ...) can come later than its topics, so also wait
+    # while the status topic has more publishers (one per server) or subscribers (one per
+    # client) than nodes found with a server or client: CI once printed `Action
+    # servers: 0` for a live server.
+    attributed = endpoints_attributed(sess)
+    status = action + '/_action/status'
+
+    def ready() -> bool | None:
+        seen = attributed()
+        if seen is False:
+            return False
+        info = probe()
+        if (sess.node.count_publishers(status) > len(info.servers)
+                or sess.node.count_subscribers(status) > len(info.clients)):
+            return False
+        return seen
+
+    return settled(sess, probe, ready=ready)
 
 
 def action_class(type_name: str) -> Any:

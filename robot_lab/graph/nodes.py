@@ -174,14 +174,40 @@ def node_info(name: str, include_hidden: bool = False,
     def query(method: Callable[[Any, str, str], Any]) -> NamesAndTypes:
         return _by_node(method, node, base, namespace, include_hidden)
 
+    def probe() -> NodeInfo:
+        return NodeInfo(
+            name=full,
+            subscribers=query(Node.get_subscriber_names_and_types_by_node),
+            publishers=query(Node.get_publisher_names_and_types_by_node),
+            service_servers=query(Node.get_service_names_and_types_by_node),
+            service_clients=query(Node.get_client_names_and_types_by_node),
+            action_servers=query(get_action_server_names_and_types_by_node),
+            action_clients=query(get_action_client_names_and_types_by_node),
+        )
+
     # A fresh session may have the node but not yet all of its endpoints, or have seen
-    # endpoints it cannot yet tie to the node.
-    return settled(sess, lambda: NodeInfo(
-        name=full,
-        subscribers=query(Node.get_subscriber_names_and_types_by_node),
-        publishers=query(Node.get_publisher_names_and_types_by_node),
-        service_servers=query(Node.get_service_names_and_types_by_node),
-        service_clients=query(Node.get_client_names_and_types_by_node),
-        action_servers=query(get_action_server_names_and_types_by_node),
-        action_clients=query(get_action_client_names_and_types_by_node),
-    ), ready=endpoints_attributed(sess))
+    # endpoints it cannot yet tie to the node; and a node's services (an action's
+    # send_goal, ...) can arrive after its topics: an action whose status topic the node
+    # already publishes (a server) or reads (a client) must be listed before we answer.
+    attributed = endpoints_attributed(sess)
+    suffix = '/_action/status'
+
+    def ready() -> bool | None:
+        seen = attributed()
+        if seen is False:
+            return False
+        pubs = _by_node(Node.get_publisher_names_and_types_by_node, node, base, namespace,
+                        True)
+        subs = _by_node(Node.get_subscriber_names_and_types_by_node, node, base, namespace,
+                        True)
+        servers = {n for n, _ in _by_node(get_action_server_names_and_types_by_node, node,
+                                          base, namespace, True)}
+        clients = {n for n, _ in _by_node(get_action_client_names_and_types_by_node, node,
+                                          base, namespace, True)}
+        if any(n.endswith(suffix) and n[: -len(suffix)] not in servers for n, _ in pubs):
+            return False
+        if any(n.endswith(suffix) and n[: -len(suffix)] not in clients for n, _ in subs):
+            return False
+        return seen
+
+    return settled(sess, probe, ready=ready)
