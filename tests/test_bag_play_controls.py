@@ -1,12 +1,15 @@
-"""`ros2 bag play`'s controls: `--start-paused`, play next, and the keyboard in a terminal
-(SPACE pause/resume, CURSOR_RIGHT next message, CURSOR_UP/DOWN rate ± 0.1), as rosbag2.
+"""`ros2 bag play`'s controls and options, as rosbag2: `--start-paused`, play next, the
+keyboard in a terminal (SPACE pause/resume, CURSOR_RIGHT next message, CURSOR_UP/DOWN rate
+± 0.1), the topic filters, `--remap`, `--playback-duration/-until` and `--clock`.
 
-The bag is written here: twenty std_msgs/Int32 (0 … 19) on /counter, 0.1 s apart, so the
-order and the count of what a subscriber receives show what was played.
+The bag is written here: twenty std_msgs/Int32 (0 … 19) on /counter, 0.1 s apart, and
+(from 100) on /other between them, so the order and the count of what a subscriber
+receives show what was played.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import pty
 import threading
@@ -20,16 +23,41 @@ import robot_lab
 from robot_lab.bag.writer import BagWriter, TopicSpec
 
 COUNT = 20
+START = 1_700_000_000_000_000_000  # the first message's receive time, ns
+STEP = 100_000_000
+
+
+@contextlib.contextmanager
+def clock_listener(clocks: list[int]) -> Iterator[None]:
+    """/clock's times (ns) appended to `clocks`, read best effort as rclpy's TimeSource."""
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from rosgraph_msgs.msg import Clock
+
+    from robot_lab.context import session
+
+    node = session().node
+    sub = node.create_subscription(
+        Clock, '/clock', lambda m: clocks.append(m.clock.sec * 10**9 + m.clock.nanosec),
+        QoSProfile(depth=100, reliability=ReliabilityPolicy.BEST_EFFORT))
+    try:
+        yield
+    finally:
+        node.destroy_subscription(sub)
+
+
+def _int32(value: int) -> bytes:
+    return bytes([0, 1, 0, 0]) + value.to_bytes(4, 'little')  # CDR header, then the int32
 
 
 @pytest.fixture(scope='module')
 def counter_bag(tmp_path_factory: pytest.TempPathFactory) -> Path:
     bag = tmp_path_factory.mktemp('controls') / 'counter'
     writer = BagWriter(bag, 'mcap')
-    conn = writer.add_topic(TopicSpec('/counter', 'std_msgs/msg/Int32', []))
-    for i in range(COUNT):  # CDR: little-endian header, then the int32
-        writer.write(conn, 1_700_000_000_000_000_000 + i * 100_000_000,
-                     bytes([0, 1, 0, 0]) + i.to_bytes(4, 'little'))
+    counter = writer.add_topic(TopicSpec('/counter', 'std_msgs/msg/Int32', []))
+    other = writer.add_topic(TopicSpec('/other', 'std_msgs/msg/Int32', []))
+    for i in range(COUNT):
+        writer.write(counter, START + i * STEP, _int32(i))
+        writer.write(other, START + i * STEP + STEP // 2, _int32(100 + i))
     writer.close()
     return bag
 
@@ -66,7 +94,7 @@ def received() -> Iterator[Received]:
 
 
 def test_start_paused_then_play_next_then_resume(counter_bag: Path, received: Received) -> None:
-    player = robot_lab.play(counter_bag, start_paused=True)
+    player = robot_lab.play(counter_bag, start_paused=True, topics=['/counter'])
     try:
         assert player.paused
         for n in (1, 2, 3):
@@ -79,7 +107,7 @@ def test_start_paused_then_play_next_then_resume(counter_bag: Path, received: Re
         player.stop()
     assert received.wait_for(COUNT) == list(range(COUNT))  # nothing twice, nothing lost
     # while playing, play_next is refused with rosbag2's warning
-    again = robot_lab.play(counter_bag)
+    again = robot_lab.play(counter_bag, topics=['/counter'])
     try:
         assert not again.play_next()
         assert again.log_lines[-1].endswith('Called play next, but not in paused state.')
@@ -89,7 +117,8 @@ def test_start_paused_then_play_next_then_resume(counter_bag: Path, received: Re
 
 def test_keyboard_controls_in_a_terminal(counter_bag: Path, received: Received) -> None:
     keys, terminal = pty.openpty()
-    play = Proc([str(BIN / 'ros2'), 'bag', 'play', '--start-paused', str(counter_bag)],
+    play = Proc([str(BIN / 'ros2'), 'bag', 'play', '--start-paused', str(counter_bag),
+                 '--topics', '/counter'],
                 env=dict(os.environ), stdin=terminal)
     os.close(terminal)
     try:
@@ -130,3 +159,69 @@ def test_without_a_terminal_the_keys_are_announced_and_ignored(counter_bag: Path
     finally:
         quiet.stop()
     assert 'Press SPACE' not in quiet.output and 'Keyboard handling' not in quiet.output
+
+
+def _counts(bag: Path, **options: object) -> dict[str, int]:
+    player = robot_lab.play(bag, **options)
+    try:
+        assert player.wait(60)
+    finally:
+        player.stop()
+    return {topic: n for topic, n in player.counts.items() if n}
+
+
+def test_topic_filters_follow_rosbag2(counter_bag: Path) -> None:
+    both = {'/counter': COUNT, '/other': COUNT}
+    assert _counts(counter_bag, rate=20) == both
+    assert _counts(counter_bag, rate=20, exclude_topics=['/other']) == {'/counter': COUNT}
+    assert _counts(counter_bag, rate=20, regex='/oth.*') == {'/other': COUNT}
+    assert _counts(counter_bag, rate=20, regex='/oth') == {}  # a whole-name match
+    assert _counts(counter_bag, rate=20, exclude_regex='/c.*') == {'/other': COUNT}
+    # a listed topic or a regex match plays
+    assert _counts(counter_bag, rate=20, topics=['/counter'], regex='/oth.*') == both
+    with pytest.raises(robot_lab.BagError, match='Invalid regular expression for --regex'):
+        robot_lab.play(counter_bag, regex='(')
+
+
+def test_playback_duration_and_until(counter_bag: Path) -> None:
+    """Messages stamped after start + duration (or `until`) do not play; the later of the
+    two bounds wins; 0 plays nothing."""
+    assert _counts(counter_bag, rate=20, topics=['/counter'],
+                   playback_duration=0.45) == {'/counter': 5}  # 0.0 ... 0.4 s
+    assert _counts(counter_bag, rate=20, topics=['/counter'],
+                   playback_until=START + 2 * STEP) == {'/counter': 3}
+    assert _counts(counter_bag, rate=20, topics=['/counter'], playback_duration=0.45,
+                   playback_until=START + 9 * STEP) == {'/counter': 10}
+    assert _counts(counter_bag, rate=20, playback_duration=0) == {}
+
+
+def test_remap_and_clock(counter_bag: Path, received: Received) -> None:
+    """`--remap /other:=/counter` and `--clock-topics-all`: /counter gets both topics'
+    messages, and /clock the bag time of each just before it."""
+    clocks: list[int] = []
+    with clock_listener(clocks):
+        play = Proc([str(BIN / 'ros2'), 'bag', 'play', str(counter_bag),
+                     '--remap', '/other:=/counter', '--clock-topics-all',
+                     '--disable-keyboard-controls'], env=dict(os.environ))
+        try:
+            assert play.popen.wait(60) == 0, play.output
+        finally:
+            play.stop()
+        assert sorted(received.wait_for(2 * COUNT)) == sorted(
+            [*range(COUNT), *range(100, 100 + COUNT)])
+    stamps = sorted({START + i * STEP for i in range(COUNT)}
+                    | {START + i * STEP + STEP // 2 for i in range(COUNT)})
+    # best effort, depth 1: a clock update may be lost, never invented or out of order
+    assert set(clocks) <= set(stamps) and clocks == sorted(clocks)
+    assert len(clocks) >= COUNT // 2, clocks
+
+
+def test_clock_at_a_rate_follows_the_bag_time(counter_bag: Path) -> None:
+    clocks: list[int] = []
+    with clock_listener(clocks):
+        player = robot_lab.play(counter_bag, clock=50, topics=['/counter'])
+        assert player.wait(60)
+    # 1.9 s of bag time at 50 Hz: about 95 updates, all within the bag, never backwards
+    assert len(clocks) >= 40, len(clocks)
+    assert clocks == sorted(clocks)
+    assert clocks[0] >= START and clocks[-1] <= START + COUNT * STEP

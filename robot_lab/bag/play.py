@@ -17,13 +17,14 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from robot_lab.bag.clock import ClockPublisher
 from robot_lab.bag.qos import load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
+from robot_lab.bag.selection import Selection
 from robot_lab.bag.services import (
     REQUEST_SOURCES,
     RequestSource,
     ServiceRequestSender,
-    event_topic,
     is_service_event,
     service_name,
 )
@@ -61,6 +62,16 @@ class Player:
         publish_service_requests: bool = False,
         service_requests_source: RequestSource = 'service_introspection',
         start_paused: bool = False,
+        exclude_topics: Iterable[str] = (),
+        exclude_services: Iterable[str] = (),
+        regex: str = '',
+        exclude_regex: str = '',
+        remap: Mapping[str, str] | Iterable[str] | None = None,
+        clock: float = 0.0,
+        clock_topics: Iterable[str] = (),
+        clock_topics_all: bool = False,
+        playback_duration: float = -1.0,
+        playback_until: int = -1,
     ) -> None:
         if rate <= 0:
             raise BagError(f'{rate} is not in the valid range (> 0.0)', fix='e.g. --rate 2')
@@ -71,11 +82,25 @@ class Player:
         self.bag = Path(bag)
         self._rate = float(rate)
         self.loop = loop
-        self.only = (
-            None if topics is None else [t if t.startswith('/') else '/' + t for t in topics]
-        )
         # rosbag2 filters topics and services apart: `--topics` leaves services alone
-        self.only_services = None if services is None else [event_topic(s) for s in services]
+        self.selection = Selection.of(topics, services, exclude_topics, exclude_services,
+                                      regex, exclude_regex)
+        # rosbag2's --remap: the player node's own remapping rules (`old:=new`)
+        self.remap = ([f'{k}:={v}' for k, v in remap.items()] if isinstance(remap, Mapping)
+                      else list(remap or ()))
+        for rule in self.remap:
+            if ':=' not in rule:
+                raise BagError(f"Invalid remap rule '{rule}'", fix='write it old:=new, '
+                               'e.g. --remap /sensor/temperature:=/replayed/temperature')
+        if clock < 0:
+            raise BagError(f'Value {clock} is less than zero.', fix='--clock 40 (Hz)')
+        self.clock_hz = float(clock)
+        self.clock_topics = list(clock_topics)
+        self.clock_topics_all = clock_topics_all
+        self._clock: ClockPublisher | None = None
+        self.playback_duration = float(playback_duration)  # s; negative: to the end
+        self.playback_until = int(playback_until)  # ns since the epoch; negative: unset
+        self.until_ns = -1  # rosbag2's play_until_timestamp, set when the bag is opened
         if service_requests_source not in REQUEST_SOURCES:
             raise BagError(f'Unknown service requests source {service_requests_source!r}',
                            fix='use ' + ' or '.join(REQUEST_SOURCES))
@@ -176,7 +201,8 @@ class Player:
             self.start_ns = int(reader.start_time) if reader.message_count else 0
             self.end_ns = max(self.start_ns, int(reader.end_time) - 1)
         wanted = [c for c in conns if self._selected(c.topic, c.msgtype)]
-        for kind, only in (('Topic', self.only), ('Service', self.only_services)):
+        for kind, only in (('Topic', self.selection.topics),
+                           ('Service', self.selection.services)):
             for name in sorted(set(only or ()) - {c.topic for c in conns}):
                 shown = name if kind == 'Topic' else service_name(name)
                 self.log('WARN', f"{kind} '{shown}' is not in the bag; nothing to play for it")
@@ -185,7 +211,15 @@ class Player:
         self._node = rclpy.create_node(
             self.node_name, context=sess.context, start_parameter_services=False,
             enable_rosout=False,
+            cli_args=['--ros-args', *[a for r in self.remap for a in ('-r', r)]]
+            if self.remap else None,
         )
+        self.until_ns = self._until(self.start_ns + int(self.start_offset * 1e9))
+        if self.until_ns >= 0:
+            self.end_ns = max(self.start_ns, min(self.end_ns, self.until_ns))
+        if self.clock_hz > 0 or self.clock_topics or self.clock_topics_all:
+            self._clock = ClockPublisher(self._node, self._clock_now, self.clock_hz,
+                                         self.clock_topics, self.clock_topics_all)
         for conn in wanted:
             if self.publish_service_requests and is_service_event(conn.topic, conn.msgtype):
                 self._add_sender(conn)
@@ -211,9 +245,20 @@ class Player:
             sess.add_node(self._node)
         return self
 
+    def _until(self, starting: int) -> int:
+        """rosbag2's play_until_timestamp: the later of start + duration and `until`."""
+        if self.playback_duration < 0 and self.playback_until < 0:
+            return -1
+        by_duration = (0 if self.playback_duration == 0
+                       else starting + int(self.playback_duration * 1e9))
+        return max(by_duration, self.playback_until)
+
+    def _clock_now(self) -> int:
+        with self._cond:
+            return self._virtual_now()
+
     def _selected(self, topic: str, msgtype: str) -> bool:
-        only = self.only_services if is_service_event(topic, msgtype) else self.only
-        return only is None or topic in only
+        return self.selection.allows(topic, msgtype)
 
     def _add_sender(self, conn: Any) -> None:
         if conn.topic in self._senders:
@@ -358,7 +403,7 @@ class Player:
 
     def _run(self) -> None:
         try:
-            self.log('INFO', 'Playback until timestamp: -1')
+            self.log('INFO', f'Playback until timestamp: {self.until_ns}')
             self._wait_for_matches()
             first = self.start_ns + int(self.start_offset * 1e9)
             while not self._stop:
@@ -368,8 +413,12 @@ class Player:
                     self._anchor_bag = first
                     self._anchor_wall = time.monotonic()
                     self._position_ns = first
+                if self._clock is not None:
+                    self._clock.start()  # from the bag's first instant on (once)
                 if not self._play_once(first) or not self.loop:
                     break
+            if self._clock is not None:
+                self._clock.stop()  # the bag time ends with the bag
             self._flush_publishers()
             for sender in self._senders.values():
                 sender.wait_for_answers()
@@ -380,6 +429,8 @@ class Player:
 
     def _close(self) -> None:
         try:
+            if self._clock is not None:
+                self._clock.destroy(self._node)
             if self._senders:
                 self._session.remove_node(self._node)
             for pub in self._publishers.values():
@@ -401,9 +452,13 @@ class Player:
             # starting_time (rosbag2's own 5-file split test bag has them) still plays.
             since = first if self.start_offset > 0 else None
             for conn, stamp, data in bag_messages(reader, conns, start=since):
+                if self.until_ns == 0 or 0 < self.until_ns < stamp:
+                    break  # --playback-duration / --playback-until reached
                 how = self._wait_until(stamp)
                 if how is None:
                     return False
+                if self._clock is not None:
+                    self._clock.before_message(conn.topic, stamp)
                 sender = self._senders.get(conn.topic)
                 if sender is None:
                     self._publishers[conn.topic].publish(bytes(data))
@@ -433,38 +488,17 @@ class Player:
                 pub.wait_for_all_acked(Duration(seconds=1))
 
 
-def play(
-    bag: str | Path,
-    *,
-    rate: float = 1.0,
-    loop: bool = False,
-    topics: Iterable[str] | None = None,
-    start_offset: float = 0.0,
-    delay: float = 0.0,
-    domain_id: int | None = None,
-    log: Callable[[str], None] | None = None,
-    qos_overrides: Mapping[str, Any] | str | Path | None = None,
-    services: Iterable[str] | None = None,
-    publish_service_requests: bool = False,
-    service_requests_source: RequestSource = 'service_introspection',
-    start_paused: bool = False,
-) -> Player:
+def play(bag: str | Path, **options: Any) -> Player:
     """Start playing a bag (folder or .mcap/.db3 file); returns the running Player.
 
     `player.wait()` blocks until it has played everything; `pause()`, `resume()`,
-    `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0. `delay` waits that
-    many seconds before playing (each loop), as `ros2 bag play --delay`. Each topic
-    offers the QoS its recorded publishers offered (rosbag2's rule, robot_lab.bag.qos);
-    `qos_overrides` ({topic: QoSProfile} or a `--qos-profile-overrides-path` YAML file) wins.
-    `topics` and `services` select what plays, each on its own (as rosbag2 filters);
-    `publish_service_requests` sends recorded requests to the live services instead of
-    republishing their `_service_event` messages. `start_paused` starts paused: `resume()`,
-    or `play_next()` to publish one message at a time.
+    `play_next()`, `set_rate()`, `stop()` control it; `progress` goes from 0.0 to 1.0.
+    Options are `ros2 bag play`'s, as keywords (see `Player`): `rate`, `loop`, `topics`,
+    `services`, `exclude_topics`, `exclude_services`, `regex`, `exclude_regex`, `remap`
+    ({old: new}), `start_offset`, `delay`, `start_paused`, `playback_duration` (s),
+    `playback_until` (ns), `clock` (Hz), `clock_topics`, `clock_topics_all`,
+    `qos_overrides` ({topic: QoSProfile} or a `--qos-profile-overrides-path` file),
+    `publish_service_requests`, `service_requests_source`, `domain_id`, `log`. Each topic
+    offers the QoS its recorded publishers offered (rosbag2's rule, robot_lab.bag.qos).
     """
-    player = Player(
-        bag, rate=rate, loop=loop, topics=topics, start_offset=start_offset, delay=delay,
-        domain_id=domain_id, log=log, qos_overrides=qos_overrides, services=services,
-        publish_service_requests=publish_service_requests,
-        service_requests_source=service_requests_source, start_paused=start_paused,
-    )
-    return player.start()
+    return Player(bag, **options).start()

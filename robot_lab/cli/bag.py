@@ -103,6 +103,52 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help='Space-delimited list of topics to play.')
     play.add_argument('--services', nargs='+', default=None, metavar='service',
                       help='Space-delimited list of services to play.')
+    play.add_argument('-e', '--regex', default='',
+                      help='Play only topics and services matches with regular expression.')
+    play.add_argument('-x', '--exclude-regex', default='',
+                      help='regular expressions to exclude topics and services from replay.')
+    play.add_argument('--exclude-topics', nargs='+', default=[], metavar='topic',
+                      help='Space-delimited list of topics not to play.')
+    play.add_argument('--exclude-services', nargs='+', default=[], metavar='service',
+                      help='Space-delimited list of services not to play.')
+    play.add_argument('--remap', '-m', nargs='+', default=[],
+                      help='list of topics to be remapped: in the form '
+                      '"old_topic1:=new_topic1 old_topic2:=new_topic2 etc." ')
+    clock = play.add_mutually_exclusive_group()
+    clock.add_argument('--clock', type=_positive_float, nargs='?', const=40.0, default=0.0,
+                       help='Publish to /clock at a specific frequency in Hz, to act as a ROS '
+                       'Time Source. Value must be positive. Defaults to not publishing.')
+    clock.add_argument('--clock-topics', nargs='+', default=[],
+                       help='List of topics separated by spaces that will trigger a /clock '
+                       'update when a message is published on them')
+    clock.add_argument('--clock-topics-all', action='store_true',
+                       help='Publishes an update on /clock immediately before each replayed '
+                       'message')
+    play.add_argument('--playback-duration', type=float, default=-1.0,
+                      help='Playback duration, in seconds. Negative durations mark an infinite '
+                      'playback. Default is -1. When positive, the maximum of '
+                      '`playback-until-*` and the one that this attribute yields will be used '
+                      'to determine which one stops playback execution.')
+    until = play.add_mutually_exclusive_group()
+    until.add_argument('--playback-until-sec', type=float, default=-1.0,
+                       help='Playback until timestamp, expressed in seconds since epoch. '
+                       'Mutually exclusive argument with `--playback-until-nsec`.')
+    until.add_argument('--playback-until-nsec', type=int, default=-1,
+                       help='Playback until timestamp, expressed in nanoseconds since epoch. '
+                       'Mutually exclusive argument with `--playback-until-sec`.')
+    # rosbag2's tuning options, accepted so tutorial command lines run; the kit reads the
+    # storage format from the files and waits for acknowledgements by itself.
+    play.add_argument('-s', '--storage', choices=['mcap', 'sqlite3'], default=None,
+                      help='Storage implementation of bag. By default attempts to detect '
+                      'automatically.')
+    play.add_argument('--read-ahead-queue-size', type=int, default=1000,
+                      help='size of message queue rosbag tries to hold in memory (accepted; '
+                      'the kit reads the bag as it plays)')
+    play.add_argument('--wait-for-all-acked', type=int, default=-1, metavar='TIMEOUT_MS',
+                      help='Wait until all published messages are acknowledged (accepted; the '
+                      'kit waits up to 1 s for reliable subscribers at the end)')
+    play.add_argument('--disable-loan-message', action='store_true',
+                      help='Disable to publish as loaned message (accepted; no loans here)')
     play.add_argument('--publish-service-requests', action='store_true', default=False,
                       help='Publish recorded service requests instead of recorded service '
                       'events')
@@ -207,6 +253,13 @@ def _play(args: argparse.Namespace) -> int:
         qos_overrides=args.qos_profile_overrides_path, services=args.services,
         publish_service_requests=args.publish_service_requests,
         service_requests_source=args.service_requests_source, start_paused=args.start_paused,
+        exclude_topics=args.exclude_topics, exclude_services=args.exclude_services,
+        regex=args.regex, exclude_regex=args.exclude_regex, remap=args.remap,
+        clock=args.clock, clock_topics=args.clock_topics,
+        clock_topics_all=args.clock_topics_all, playback_duration=args.playback_duration,
+        playback_until=(args.playback_until_nsec if args.playback_until_nsec >= 0
+                        else int(args.playback_until_sec * 1e9)
+                        if args.playback_until_sec >= 0 else -1),
     )
     player.open()  # a bag that cannot be played is refused before the keys are announced
     restore: Callable[[], None] = (
