@@ -23,7 +23,8 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
-from robot_lab.bag.services import SERVICE_EVENT, event_topic
+from robot_lab.bag.selection import RecordFilter
+from robot_lab.bag.services import event_topic
 from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
 from robot_lab.errors import BagError, GraphError
 
@@ -62,10 +63,6 @@ def type_hash_string(type_hash: Any) -> str:
     return 'RIHS01_' + bytes(type_hash.value).hex()
 
 
-def _is_hidden(topic: str) -> bool:
-    return any(part.startswith('_') for part in topic.split('/'))
-
-
 class Recorder:
     """A recording in progress: `start()`, live `counts`, `stop()`; or use `with`.
 
@@ -91,19 +88,39 @@ class Recorder:
         max_bag_duration: float = 0,
         services: Iterable[str] = (),
         all_services: bool = False,
+        topic_types: Iterable[str] = (),
+        regex: str = '',
+        exclude_regex: str = '',
+        exclude_topic_types: Iterable[str] = (),
+        exclude_topics: Iterable[str] = (),
+        exclude_services: Iterable[str] = (),
+        include_hidden_topics: bool = False,
+        include_unpublished_topics: bool = False,
+        no_discovery: bool = False,
+        polling_interval: float = POLL_INTERVAL,
     ) -> None:
+        topics, services = list(topics), list(services)
+        # rosbag2's record filter (robot_lab.bag.selection): lists, types, regexes, hidden
+        self.filter = RecordFilter.of(
+            topics, services, topic_types, all_topics, all_services, regex, exclude_regex,
+            exclude_topic_types, exclude_topics, exclude_services, include_hidden_topics)
+        if not topics and not services and not self.filter.open_ended:
+            raise BagError(
+                'Need to specify at least one option out of --all, --all-topics, '
+                '--all-services, --services, --topics, --topic-types or --regex',
+                fix='e.g. `robot-lab bag record /sensor/temperature` or `-a`',
+            )
         names = [t if t.startswith('/') else '/' + t for t in topics]
         # rosbag2's --service NAME / --all-services: the services' introspection topics
         names += [event_topic(s) for s in services]
-        if not names and not all_topics and not all_services:
-            raise BagError(
-                'Need to specify at least one option out of --all or topics to record',
-                fix='e.g. `robot-lab bag record /sensor/temperature` or `-a`',
-            )
-        self.topics = list(dict.fromkeys(names))
+        hidden = set(self.filter.hidden_listed())
+        self.topics = [t for t in dict.fromkeys(names) if t not in hidden]
         self.all_topics = all_topics
         self.all_services = all_services
-        self._open_ended = all_topics or all_services  # new topics may come at any time
+        self.include_unpublished = include_unpublished_topics
+        self.no_discovery = no_discovery  # look for topics once, at the start
+        self.polling_interval = float(polling_interval)
+        self._open_ended = self.filter.open_ended  # new topics may come at any time
         self.path = Path(output) if output else Path(default_bag_name())
         self.storage = storage
         self.duration = duration
@@ -184,6 +201,9 @@ class Recorder:
         self._started_at = time.monotonic()
         _ACTIVE.add(self)
         self._log('INFO', 'Listening for topics...')
+        if self.filter.hidden_listed():
+            self._log('WARN', 'Hidden topics are not recorded. Enable them with '
+                              '--include-hidden-topics')
         self._write_thread = threading.Thread(
             target=self._write_loop, name='robot_lab-bag-writer', daemon=True
         )
@@ -246,7 +266,8 @@ class Recorder:
                 now = time.monotonic()
                 if now >= next_poll and (self._open_ended or len(self._subs) < len(self.topics)):
                     self._discover()
-                    next_poll = now + POLL_INTERVAL
+                    # --no-discovery: only what is there at the start (never look again)
+                    next_poll = float('inf') if self.no_discovery else now + self.polling_interval
                 self._executor.spin_once(timeout_sec=0.05)
             self._drain_subscriptions()
         except BaseException as exc:
@@ -336,11 +357,10 @@ class Recorder:
 
     # ---------------------------------------------------------------- discovery
     def _wanted(self, available: dict[str, list[str]]) -> list[str]:
-        wanted = list(self.topics)
-        if self.all_topics:
-            wanted += [t for t in sorted(available) if not _is_hidden(t)]
-        if self.all_services:
-            wanted += [t for t in sorted(available) if t.endswith(SERVICE_EVENT)]
+        wanted = [t for t in self.topics
+                  if t not in available or self.filter.takes(t, available[t][0])]
+        wanted += [t for t in sorted(available)
+                   if len(available[t]) == 1 and self.filter.takes(t, available[t][0])]
         return list(dict.fromkeys(wanted))
 
     def _discover(self) -> None:
@@ -351,7 +371,9 @@ class Recorder:
             publishers = (
                 self._node.get_publishers_info_by_topic(topic) if topic in available else []
             )
-            if not publishers:
+            if not publishers and self.include_unpublished and topic in available:
+                publishers = []  # --include-unpublished-topics: subscribe all the same
+            elif not publishers:
                 if (
                     not self._open_ended
                     and topic not in self._warned
@@ -447,28 +469,17 @@ class Recorder:
             self._batch_take = False
 
 
-def record(
-    *topics: str,
-    all_topics: bool = False,
-    output: str | Path | None = None,
-    storage: str = 'mcap',
-    duration: float | None = None,
-    max_messages: int | None = None,
-    domain_id: int | None = None,
-    log: Callable[[str], None] | None = None,
-    max_bag_size: int = 0,
-    max_bag_duration: float = 0,
-) -> Recorder:
+def record(*topics: str, **options: Any) -> Recorder:
     """Start recording `topics` (or all) into a rosbag2 bag; returns the running Recorder.
 
     Use it as a handle (`rec = record('/sensor/temperature'); …; rec.stop()`) or as a
     context manager (`with record('/sensor/temperature', output='run1'): …`). With
     `duration`, `rec.wait()` returns when the recording has finished by itself.
-    `max_bag_size` (bytes) / `max_bag_duration` (s) split the bag into <bag>_0, <bag>_1, ….
+    Options are `ros2 bag record`'s, as keywords (see `Recorder`): `all_topics`,
+    `output`, `storage`, `duration`, `max_messages`, `max_bag_size` (bytes) /
+    `max_bag_duration` (s) to split into <bag>_0, <bag>_1, …, `services`,
+    `all_services`, `topic_types`, `regex`, `exclude_regex`, `exclude_topic_types`,
+    `exclude_topics`, `exclude_services`, `include_hidden_topics`,
+    `include_unpublished_topics`, `no_discovery`, `polling_interval` (s), `domain_id`, `log`.
     """
-    rec = Recorder(
-        topics, all_topics=all_topics, output=output, storage=storage, duration=duration,
-        max_messages=max_messages, domain_id=domain_id, log=log,
-        max_bag_size=max_bag_size, max_bag_duration=max_bag_duration,
-    )
-    return rec.start()
+    return Recorder(topics, **options).start()

@@ -1,4 +1,4 @@
-"""Which recorded topics and services a playback publishes: rosbag2's play filter.
+"""Which topics and services a bag takes (recording) or publishes (playback), as rosbag2.
 
 Topics and services (their `_service_event` topics) are filtered apart: `--topics` names
 topics to play, `--services` services; `--exclude-topics`/`--exclude-services` leave some
@@ -12,10 +12,10 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from robot_lab.bag.services import event_topic, is_service_event
+from robot_lab.bag.services import event_topic, is_service_event, service_name
 from robot_lab.errors import BagError
 
-__all__ = ['Selection']
+__all__ = ['RecordFilter', 'Selection']
 
 
 def _absolute(names: Iterable[str] | None) -> list[str] | None:
@@ -68,3 +68,69 @@ class Selection:
         if include and topic in include:
             return True
         return self.regex is not None and self.regex.fullmatch(topic) is not None
+
+
+def _hidden(topic: str) -> bool:
+    return any(part.startswith('_') for part in topic.split('/'))
+
+
+@dataclass(frozen=True)
+class RecordFilter:
+    """Which discovered topics a recording takes: rosbag2_transport's TopicFilter.
+
+    Regular expressions *search* here (`-e sensor` takes /sensor/temperature), unlike
+    play's; `all_topics` overrides the lists; hidden topics need `include_hidden`, even
+    when listed; service event topics are selected by the service options only.
+    """
+
+    topics: frozenset[str] = frozenset()
+    services: frozenset[str] = frozenset()  # service event topics
+    topic_types: frozenset[str] = frozenset()
+    all_topics: bool = False
+    all_services: bool = False
+    regex: re.Pattern[str] | None = None
+    exclude_regex: re.Pattern[str] | None = None
+    exclude_topic_types: frozenset[str] = frozenset()
+    exclude_topics: frozenset[str] = frozenset()
+    exclude_services: frozenset[str] = frozenset()
+    include_hidden: bool = False
+
+    @classmethod
+    def of(cls, topics: Iterable[str] = (), services: Iterable[str] = (),
+           topic_types: Iterable[str] = (), all_topics: bool = False,
+           all_services: bool = False, regex: str = '', exclude_regex: str = '',
+           exclude_topic_types: Iterable[str] = (), exclude_topics: Iterable[str] = (),
+           exclude_services: Iterable[str] = (), include_hidden: bool = False) -> RecordFilter:
+        return cls(frozenset(_absolute(topics) or ()),
+                   frozenset(event_topic(s) for s in services), frozenset(topic_types),
+                   all_topics, all_services, _compiled(regex, '--regex'),
+                   _compiled(exclude_regex, '--exclude-regex'),
+                   frozenset(exclude_topic_types), frozenset(_absolute(exclude_topics) or ()),
+                   frozenset(event_topic(s) for s in exclude_services), include_hidden)
+
+    @property
+    def open_ended(self) -> bool:
+        """New topics may match at any time (not only a fixed list of names)."""
+        return bool(self.all_topics or self.all_services or self.topic_types or self.regex)
+
+    def hidden_listed(self) -> list[str]:
+        """Listed hidden topics that are not recorded without `include_hidden`."""
+        return [] if self.include_hidden else sorted(t for t in self.topics if _hidden(t))
+
+    def takes(self, topic: str, msgtype: str) -> bool:
+        if is_service_event(topic, msgtype):
+            name = service_name(topic)
+            if not self.all_services and topic not in self.services and not (
+                    self.regex is not None and self.regex.search(name)):
+                return False
+            return topic not in self.exclude_services and not (
+                self.exclude_regex is not None and self.exclude_regex.search(name))
+        if not self.all_topics and topic not in self.topics \
+                and msgtype not in self.topic_types \
+                and not (self.regex is not None and self.regex.search(topic)):
+            return False
+        if msgtype in self.exclude_topic_types or topic in self.exclude_topics:
+            return False
+        if self.exclude_regex is not None and self.exclude_regex.search(topic):
+            return False
+        return self.include_hidden or not _hidden(topic)

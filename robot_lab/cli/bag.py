@@ -59,7 +59,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                        help='Space-delimited list of topics to record. (deprecated)')
     given.add_argument('--topics', dest='topics_opt', nargs='+', default=[], metavar='Topic',
                        help='Space-delimited list of topics to record.')
-    rec.add_argument('-a', '--all', '--all-topics', dest='all', action='store_true',
+    rec.add_argument('-a', '--all', dest='all', action='store_true',
+                     help='Record all topics and services (Exclude hidden topic).')
+    rec.add_argument('--all-topics', action='store_true',
                      help='Record all topics (Exclude hidden topic).')
     rec.add_argument('--service', '--services', dest='services', nargs='+', default=[],
                      metavar='ServiceName',
@@ -85,6 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                      help='Stop recording after S seconds (robot_lab extension).')
     rec.add_argument('--max-messages', type=_positive_int, metavar='N',
                      help='Stop recording after N messages in total (robot_lab extension).')
+    _add_record_filters(rec)
 
     info = sub.add_parser('info', help='Print information about a bag to the screen')
     info.add_argument('bag_path', help='Bag to open')
@@ -175,6 +178,73 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     reindex.add_argument('bag_path', help='Bag to open')
 
 
+def _record_arguments_problem(args: argparse.Namespace, topics: list[str]) -> str:
+    """ros2bag's checks of a record command line, in its order and words ('' if fine)."""
+    every_topic = args.all or args.all_topics or args.topic_types or args.regex
+    if not (every_topic or args.all_services or topics or args.services):
+        return ('Need to specify at least one option out of --all, --all-topics, '
+                '--all-services, --services, --topics, --topic-types or --regex')
+    if args.exclude_regex and not (every_topic or args.all_services):
+        return ('--exclude-regex argument requires either --all, --all-topics, '
+                '--topic-types, --all-services or --regex')
+    if args.exclude_topics and not every_topic:
+        return ('--exclude-topics argument requires either --all, --all-topics, '
+                '--topic-types or --regex')
+    if args.exclude_topic_types and not every_topic:
+        return '--exclude-topic-types argument requires either --all, --all-topics or --regex'
+    if args.exclude_services and not (args.all or args.all_services or args.regex):
+        return ('--exclude-services argument requires either --all, --all-services '
+                'or --regex')
+    return ''
+
+
+def _add_record_filters(rec: argparse.ArgumentParser) -> None:
+    """rosbag2's record selection and discovery options (robot_lab.bag.selection)."""
+    rec.add_argument('--topic-types', nargs='+', default=[], metavar='TopicType',
+                     help='Space-delimited list of topic types to record.')
+    rec.add_argument('-e', '--regex', default='',
+                     help='Record only topics and services containing provided regular '
+                     'expression. Note: --all, --all-topics or --all-services will override '
+                     '--regex.')
+    rec.add_argument('--exclude-regex', default='',
+                     help='Exclude topics and services containing provided regular '
+                     'expression. Works on top of --all, --all-topics, --all-services, '
+                     '--topics, --services or --regex.')
+    rec.add_argument('--exclude-topic-types', nargs='+', default=[], metavar='ExcludeTopicTypes',
+                     help='Space-delimited list of topic types not being recorded.')
+    rec.add_argument('--exclude-topics', nargs='+', default=[], metavar='Topic',
+                     help='Space-delimited list of topics not being recorded.')
+    rec.add_argument('--exclude-services', nargs='+', default=[], metavar='ServiceName',
+                     help='Space-delimited list of services not being recorded.')
+    rec.add_argument('--include-unpublished-topics', action='store_true',
+                     help='Discover and record topics which have no publisher. Subscriptions '
+                     'on such topics will be made with default QoS unless otherwise specified '
+                     'in a QoS overrides file.')
+    rec.add_argument('--include-hidden-topics', action='store_true',
+                     help='Discover and record hidden topics as well. These are topics used '
+                     'internally by ROS 2 implementation.')
+    rec.add_argument('--no-discovery', action='store_true',
+                     help='Disables topic auto discovery during recording: only topics present '
+                     'at startup will be recorded.')
+    rec.add_argument('-p', '--polling-interval', type=int, default=100,
+                     help='Time in ms to wait between querying available topics for '
+                     'recording. It has no effect if --no-discovery is enabled.')
+    rec.add_argument('--node-name', default='rosbag2_recorder',
+                     help='Specify the recorder node name. Default is %(default)s.')
+    # tuning rosbag2 offers, accepted so tutorial command lines run unchanged
+    rec.add_argument('-f', '--serialization-format', default='cdr', choices=['cdr'],
+                     help='The rmw serialization format in which the messages are saved '
+                     '(cdr, the only one here).')
+    rec.add_argument('--max-cache-size', type=int, default=100 * 1024 * 1024,
+                     help='Maximum size (in bytes) of messages to hold in each buffer of cache '
+                     '(accepted; the kit flushes every 0.5 s).')
+    rec.add_argument('--disable-keyboard-controls', action='store_true',
+                     help='disables keyboard controls for recorder (the kit has none)')
+    rec.add_argument('--log-level', default='info',
+                     choices=['debug', 'info', 'warn', 'error', 'fatal'],
+                     help='Logging level (accepted).')
+
+
 def _err(text: str) -> None:
     print(text, file=sys.stderr, flush=True)
 
@@ -193,19 +263,32 @@ def _record(args: argparse.Namespace) -> int:
     from robot_lab.bag.record import Recorder
 
     topics = list(args.topics_opt or args.topics)
-    if args.all and topics:
-        _err('[WARN] [ros2bag]: --all or --all-topics will override --topics')
-        topics = []
-    if not args.all and not topics and not args.services and not args.all_services:
-        _err('[ERROR] [ros2bag]: Need to specify at least one option out of --all, '
-             '--all-topics, --all-services, --services, --topics, --topic-types or --regex')
+    problem = _record_arguments_problem(args, topics)
+    if problem:
+        _err(f'[ERROR] [ros2bag]: {problem}')
         return 1
+    all_topics = args.all or args.all_topics
+    all_services = args.all or args.all_services
+    for overridden, message in (
+            (all_services and args.services, '--all or --all-services will override --services'),
+            (all_topics and topics, '--all or --all-topics will override --topics'),
+            ((all_topics or all_services) and args.regex,
+             '--all, --all-topics or --all-services will override --regex')):
+        if overridden:
+            _err(f'[WARN] [ros2bag]: {message}')
     _interrupt_on_sigterm()
     rec = Recorder(
-        topics, all_topics=args.all, output=args.output, storage=args.storage,
+        topics, all_topics=all_topics, output=args.output, storage=args.storage,
         duration=args.duration, max_messages=args.max_messages, log=_err,
         max_bag_size=args.max_bag_size, max_bag_duration=args.max_bag_duration,
-        services=args.services, all_services=args.all_services,
+        services=args.services, all_services=all_services, topic_types=args.topic_types,
+        regex=args.regex, exclude_regex=args.exclude_regex,
+        exclude_topic_types=args.exclude_topic_types, exclude_topics=args.exclude_topics,
+        exclude_services=args.exclude_services,
+        include_hidden_topics=args.include_hidden_topics,
+        include_unpublished_topics=args.include_unpublished_topics,
+        no_discovery=args.no_discovery, polling_interval=args.polling_interval / 1000.0,
+        node_name=args.node_name,
     )
     rec.start()
     try:
