@@ -107,3 +107,43 @@ def test_command_line_checks_are_ros2bag_s(args: tuple[str, ...], message: str,
     assert done.returncode == 1
     assert done.stderr == f'[ERROR] [ros2bag]: {message}\n'
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_start_paused_then_space_records_from_then_on(system: dict[str, Proc],
+                                                      tmp_path: Path) -> None:
+    """`--start-paused` in a terminal: nothing is written until SPACE; `--custom-data`
+    lands in metadata.yaml."""
+    import os
+    import pty
+    import time
+
+    import yaml
+    from conftest import BIN
+
+    keys, terminal = pty.openpty()
+    rec = Proc([str(BIN / 'ros2'), 'bag', 'record', '/sensor/temperature', '--start-paused',
+                '-o', 'paused', '--custom-data', 'lab=ch6', 'student=alice', 'lab=lab1.3'],
+               env=dict(os.environ), cwd=tmp_path, stdin=terminal)
+    os.close(terminal)
+    try:
+        rec.wait_for('Press SPACE for pausing/resuming$', timeout=60)
+        rec.wait_for('Wait for recording: Press SPACE to start.$', timeout=60)
+        rec.wait_for("Subscribed to topic '/sensor/temperature'", timeout=60)
+        file = tmp_path / 'paused' / 'paused_0.mcap'
+        paused_size = file.stat().st_size  # paused: the 10 Hz sensor's messages are dropped
+        resumed_at = time.time_ns()
+        os.write(keys, b' ')
+        rec.wait_for('Resuming recording.$')
+        deadline = time.monotonic() + 30  # the writer flushes every 0.5 s once it has data
+        while file.stat().st_size < paused_size + 200:
+            assert time.monotonic() < deadline, 'nothing written after SPACE'
+            time.sleep(0.1)
+    finally:
+        rec.stop()  # Ctrl-C
+        os.close(keys)
+    meta = yaml.safe_load((tmp_path / 'paused' / 'metadata.yaml').read_text())
+    info = meta['rosbag2_bagfile_information']
+    assert info['custom_data'] == {'lab': 'lab1.3', 'student': 'alice'}
+    assert info['message_count'] >= 5
+    # every message was received after SPACE (the sensor ran all along)
+    assert info['starting_time']['nanoseconds_since_epoch'] >= resumed_at

@@ -18,6 +18,7 @@ from types import TracebackType
 from typing import Any
 
 from robot_lab.bag.clock import ClockPublisher
+from robot_lab.bag.console import log_line
 from robot_lab.bag.qos import load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
 from robot_lab.bag.selection import Selection
@@ -35,11 +36,6 @@ __all__ = ['Player', 'play']
 NODE_NAME = 'rosbag2_player'
 DISCOVERY_WINDOW = 0.6  # one lease announcement of the kit's Fast DDS profile, and a bit
 MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
-
-
-def _log_line(level: str, name: str, text: str) -> str:
-    now = time.time_ns()
-    return f'[{level}] [{now // 1_000_000_000}.{now % 1_000_000_000:09d}] [{name}]: {text}'
 
 
 class Player:
@@ -144,7 +140,7 @@ class Player:
 
     # ---------------------------------------------------------------- state
     def log(self, level: str, text: str) -> None:
-        line = _log_line(level, self.node_name, text)
+        line = log_line(level, self.node_name, text)
         self.log_lines.append(line)
         if self._log_fn is not None:
             self._log_fn(line)

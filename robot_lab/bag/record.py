@@ -18,11 +18,12 @@ import queue
 import threading
 import time
 import weakref
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from robot_lab.bag.console import log_line
 from robot_lab.bag.selection import RecordFilter
 from robot_lab.bag.services import event_topic
 from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
@@ -49,11 +50,6 @@ def _finish_recordings() -> None:
 def default_bag_name(now: datetime.datetime | None = None) -> str:
     """`rosbag2_YYYY_MM_DD-HH_MM_SS`, the folder `ros2 bag record` makes by default."""
     return (now or datetime.datetime.now()).strftime('rosbag2_%Y_%m_%d-%H_%M_%S')
-
-
-def _log_line(level: str, name: str, text: str) -> str:
-    now = time.time_ns()
-    return f'[{level}] [{now // 1_000_000_000}.{now % 1_000_000_000:09d}] [{name}]: {text}'
 
 
 def type_hash_string(type_hash: Any) -> str:
@@ -98,6 +94,8 @@ class Recorder:
         include_unpublished_topics: bool = False,
         no_discovery: bool = False,
         polling_interval: float = POLL_INTERVAL,
+        start_paused: bool = False,
+        custom_data: Mapping[str, str] | None = None,
     ) -> None:
         topics, services = list(topics), list(services)
         # rosbag2's record filter (robot_lab.bag.selection): lists, types, regexes, hidden
@@ -121,6 +119,8 @@ class Recorder:
         self.no_discovery = no_discovery  # look for topics once, at the start
         self.polling_interval = float(polling_interval)
         self._open_ended = self.filter.open_ended  # new topics may come at any time
+        self._paused = bool(start_paused)  # paused, messages are taken and dropped
+        self.custom_data = dict(custom_data or {})  # metadata.yaml's custom_data
         self.path = Path(output) if output else Path(default_bag_name())
         self.storage = storage
         self.duration = duration
@@ -169,13 +169,21 @@ class Recorder:
     def total(self) -> int:
         return sum(self.counts.values())
 
-    def _log(self, level: str, text: str) -> None:
-        line = _log_line(level, self.node_name, text)
+    def log(self, level: str, text: str) -> None:
+        line = log_line(level, self.node_name, text)
         self.log_lines.append(line)
         if self._log_fn is not None:
             self._log_fn(line)
 
     # ---------------------------------------------------------------- control
+    def open(self) -> Recorder:
+        """Create the bag (an existing folder is refused here), not recording yet."""
+        if self._writer is None:
+            self._writer = BagWriter(self.path, self.storage, max_bag_size=self.max_bag_size,
+                                     max_bag_duration=self.max_bag_duration,
+                                     custom_data=self.custom_data)
+        return self
+
     def start(self) -> Recorder:
         """Open the bag and start discovering and recording topics (returns at once)."""
         if self._started_at is not None:
@@ -185,8 +193,8 @@ class Recorder:
 
         from robot_lab.context import session
 
-        self._writer = BagWriter(self.path, self.storage, max_bag_size=self.max_bag_size,
-                                 max_bag_duration=self.max_bag_duration)
+        self.open()
+        assert self._writer is not None
         sess = session(self.domain_id)
         try:
             self._node = rclpy.create_node(
@@ -200,9 +208,9 @@ class Recorder:
             raise
         self._started_at = time.monotonic()
         _ACTIVE.add(self)
-        self._log('INFO', 'Listening for topics...')
+        self.log('INFO', 'Listening for topics...')
         if self.filter.hidden_listed():
-            self._log('WARN', 'Hidden topics are not recorded. Enable them with '
+            self.log('WARN', 'Hidden topics are not recorded. Enable them with '
                               '--include-hidden-topics')
         self._write_thread = threading.Thread(
             target=self._write_loop, name='robot_lab-bag-writer', daemon=True
@@ -212,8 +220,32 @@ class Recorder:
         )
         self._write_thread.start()
         self._spin_thread.start()
-        self._log('INFO', 'Recording...')
+        if self._paused:
+            self.log('INFO', 'Wait for recording: Press SPACE to start.')
+        else:
+            self.log('INFO', 'Recording...')
         return self
+
+    @property
+    def paused(self) -> bool:
+        return self._paused
+
+    def pause(self) -> None:
+        """Stop writing messages (the recording stays open), as rosbag2's pause."""
+        if not self._paused:
+            self._paused = True
+            self.log('INFO', 'Pausing recording.')
+
+    def resume(self) -> None:
+        if self._paused:
+            self._paused = False
+            self.log('INFO', 'Resuming recording.')
+
+    def toggle_paused(self) -> None:
+        if self._paused:
+            self.resume()
+        else:
+            self.pause()
 
     def stop(self, timeout: float = 30.0) -> Path:
         """Stop recording, write what was received, close the bag; returns its folder."""
@@ -299,7 +331,7 @@ class Recorder:
             pass
         missing = [t for t in self.topics if t not in self._subs]
         for topic in missing:
-            self._log('WARN', f"Topic '{topic}' was never found: nothing recorded for it")
+            self.log('WARN', f"Topic '{topic}' was never found: nothing recorded for it")
 
     def _write_loop(self) -> None:
         writer = self._writer
@@ -341,7 +373,7 @@ class Recorder:
         finally:
             try:
                 writer.close()
-                self._log('INFO', 'Recording stopped')
+                self.log('INFO', 'Recording stopped')
             except BaseException as exc:
                 self.error = self.error or exc
             self._done.set()
@@ -380,7 +412,7 @@ class Recorder:
                     and self.elapsed >= NOT_FOUND_GRACE
                 ):
                     self._warned.add(topic)
-                    self._log(
+                    self.log(
                         'WARN',
                         f"Topic '{topic}' not found... waiting for a publisher — fix: start "
                         'the node that publishes it (`robot-lab topic list` shows what exists)',
@@ -403,7 +435,7 @@ class Recorder:
         except GraphError:
             if topic not in self._warned:
                 self._warned.add(topic)
-                self._log(
+                self.log(
                     'WARN',
                     f"Topic '{topic}' has type '{msgtype}', unknown in this environment — "
                     f"fix: build and source the package '{msgtype.split('/')[0]}'",
@@ -434,6 +466,8 @@ class Recorder:
         def accept(data: bytes, info: Any) -> bool:
             if self.max_messages is not None and self.received >= self.max_messages:
                 return False
+            if self._paused:
+                return False
             stamp = info.get('received_timestamp') if isinstance(info, dict) else None
             self.received += 1
             self.counts[topic] += 1
@@ -445,9 +479,9 @@ class Recorder:
                 self._take_backlog(self._subs[topic], accept)
 
         self._subs[topic] = self._node.create_subscription(cls, topic, on_message, qos, raw=True)
-        self._log('INFO', f"Subscribed to topic '{topic}'")
+        self.log('INFO', f"Subscribed to topic '{topic}'")
         if not self._open_ended and len(self._subs) == len(self.topics):
-            self._log('INFO', 'All requested topics are subscribed. Stopping discovery...')
+            self.log('INFO', 'All requested topics are subscribed. Stopping discovery...')
 
 
     _batch_take = True

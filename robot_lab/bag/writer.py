@@ -213,7 +213,7 @@ class BagWriter:
     MIN_SPLIT_SIZE = {'mcap': 1024, 'sqlite3': 86016}  # rosbag2's minimum split file sizes
 
     def __init__(self, path: str | Path, storage: str = 'mcap', *, max_bag_size: int = 0,
-                 max_bag_duration: float = 0) -> None:
+                 max_bag_duration: float = 0, custom_data: dict[str, str] | None = None) -> None:
         if storage not in STORAGE_IDS:
             raise BagError(
                 f"Unknown storage id '{storage}'", fix=f'use one of: {", ".join(STORAGE_IDS)}'
@@ -230,6 +230,7 @@ class BagWriter:
                 fix='choose another name with -o/--output, or delete the old bag first',
             )
         self.storage = storage
+        self.custom_data = dict(custom_data or {})
         self.max_bag_size = int(max_bag_size)
         self.max_bag_duration_ns = int(max_bag_duration * 1e9)
         self._type_hashes: dict[str, str] = {}
@@ -344,7 +345,8 @@ class BagWriter:
             return
         self.closed = True
         self._close_file()
-        write_metadata(self.path, self.storage, self._specs, self.counts, self.files)
+        write_metadata(self.path, self.storage, self._specs, self.counts, self.files,
+                       custom_data=self.custom_data)
 
 
 def _qos_dicts(profiles: list[Any]) -> list[dict[str, Any]]:
@@ -370,7 +372,8 @@ def _qos_dicts(profiles: list[Any]) -> list[dict[str, Any]]:
 
 
 def write_metadata(folder: Path, storage: str, specs: list[TopicSpec], counts: dict[str, int],
-                   files: list[dict[str, Any]], ros_distro: str = _DISTRO) -> None:
+                   files: list[dict[str, Any]], ros_distro: str = _DISTRO,
+                   custom_data: dict[str, str] | None = None) -> None:
     """metadata.yaml with rosbag2's keys in rosbag2's order (rosbag2_storage/yaml.hpp).
 
     `files`: per storage file, its `path`, first/last message `start`/`end` (ns) and `count`.
@@ -409,7 +412,7 @@ def write_metadata(folder: Path, storage: str, specs: list[TopicSpec], counts: d
              'message_count': f['count']}
             for f in files
         ],
-        'custom_data': None,
+        'custom_data': dict(custom_data) if custom_data else None,
         'ros_distro': ros_distro,
     }}
     tmp = folder / 'metadata.yaml.tmp'

@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import os
 import signal
 import sys
-import threading
 import time
 from collections.abc import Callable
 from types import FrameType
@@ -238,8 +236,15 @@ def _add_record_filters(rec: argparse.ArgumentParser) -> None:
     rec.add_argument('--max-cache-size', type=int, default=100 * 1024 * 1024,
                      help='Maximum size (in bytes) of messages to hold in each buffer of cache '
                      '(accepted; the kit flushes every 0.5 s).')
-    rec.add_argument('--disable-keyboard-controls', action='store_true',
-                     help='disables keyboard controls for recorder (the kit has none)')
+    rec.add_argument('--disable-keyboard-controls', action='store_true', default=False,
+                     help='disables keyboard controls for recorder')
+    rec.add_argument('--start-paused', action='store_true', default=False,
+                     help='Start the recorder in a paused state.')
+    rec.add_argument('--custom-data', nargs='*', default=[], metavar='KEY=VALUE',
+                     help='Space-delimited list of key=value pairs. Store the custom data in '
+                     "metadata under the 'rosbag2_bagfile_information/custom_data'. The key=value "
+                     'pair can appear more than once. The last value will override the former '
+                     'ones.')
     rec.add_argument('--log-level', default='info',
                      choices=['debug', 'info', 'warn', 'error', 'fatal'],
                      help='Logging level (accepted).')
@@ -288,9 +293,20 @@ def _record(args: argparse.Namespace) -> int:
         include_hidden_topics=args.include_hidden_topics,
         include_unpublished_topics=args.include_unpublished_topics,
         no_discovery=args.no_discovery, polling_interval=args.polling_interval / 1000.0,
-        node_name=args.node_name,
+        node_name=args.node_name, start_paused=args.start_paused,
+        custom_data=dict(item.split('=', 1) for item in args.custom_data if '=' in item),
     )
-    rec.start()
+    rec.open()  # an existing output folder is refused before any key is announced
+    from robot_lab.cli import keyboard
+
+    # rosbag2's recorder announces its key before it listens for topics
+    restore = keyboard.unchanged if args.disable_keyboard_controls else keyboard.listen(
+        [(keyboard.SPACE, 'pausing/resuming', rec.toggle_paused)], rec.log, _err)
+    try:
+        rec.start()
+    except BaseException:
+        restore()
+        raise
     try:
         while not rec.wait(0.1):
             pass
@@ -299,6 +315,7 @@ def _record(args: argparse.Namespace) -> int:
     finally:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C must not cut the close
         rec.stop()
+        restore()
     return 0
 
 
@@ -345,8 +362,9 @@ def _play(args: argparse.Namespace) -> int:
                         if args.playback_until_sec >= 0 else -1),
     )
     player.open()  # a bag that cannot be played is refused before the keys are announced
-    restore: Callable[[], None] = (
-        _no_terminal if args.disable_keyboard_controls else _keyboard_controls(player))
+    from robot_lab.cli import keyboard
+
+    restore = keyboard.unchanged if args.disable_keyboard_controls else _play_keys(player)
     try:
         player.start()
         while not player.wait(0.1):
@@ -358,61 +376,20 @@ def _play(args: argparse.Namespace) -> int:
     return 0
 
 
-# rosbag2's default key bindings: (key name, terminal bytes, what it does)
-_KEYS = (('SPACE', b' ', 'Pause/Resume'), ('CURSOR_RIGHT', b'\x1b[C', 'Play Next Message'),
-         ('CURSOR_UP', b'\x1b[A', 'Increase Rate 10%'),
-         ('CURSOR_DOWN', b'\x1b[B', 'Decrease Rate 10%'))
+def _play_keys(player: Player) -> Callable[[], None]:
+    """rosbag2's player keys: SPACE pauses/resumes, → publishes the next message while
+    paused, ↑/↓ change the rate by 0.1."""
+    from robot_lab.cli import keyboard
 
-
-def _no_terminal() -> None:
-    """Nothing to restore: the terminal was never changed."""
-
-
-def _keyboard_controls(player: Player) -> Callable[[], None]:
-    """rosbag2's keyboard controls in a terminal: SPACE pauses/resumes, → publishes the
-    next message while paused, ↑/↓ change the rate by 0.1. Returns what restores the
-    terminal. Without a terminal on stdin the keys are announced and ignored, as rosbag2
-    does."""
-    actions: dict[bytes, Callable[[], object]] = {
-        b' ': player.toggle_paused,
-        b'\x1b[C': player.play_next,
-        b'\x1b[A': lambda: player.set_rate(round(player.rate + 0.1, 6)),
-        b'\x1b[B': lambda: player.set_rate(round(player.rate - 0.1, 6)),
-    }
     player.log('INFO', 'Adding keyboard callbacks.')
-    for name, _key, what in _KEYS:
-        player.log('INFO', f'Press {name} for {what}')
-    try:
-        fd = sys.stdin.fileno()
-        terminal = os.isatty(fd)
-    except (AttributeError, ValueError, OSError):
-        terminal = False
-    if not terminal:
-        _err('stdin is not a terminal device. Keyboard handling disabled.')
-        return _no_terminal
-    import termios
-    import tty
-
-    saved = termios.tcgetattr(fd)
-    tty.setcbreak(fd)  # keys arrive one by one, unechoed; Ctrl-C still interrupts
-
-    def read_keys() -> None:
-        while True:
-            try:
-                data = os.read(fd, 32)
-            except OSError:
-                return
-            if not data:
-                return
-            while data:  # an arrow key is three bytes; several keys may come at once
-                size = 3 if data.startswith(b'\x1b[') else 1
-                key, data = data[:size], data[size:]
-                action = actions.get(key)
-                if action is not None:
-                    action()
-
-    threading.Thread(target=read_keys, name='robot_lab-bag-keys', daemon=True).start()
-    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)
+    return keyboard.listen([
+        (keyboard.SPACE, 'Pause/Resume', player.toggle_paused),
+        (keyboard.CURSOR_RIGHT, 'Play Next Message', player.play_next),
+        (keyboard.CURSOR_UP, 'Increase Rate 10%',
+         lambda: player.set_rate(round(player.rate + 0.1, 6))),
+        (keyboard.CURSOR_DOWN, 'Decrease Rate 10%',
+         lambda: player.set_rate(round(player.rate - 0.1, 6))),
+    ], player.log, _err)
 
 
 def _reindex(args: argparse.Namespace) -> int:
