@@ -147,3 +147,29 @@ def test_start_paused_then_space_records_from_then_on(system: dict[str, Proc],
     assert info['message_count'] >= 5
     # every message was received after SPACE (the sensor ran all along)
     assert info['starting_time']['nanoseconds_since_epoch'] >= resumed_at
+
+
+def test_qos_overrides_file_decides_the_subscription(tmp_path: Path) -> None:
+    """The QoS how-to's `ros2 bag record --qos-profile-overrides-path FILE`: a latched
+    (transient local) message published before the recording starts is recorded under the
+    adapted profile, and not when the file asks for a volatile subscription."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+    from std_msgs.msg import String
+
+    from robot_lab.context import session
+
+    node = session().node
+    latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    publisher = node.create_publisher(String, '/lab/latched', latched)
+    publisher.publish(String(data='Hello World'))
+    overrides = tmp_path / 'durability_override.yaml'
+    overrides.write_text('/lab/latched:\n  durability: volatile\n  history: keep_all\n')
+    try:
+        lines: list[str] = []
+        assert recorded(tmp_path, 'adapted', '/lab/latched') == {'/lab/latched'}
+        assert recorded(tmp_path, 'overridden', '/lab/latched', qos_overrides=overrides,
+                        log=lines.append) == set()
+        assert any('Overriding subscription profile for /lab/latched' in line
+                   for line in lines)
+    finally:
+        node.destroy_publisher(publisher)

@@ -24,6 +24,7 @@ from types import TracebackType
 from typing import Any
 
 from robot_lab.bag.console import log_line
+from robot_lab.bag.qos import load_overrides
 from robot_lab.bag.selection import RecordFilter
 from robot_lab.bag.services import event_topic
 from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
@@ -96,6 +97,7 @@ class Recorder:
         polling_interval: float = POLL_INTERVAL,
         start_paused: bool = False,
         custom_data: Mapping[str, str] | None = None,
+        qos_overrides: Mapping[str, Any] | str | Path | None = None,
     ) -> None:
         topics, services = list(topics), list(services)
         # rosbag2's record filter (robot_lab.bag.selection): lists, types, regexes, hidden
@@ -121,6 +123,10 @@ class Recorder:
         self._open_ended = self.filter.open_ended  # new topics may come at any time
         self._paused = bool(start_paused)  # paused, messages are taken and dropped
         self.custom_data = dict(custom_data or {})  # metadata.yaml's custom_data
+        # {topic: rclpy QoSProfile}, or the path of a `--qos-profile-overrides-path` file
+        self.qos_overrides: dict[str, Any] = (
+            load_overrides(qos_overrides) if isinstance(qos_overrides, (str, Path))
+            else dict(qos_overrides or {}))
         self.path = Path(output) if output else Path(default_bag_name())
         self.storage = storage
         self.duration = duration
@@ -451,6 +457,9 @@ class Recorder:
             reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
             durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
         )
+        if topic in self.qos_overrides:
+            self.log('INFO', f'Overriding subscription profile for {topic}')
+            qos = self.qos_overrides[topic]
         hashes = {type_hash_string(p.topic_type_hash) for p in publishers} - {''}
         spec = TopicSpec(
             name=topic,

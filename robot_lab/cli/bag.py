@@ -238,6 +238,9 @@ def _add_record_filters(rec: argparse.ArgumentParser) -> None:
                      '(accepted; the kit flushes every 0.5 s).')
     rec.add_argument('--disable-keyboard-controls', action='store_true', default=False,
                      help='disables keyboard controls for recorder')
+    rec.add_argument('--qos-profile-overrides-path', metavar='PATH',
+                     help='Path to a yaml file defining overrides of the QoS profile for '
+                     'specific topics.')
     rec.add_argument('--start-paused', action='store_true', default=False,
                      help='Start the recorder in a paused state.')
     rec.add_argument('--custom-data', nargs='*', default=[], metavar='KEY=VALUE',
@@ -294,6 +297,7 @@ def _record(args: argparse.Namespace) -> int:
         include_unpublished_topics=args.include_unpublished_topics,
         no_discovery=args.no_discovery, polling_interval=args.polling_interval / 1000.0,
         node_name=args.node_name, start_paused=args.start_paused,
+        qos_overrides=args.qos_profile_overrides_path,
         custom_data=dict(item.split('=', 1) for item in args.custom_data if '=' in item),
     )
     rec.open()  # an existing output folder is refused before any key is announced
