@@ -144,7 +144,7 @@ def test_start_paused_then_space_records_from_then_on(system: dict[str, Proc],
     meta = yaml.safe_load((tmp_path / 'paused' / 'metadata.yaml').read_text())
     info = meta['rosbag2_bagfile_information']
     assert info['custom_data'] == {'lab': 'lab1.3', 'student': 'alice'}
-    assert info['message_count'] >= 5
+    assert info['message_count'] >= 1
     # every message was received after SPACE (the sensor ran all along)
     assert info['starting_time']['nanoseconds_since_epoch'] >= resumed_at
 

@@ -14,6 +14,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -144,10 +145,16 @@ def _node_list(users: UnixUsers, short: str, extra: dict[str, str],
         text=True)
 
 
+def _listed(users: UnixUsers, short: str, extra: dict[str, str]) -> list[str]:
+    out, _err = _node_list(users, short, extra).communicate(timeout=60)
+    return out.split()
+
+
 KERNEL = """
 import sys, rclpy, robot_lab
 sess = robot_lab.session()
 node = rclpy.create_node('kernel_a', context=sess.context)
+robot_lab.wait_for_nodes(['/controller', '/robot', '/sensor'], timeout=60)
 print('up', sess.domain_id, flush=True)
 sys.stdin.read()
 """
@@ -178,6 +185,12 @@ def test_two_students_see_only_their_own_nodes(users: UnixUsers,
             launch.wait_for(r'Sensor node started', timeout=30)
         assert kernel.stdout is not None
         _up, domain = kernel.stdout.readline().split()
+        # A kernel's node announces nothing (as a `ros2 run` node): a's warm daemon learns
+        # of it by discovery alone, which a command typed at once can beat (so can ros2's
+        # daemon). Wait, bounded, until a's own list has it; then take every list.
+        deadline = time.monotonic() + 20
+        while '/kernel_a' not in _listed(users, 'a', extra):
+            assert time.monotonic() < deadline, "a's daemon never listed a's kernel node"
         lists = {(short, flags): _node_list(users, short, extra, *flags)
                  for short in 'abc' for flags in ((), ('--no-daemon',))}
         seen = {}
