@@ -250,8 +250,9 @@ class Player:
         return max(by_duration, self.playback_until)
 
     def _clock_now(self) -> int:
+        """The bag time for /clock: it runs with playback and stops at the bag's end."""
         with self._cond:
-            return self._virtual_now()
+            return min(self._virtual_now(), self.end_ns)
 
     def _selected(self, topic: str, msgtype: str) -> bool:
         return self.selection.allows(topic, msgtype)
