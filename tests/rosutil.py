@@ -72,6 +72,21 @@ def _client(srv_type: Any, name: str) -> Any:
     return client
 
 
+def _call(client: Any, req: Any, what: str, timeout: float = 10.0) -> Any:
+    """The answer to `req`, resent every 2 s: right after discovery a request (or its
+    answer) can be lost while the server has not yet matched this client (the kit's own
+    parameter calls resend the same way)."""
+    from robot_lab.errors import GraphError
+
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            return session().wait_future(client.call_async(req), 2.0, what)
+        except GraphError:
+            if time.monotonic() >= deadline:
+                raise
+
+
 def set_param(node_name: str, name: str, value: Any) -> tuple[bool, str]:
     """SetParameters on `node_name`; returns (successful, reason)."""
     from rcl_interfaces.srv import SetParameters
@@ -81,7 +96,7 @@ def set_param(node_name: str, name: str, value: Any) -> tuple[bool, str]:
     try:
         req = SetParameters.Request()
         req.parameters = [Parameter(name, value=value).to_parameter_msg()]
-        res = session().wait_future(client.call_async(req), 10.0, 'set_parameters')
+        res = _call(client, req, 'set_parameters')
         result = res.results[0]
         return bool(result.successful), str(result.reason)
     finally:
@@ -96,7 +111,7 @@ def get_param(node_name: str, name: str) -> Any:
     try:
         req = GetParameters.Request()
         req.names = [name]
-        res = session().wait_future(client.call_async(req), 10.0, 'get_parameters')
+        res = _call(client, req, 'get_parameters')
         return parameter_value_to_python(res.values[0])
     finally:
         session().node.destroy_client(client)
