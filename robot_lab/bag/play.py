@@ -294,15 +294,23 @@ class Player:
         else:
             self.pause()
 
-    def play_next(self, timeout: float = 5.0) -> bool:
-        """While paused, publish the next message now (rosbag2's play_next); True once out."""
+    def request_next(self) -> bool:
+        """While paused, queue the next message to be published as soon as playback can
+        (what the CURSOR_RIGHT key does: it never blocks); False when not paused."""
         with self._cond:
             if not self._paused:
                 self.log('WARN', 'Called play next, but not in paused state.')
                 return False
-            before = self.played
             self._steps += 1
             self._cond.notify_all()
+            return True
+
+    def play_next(self, timeout: float = 5.0) -> bool:
+        """While paused, publish the next message now (rosbag2's play_next); True once out."""
+        with self._cond:
+            before = self.played
+            if not self.request_next():
+                return False
             over = self._cond.wait_for(
                 lambda: self.played > before or self._stop or self._done.is_set(), timeout)
             if self.played == before:  # nothing left to play, or stopped: take the step back

@@ -388,7 +388,7 @@ def _play_keys(player: Player) -> Callable[[], None]:
     player.log('INFO', 'Adding keyboard callbacks.')
     return keyboard.listen([
         (keyboard.SPACE, 'Pause/Resume', player.toggle_paused),
-        (keyboard.CURSOR_RIGHT, 'Play Next Message', player.play_next),
+        (keyboard.CURSOR_RIGHT, 'Play Next Message', player.request_next),
         (keyboard.CURSOR_UP, 'Increase Rate 10%',
          lambda: player.set_rate(round(player.rate + 0.1, 6))),
         (keyboard.CURSOR_DOWN, 'Decrease Rate 10%',

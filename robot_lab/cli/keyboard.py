@@ -31,22 +31,24 @@ def listen(bindings: Sequence[KeyBinding], log: Callable[[str, str], None],
            err: Callable[[str], None]) -> Callable[[], None]:
     """Announce the keys (`Press SPACE for …`), then run each binding's action when its key
     is typed; returns what restores the terminal."""
-    for key, what, _action in bindings:
-        log('INFO', f'Press {_NAMES[key]} for {what}')
     try:
         fd = sys.stdin.fileno()
         terminal = os.isatty(fd)
     except (AttributeError, ValueError, OSError):
         terminal = False
-    if not terminal:
+    saved = None
+    if terminal:
+        import termios
+        import tty
+
+        saved = termios.tcgetattr(fd)
+        tty.setcbreak(fd)  # before the keys are announced: a key typed after them counts
+    for key, what, _action in bindings:
+        log('INFO', f'Press {_NAMES[key]} for {what}')
+    if saved is None:
         err('stdin is not a terminal device. Keyboard handling disabled.')
         return unchanged
-    import termios
-    import tty
-
     actions = {key: action for key, _what, action in bindings}
-    saved = termios.tcgetattr(fd)
-    tty.setcbreak(fd)
 
     def read_keys() -> None:
         while True:
@@ -64,5 +66,5 @@ def listen(bindings: Sequence[KeyBinding], log: Callable[[str, str], None],
                     action()
 
     threading.Thread(target=read_keys, name='robot_lab-bag-keys', daemon=True).start()
-    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)
+    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)  # type: ignore[arg-type]
 
