@@ -196,7 +196,7 @@ class Player:
             conns = list(reader.connections)
             self.start_ns = int(reader.start_time) if reader.message_count else 0
             self.end_ns = max(self.start_ns, int(reader.end_time) - 1)
-        wanted = [c for c in conns if self._selected(c.topic, c.msgtype)]
+        wanted = [c for c in conns if self.selection.allows(c.topic, c.msgtype)]
         for kind, only in (('Topic', self.selection.topics),
                            ('Service', self.selection.services)):
             for name in sorted(set(only or ()) - {c.topic for c in conns}):
@@ -253,9 +253,6 @@ class Player:
         """The bag time for /clock: it runs with playback and stops at the bag's end."""
         with self._cond:
             return min(self._virtual_now(), self.end_ns)
-
-    def _selected(self, topic: str, msgtype: str) -> bool:
-        return self.selection.allows(topic, msgtype)
 
     def _add_sender(self, conn: Any) -> None:
         if conn.topic in self._senders:
