@@ -83,9 +83,41 @@ def test_describe_follows_the_tutorials_packages(ros_domain: int, stand_in_prefi
     top = _print('docs__launch_turtlesim_launch.py', stand_in_prefix).stdout
     assert top.count('IncludeLaunchDescription(') == 6
     assert f"'{stand_in_prefix}/share/launch_tutorial/launch' + '/mimic_launch.py'" in top
+    # each include's path is known without a launch context, so --print expands it as
+    # launch's introspector does: the included file and the nodes it starts
+    share = stand_in_prefix / 'share' / 'launch_tutorial' / 'launch'
+    for name in ('turtlesim_world_1', 'turtlesim_world_2', 'broadcaster_listener', 'mimic',
+                 'fixed_broadcaster', 'turtlesim_rviz'):
+        assert f'LaunchDescription {share / name}_launch.py\n' in top, top
+    assert top.count("Node(executable='turtlesim_node', package='turtlesim'") == 2, top
+    assert "Node(executable='mimic', package='turtlesim', name='mimic'" in top, top
+    assert "['/input/pose', '/turtle2/pose']" in top, top
+    lines = top.splitlines()
+    at = next(i for i, line in enumerate(lines) if line.endswith(f'{share}/mimic_launch.py'))
+    assert "+ '/mimic_launch.py')" in lines[at - 1], top  # right under its include
     world2 = _print('docs__turtlesim_world_2_launch.py', stand_in_prefix).stdout
     assert f'{stand_in_prefix}/share/launch_tutorial/config/turtlesim.yaml' in world2
     assert "namespace='turtlesim2'" in world2
+
+
+def test_print_leaves_an_include_that_needs_its_context(tmp_path: Path) -> None:
+    """`$(dirname)` and an argument need the launch context: shown, not expanded; an
+    include of the including file itself is shown once, not followed round."""
+    (tmp_path / 'child.launch.xml').write_text(
+        '<launch><node pkg="robot_lab" exec="sensor_node" name="child"/></launch>\n')
+    (tmp_path / 'top.launch.xml').write_text(
+        '<launch>\n  <arg name="which" default="child"/>\n'
+        f'  <include file="{tmp_path}/child.launch.xml"/>\n'
+        '  <include file="$(dirname)/child.launch.xml"/>\n'
+        '  <include file="$(var which).launch.xml"/>\n'
+        f'  <include file="{tmp_path}/top.launch.xml"/>\n</launch>\n')
+    result = subprocess.run([str(BIN / 'robot-lab'), 'launch', str(tmp_path / 'top.launch.xml'),
+                             '--print'], capture_output=True, text=True, timeout=60,
+                            check=False)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.count(f'LaunchDescription {tmp_path}/child.launch.xml') == 1
+    assert result.stdout.count("name='child'") == 1, result.stdout
+    assert result.stdout.count(f'LaunchDescription {tmp_path}/top.launch.xml') == 1
 
 
 def test_missing_package_is_one_line_and_nothing_starts(ros_domain: int) -> None:

@@ -99,12 +99,16 @@ def main(args: argparse.Namespace) -> int:
         return 0
     if args.print:
         # like ros2 launch --print: the parsed description, nothing evaluated or written
-        from robot_lab.launch.describe import find_launch_file, load_description
+        from robot_lab.launch.describe import (
+            find_launch_file,
+            included_description,
+            load_description,
+        )
         from robot_lab.launch.introspect import format_description
 
         parse_launch_arguments(argv)  # a malformed one is still an error
         path = find_launch_file(source, file)
-        print(format_description(load_description(path), path))
+        print(format_description(load_description(path), path, included_description))
         return 0
     # First thing, before the launch file is read: the graph daemon's socket, and word that
     # a launch is starting, so a `node list` typed from now on waits for its nodes and a

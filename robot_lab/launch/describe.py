@@ -13,8 +13,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from robot_lab.errors import LaunchError, RobotLabError
-from robot_lab.launch.action import DescriptionStep
-from robot_lab.launch.actions.include import declared_arguments
+from robot_lab.launch.action import DescriptionStep, LaunchStep
+from robot_lab.launch.actions.include import IncludeStep, declared_arguments
 from robot_lab.launch.context import LaunchContext
 from robot_lab.launch.description import (
     Action,
@@ -23,11 +23,12 @@ from robot_lab.launch.description import (
     ProcessSpec,
     TimerAction,
 )
-from robot_lab.launch.substitutions import SubstitutionFailure
+from robot_lab.launch.substitutions import SubstitutionFailure, perform
 
 __all__ = [
     'describe_launch',
     'find_launch_file',
+    'included_description',
     'launch_arguments',
     'load_description',
     'parse_launch_arguments',
@@ -178,3 +179,20 @@ def parse_launch_arguments(items: Iterable[str]) -> dict[str, str]:
                 fix='write each as <name>:=<value>, e.g. robot_name:=robot_alpha')
         result[name] = value
     return result
+
+
+def included_description(step: LaunchStep) -> tuple[Path, DescriptionStep] | None:
+    """An include's file and description when its path needs no launch context (a literal
+    path, `os.path.join(get_package_share_directory(...), ...)`, `$(find-pkg-share ...)`):
+    what `--print` expands, as launch's `try_get_launch_description_without_context` does.
+    A path that needs an argument or the including file stays unexpanded (None)."""
+    if not isinstance(step, IncludeStep):
+        return None
+    context = LaunchContext({}, dict(os.environ))
+    try:
+        path = Path(os.path.abspath(perform(step.path, context)))
+        if not path.is_file():
+            return None
+        return path, load_description(path)
+    except (SubstitutionFailure, RobotLabError, OSError, ValueError):
+        return None

@@ -8,7 +8,7 @@ as what they would read (`LaunchConfiguration('robot_name')`).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -72,16 +72,38 @@ def _line(step: LaunchStep) -> str:
     return f'{_name(step)}({", ".join(parts)}){where}'
 
 
-def format_description(root: LaunchStep, source: Path) -> str:
-    """The whole tree: `LaunchDescription <file>`, then one line per action."""
+Expand = Callable[[LaunchStep], tuple[Path, LaunchStep] | None]
+
+
+def format_description(root: LaunchStep, source: Path, expand: Expand | None = None) -> str:
+    """The whole tree: `LaunchDescription <file>`, then one line per action.
+
+    `expand` gives an include's own description when its file is known without a launch
+    context (a literal path, `get_package_share_directory(...)`): it is shown under the
+    include, as launch's introspector shows it. Other includes stay unexpanded.
+    """
     lines = [f'LaunchDescription {source}']
+    files = [source.resolve()]
 
     def walk(steps: Iterable[LaunchStep], prefix: str) -> None:
-        items = list(steps)
-        for index, step in enumerate(items):
+        items: list[LaunchStep | tuple[Path, LaunchStep]] = list(steps)
+        for index, item in enumerate(items):
             last = index == len(items) - 1
-            lines.append(prefix + ('└── ' if last else '├── ') + _line(step))
-            walk(step.children(), prefix + ('    ' if last else '│   '))
+            branch = prefix + ('└── ' if last else '├── ')
+            inner = prefix + ('    ' if last else '│   ')
+            if isinstance(item, tuple):  # an included file
+                path, description = item
+                lines.append(f'{branch}LaunchDescription {path}')
+                files.append(path.resolve())
+                walk(description.children(), inner)
+                files.pop()
+                continue
+            lines.append(branch + _line(item))
+            children: list[LaunchStep | tuple[Path, LaunchStep]] = list(item.children())
+            included = expand(item) if expand is not None else None
+            if included is not None and included[0].resolve() not in files:
+                children.append(included)
+            walk(children, inner)  # type: ignore[arg-type]
 
     walk(root.children(), '')
     return '\n'.join(lines)
