@@ -24,6 +24,7 @@ from typing import Any
 
 import pytest
 from conftest import BIN, REPO, Proc
+from student_copy import answers_in, student_notebooks
 from unixusers import UnixUsers, can_create_users, unix_users
 
 REPO2DOCKER = BIN / 'jupyter-repo2docker'
@@ -76,7 +77,7 @@ HUB_CONFIG = """
 import sys
 sys.path.insert(0, {plugin!r})
 from jupyterhub.proxy import Proxy
-from tljh_robot_lab import configure_hub, install_course
+from tljh_robot_lab import configure_hub
 
 class RecordingProxy(Proxy):
     '''No proxy process: routes are only recorded (the test talks to servers directly).'''
@@ -93,8 +94,7 @@ class RecordingProxy(Proxy):
 
 PORTS = {ports!r}
 
-def before_spawn(spawner):
-    install_course(spawner.user.name, source={source!r})
+def set_port(spawner):
     spawner.port = PORTS[spawner.user.name]
 
 c.JupyterHub.bind_url = 'http://127.0.0.1:{proxy_port}'
@@ -109,11 +109,11 @@ c.Spawner.cmd = [{singleuser!r}]
 c.Spawner.ip = '127.0.0.1'
 c.Spawner.start_timeout = 120
 c.Spawner.http_timeout = 120
-c.Spawner.pre_spawn_hook = before_spawn
+c.Spawner.pre_spawn_hook = set_port  # configure_hub keeps it and adds the course's
 # jupyter-server answers SIGINT by asking for confirmation (10 s); SIGTERM stops it at once.
 c.LocalProcessSpawner.interrupt_timeout = 1
-c.Spawner.environment = {{'ROBOT_LAB_USER_DOMAINS': '93-101'}}
-configure_hub(c, registry=__import__('pathlib').Path({registry!r}))
+configure_hub(c)  # on a Config where nothing of the Spawner's environment was set
+c.Spawner.environment.update({{'ROBOT_LAB_USER_DOMAINS': '93-101'}})
 c.JupyterHub.services = [{{'name': 'course-test', 'api_token': {token!r}}}]
 c.JupyterHub.load_roles = [{{
     'name': 'course-test', 'services': ['course-test'],
@@ -152,10 +152,18 @@ def _api(url: str, method: str = 'GET', body: Any = None) -> tuple[int, Any]:
         return err.code, err.read().decode()
 
 
+def _plugin_env(root: Path, registry: Path) -> dict[str, str]:
+    """The plugin's paths for a test: this checkout, a temporary registry and published copy."""
+    return {'ROBOT_LAB_SOURCE': str(REPO), 'ROBOT_LAB_DOMAIN_REGISTRY': str(registry),
+            'ROBOT_LAB_PUBLISHED': str(root / 'published'),
+            'ROBOT_LAB_PYTHON': str(BIN / 'python')}
+
+
 class Hub:
     def __init__(self, users: UnixUsers, proc: Proc, hub_port: int,
                  ports: dict[str, int]) -> None:
         self.users, self.proc, self.ports = users, proc, ports
+        self.published = users.root / 'published'
         self.api = f'http://127.0.0.1:{hub_port}/hub/api'
 
     def wait_ready(self, name: str, timeout: float = 120) -> None:
@@ -185,13 +193,12 @@ def hub() -> Iterator[Hub]:
         hub_port = _free_port()
         config = state / 'jupyterhub_config.py'
         config.write_text(HUB_CONFIG.format(
-            plugin=str(REPO / 'deploy' / 'tljh'), ports=ports, source=str(REPO),
+            plugin=str(REPO / 'deploy' / 'tljh'), ports=ports,
             proxy_port=_free_port(), hub_port=hub_port, state=state,
-            singleuser=str(BIN / 'jupyterhub-singleuser'), registry=str(registry),
-            token=TOKEN))
+            singleuser=str(BIN / 'jupyterhub-singleuser'), token=TOKEN))
         proc = Proc(users.command(None, [str(BIN / 'jupyterhub'), '-f', str(config)]),
                     env={'PATH': f'{BIN}:/usr/bin:/bin', 'LANG': 'C.UTF-8',
-                         'HOME': str(state)}, cwd=state)
+                         'HOME': str(state), **_plugin_env(users.root, registry)}, cwd=state)
         try:
             proc.wait_for(r'JupyterHub is now running', timeout=60)
             yield Hub(users, proc, hub_port, ports)
@@ -257,6 +264,9 @@ def test_hub_gives_each_student_their_course_and_domain(hub: Hub) -> None:
         assert '00_welcome.ipynb' in {item['name'] for item in listing['content']}
         home = Path(hub.users.users[name[-1]].home) / 'robot_lab_course'
         assert home.stat().st_uid == hub.users.users[name[-1]].uid  # the student's copy
+        assert all(p.stat().st_uid == home.stat().st_uid for p in home.rglob('*'))
+        assert len(student_notebooks(home)) == len(student_notebooks(hub.published)) >= 15
+        assert answers_in(home) == []  # released: no solution block, no answer line
         words = _run_in_kernel(hub.server(name), KERNEL_CODE).split()
         assert words[:1] == ['DOMAIN'], words
         return int(words[1]), words[2], int(words[3]), words[4]

@@ -94,8 +94,9 @@ class UnixUsers:
             assert self._netns.stdout is not None
             assert self._netns.stdout.readline().strip() == b'up'
 
-    def add(self, short: str) -> User:
-        name = f'{self._prefix}{short}'
+    def add(self, short: str, template: str = '{}') -> User:
+        """A new user `<prefix><short>`, or `template` with that in place of `{}`."""
+        name = template.format(f'{self._prefix}{short}')
         home = self.root / name
         subprocess.run(['useradd', '--create-home', '--home-dir', str(home),
                         '--shell', '/bin/sh', '--user-group', name], check=True)

@@ -6,6 +6,9 @@ pipeline as the exercises (robot_lab.grading.exercises.student_notebook). Studen
 DIR, so autosave never touches the repository and the next `git pull` of the course never
 conflicts.
 
+The course may also be a released copy (one with .robot_lab/release.json, published for a
+hub's students): its notebooks are then given as they are, never through nbgrader again.
+
 Released again (a new notebook, a fixed typo), it adds what is new and updates what the
 student has not touched, but never overwrites a file the student changed: DIR/.robot_lab
 /release.json remembers the hash of every file as released. Released notebooks are signed
@@ -28,6 +31,7 @@ from robot_lab.grading.exercises import (
     exercise_notebook,
     kit_root,
     notebook_text,
+    read_notebook,
     student_notebook,
 )
 
@@ -57,6 +61,11 @@ def _digest(text: str | bytes) -> str:
 def _copies(root: Path) -> Iterator[tuple[Path, NotebookNode]]:
     """(path in the student copy, notebook) for every course notebook and exercise."""
     notebooks, solutions = root / 'notebooks', root / 'solutions'
+    if (root / MANIFEST).is_file():  # a released copy published for students: as it is
+        for folder in ('notebooks', 'exercises'):
+            for path in sorted((root / folder).glob('*.ipynb')):
+                yield Path(folder) / path.name, read_notebook(path)
+        return
     if not notebooks.is_dir() and not solutions.is_dir():
         raise RobotLabError('no notebooks/ or solutions/ folder here', file=root,
                             fix="give the course repository's folder")
