@@ -46,7 +46,7 @@ setup(
     description='Jupyter-first ROS 2 Jazzy course kit with no ROS install',
     packages=find_packages(include=['robot_lab', 'robot_lab.*']),
     package_data={'robot_lab': ['py.typed', 'data/*', 'pkg/templates/*/*',
-                                'grading/rubrics/*.yaml']},
+                                'grading/package/rubrics/*.yaml']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + PACKAGE]),
         ('share/' + PACKAGE, ['package.xml']),

@@ -27,7 +27,7 @@ import psutil
 from nbclient import NotebookClient
 
 from robot_lab.grading.exercises import build_exercises, kit_root
-from robot_lab.grading.grade import GradeResult, grade
+from robot_lab.grading.notebook.grade import GradeResult, grade
 
 BIN = Path(sys.executable).parent
 
@@ -53,8 +53,8 @@ def _tree_rss(proc: psutil.Process) -> tuple[int, int]:
 
 
 def bench_packages(args: argparse.Namespace) -> None:
-    from robot_lab.grading.package_grade import grade_package, resolve_rubric
-    from robot_lab.grading.submission import Submission
+    from robot_lab.grading.package.grade import grade_package, resolve_rubric
+    from robot_lab.grading.package.submission import Submission
 
     rubric = resolve_rubric('ch6-lab1', None)
     reference = kit_root() / 'tests' / 'data' / 'class_ch6' / 'reference'

@@ -23,8 +23,8 @@ import psutil
 import pytest
 from conftest import REPO, run_cli
 
-from robot_lab.grading.sandbox import TOKEN_VAR, namespaces_available
-from robot_lab.grading.submission import find_package, find_submissions
+from robot_lab.grading.package.sandbox import TOKEN_VAR, namespaces_available
+from robot_lab.grading.package.submission import find_package, find_submissions
 
 DATA = REPO / 'tests' / 'data' / 'class_ch6'
 ALL = ('builds', 'launch_file', 'sensor_publishes', 'controller_commands', 'actuator_logs',
@@ -293,8 +293,8 @@ def test_nothing_outlives_a_grader_killed_with_sigkill(tmp_path: Path) -> None:
               '    os._exit(0)\n'
               'time.sleep(300)\n')
     grader = ('import sys\nfrom pathlib import Path\n'
-              'from robot_lab.grading.rubric import Limits\n'
-              'from robot_lab.grading.sandbox import run_job\n'
+              'from robot_lab.grading.package.rubric import Limits\n'
+              'from robot_lab.grading.package.sandbox import run_job\n'
               f'run_job(Path({str(job)!r}), 11, Limits(), "tok-sigkill-test", '
               f'argv=["-c", {daemon!r}])\n')
     proc = subprocess.Popen([sys.executable, '-c', grader], env=dict(os.environ))
@@ -318,8 +318,8 @@ def test_nothing_outlives_a_grader_killed_with_sigkill(tmp_path: Path) -> None:
 
 FORK_BOMB = """
 import os, sys, time
-from robot_lab.grading.rubric import Limits
-from robot_lab.grading.sandbox import enter
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import enter
 enter(Limits(processes=48), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')))
 forked = 0
 try:
@@ -338,8 +338,8 @@ else:
 def test_a_fork_bomb_stops_at_the_process_limit(tmp_path: Path) -> None:
     """The rubric's `processes` binds a job whoever runs the grader: the rlimit for a user,
     a pids cgroup for root (whom RLIMIT_NPROC does not bind)."""
-    from robot_lab.grading.rubric import Limits
-    from robot_lab.grading.sandbox import run_job
+    from robot_lab.grading.package.rubric import Limits
+    from robot_lab.grading.package.sandbox import run_job
 
     run = run_job(tmp_path, 11, Limits(processes=48, wall_seconds=60), 'tok-fork-bomb',
                   argv=['-c', FORK_BOMB])

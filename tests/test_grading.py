@@ -24,14 +24,14 @@ import pytest
 from conftest import BIN, REPO, extra_domain, run_cli
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.answer_key import student_of
 from robot_lab.grading.exercises import (
     build_exercises,
     exercise_notebook,
     read_notebook,
     student_notebook,
 )
-from robot_lab.grading.grade import TOKEN_VAR, GradeResult, grade
+from robot_lab.grading.notebook.answer_key import student_of
+from robot_lab.grading.notebook.grade import TOKEN_VAR, GradeResult, grade
 from robot_lab.process import spawn, stop
 
 SOLUTIONS = sorted((REPO / 'solutions').glob('*.ipynb'))

@@ -1,7 +1,7 @@
 """`robot-lab grade SUBMISSION... [--json]`: run submissions headless and score them.
 
 Notebooks by default; with `--lab LAB` (or `--rubric FILE`) package submissions:
-`robot-lab grade DIR --lab ch6-lab1 -o OUT --jobs 2` (robot_lab.grading.package_grade).
+`robot-lab grade DIR --lab ch6-lab1 -o OUT --jobs 2` (robot_lab.grading.package.grade).
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ def _list(paths: list[str]) -> int:
     from pathlib import Path
 
     from robot_lab.errors import RobotLabError
-    from robot_lab.grading.submission import copy_submission, find_package, find_submissions
+    from robot_lab.grading.package.submission import copy_submission, find_package, find_submissions
 
     entries = [e for path in paths for e in find_submissions(path)]
     width = max([len(e.student) for e in entries] + [7])
@@ -76,7 +76,7 @@ def _list(paths: list[str]) -> int:
 
 
 def _packages(args: argparse.Namespace) -> int:
-    from robot_lab.grading.package_grade import grade_packages, resolve_rubric
+    from robot_lab.grading.package.grade import grade_packages, resolve_rubric
     from robot_lab.grading.report import StudentReport, number
 
     if args.domain_id is not None:
@@ -115,7 +115,7 @@ def _packages(args: argparse.Namespace) -> int:
 
 def main(args: argparse.Namespace) -> int:
     if args.print_rubric:
-        from robot_lab.grading.rubric import rubric_path
+        from robot_lab.grading.package.rubric import rubric_path
 
         print(rubric_path(args.lab or 'ch6-lab1').read_text(), end='')
         return 0
@@ -125,7 +125,7 @@ def main(args: argparse.Namespace) -> int:
         return 2
     if args.lab or args.rubric:
         return _packages(args)
-    from robot_lab.grading.grade import GradeResult, grade, grade_many, submissions
+    from robot_lab.grading.notebook.grade import GradeResult, grade, grade_many, submissions
 
     def show(result: GradeResult) -> None:
         if not args.json:
@@ -150,7 +150,7 @@ def main(args: argparse.Namespace) -> int:
         for r in results:
             print(f'{r.student}: {r.summary()}' if r.student else r.summary())
     if args.out and not args.executed_as:
-        from robot_lab.grading.grade import student_reports
+        from robot_lab.grading.notebook.grade import student_reports
         from robot_lab.grading.report import write_outputs
 
         reports = student_reports(results)

@@ -4,7 +4,7 @@
 first cell, `check.nodes_running([...])` and friends after each step.
 For instructors: `build_exercises()`, `grade_many()` and `release_course()` (loaded on
 first use: nbformat is slow to import, and notebooks only need the checks). One submission:
-`robot_lab.grading.grade.grade(path)` (the module shares the function's name).
+`robot_lab.grading.notebook.grade.grade(path)` (the module shares the function's name).
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ __all__ = [
 ]
 
 _LAZY = {
-    'GradeResult': 'robot_lab.grading.grade',
+    'GradeResult': 'robot_lab.grading.notebook.grade',
     'build_exercises': 'robot_lab.grading.exercises',
-    'grade_many': 'robot_lab.grading.grade',
+    'grade_many': 'robot_lab.grading.notebook.grade',
     'release_course': 'robot_lab.grading.release',
 }
 

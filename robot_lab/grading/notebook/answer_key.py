@@ -37,7 +37,7 @@ from robot_lab.grading.exercises import Check, grade_id, graded_checks, kit_root
 
 __all__ = ['AnswerKey', 'identify', 'judge', 'known_exercises', 'student_of']
 
-_CHECK_HELPERS = Path(__file__).resolve().with_name('check')  # the package's folder
+_CHECK_HELPERS = Path(__file__).resolve().parents[1] / 'check'  # the package's folder
 _ANSI = re.compile(r'\x1b\[[0-9;]*m')
 _OUTPUT_LIMIT = 2000  # characters of a check's printed lines kept for feedback
 _NBGRADER_FOLDERS = ('submitted', 'autograded')  # an nbgrader course's student folders
@@ -79,7 +79,7 @@ def student_of(path: str | Path, exercise: str) -> str:
     and Moodle's `Jane Doe_123_assignsubmission_file_/ex04_parameters.ipynb` all work.
     """
     # The LMS download layouts are recognised where package submissions are.
-    from robot_lab.grading.submission import _student_of
+    from robot_lab.grading.package.submission import _student_of
 
     def student_name(name: str) -> str:
         return _student_of(Path(name))

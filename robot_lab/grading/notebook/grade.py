@@ -33,14 +33,14 @@ from typing import TYPE_CHECKING, Any
 from nbformat import NotebookNode
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.answer_key import (
+from robot_lab.grading.exercises import exercise_name, notebook_text, read_notebook
+from robot_lab.grading.notebook.answer_key import (
     AnswerKey,
     check_output,
     identify,
     judge,
     student_of,
 )
-from robot_lab.grading.exercises import exercise_name, notebook_text, read_notebook
 
 if TYPE_CHECKING:
     from robot_lab.grading.report import StudentReport

@@ -1,11 +1,11 @@
 """Grade a class's package submissions: `robot-lab grade DIR --lab ch6-lab1 -o OUT`.
 
-Each student's entry is graded by its own job (robot_lab.grading.sandbox) running
-robot_lab.grading.package_checks: N jobs at a time, each in a ROS domain of its own
+Each student's entry is graded by its own job (robot_lab.grading.package.sandbox) running
+robot_lab.grading.package.job: N jobs at a time, each in a ROS domain of its own
 (`job_domains`), a progress bar over students. A job that crashes or runs out of time
 still gives its student a report (the checks it had scored, the rest at 0, the reason);
 only a grader that cannot run at all fails. Outputs (robot_lab.grading.report) and the
-similarity report (robot_lab.grading.similarity) go to OUT.
+similarity report (robot_lab.grading.package.similarity) go to OUT.
 """
 
 from __future__ import annotations
@@ -21,10 +21,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
+from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
+from robot_lab.grading.package.sandbox import job_domains, run_job
+from robot_lab.grading.package.submission import Submission, find_submissions
 from robot_lab.grading.report import CheckOutcome, StudentReport, write_outputs
-from robot_lab.grading.rubric import Rubric, load_rubric, rubric_path
-from robot_lab.grading.sandbox import job_domains, run_job
-from robot_lab.grading.submission import Submission, find_submissions
 
 __all__ = ['grade_package', 'grade_packages', 'resolve_rubric']
 
@@ -164,7 +164,7 @@ def grade_packages(
         if keep is not None:
             shutil.rmtree(keep, ignore_errors=True)
         if len(entries) > 1:
-            from robot_lab.grading.similarity import similarity_report
+            from robot_lab.grading.package.similarity import similarity_report
 
             similarity_report(entries, out / 'similarity.html')
     return reports

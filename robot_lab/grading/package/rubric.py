@@ -1,8 +1,9 @@
 """Rubrics: which checks a lab has, their points and thresholds, from a YAML file.
 
-The kit ships one per lab (`robot_lab/grading/rubrics/<lab>.yaml`); an instructor copies
-one, changes points or thresholds, and passes `--rubric FILE`. Check ids are fixed by the
-grader (they name the behaviour measured); a rubric may drop a check or give it 0 points.
+The kit ships one per lab (`robot_lab/grading/package/rubrics/<lab>.yaml`); an instructor copies
+one, changes points or thresholds, and passes `--rubric FILE`. Check ids are the ones the
+checks register (robot_lab.grading.package.registry: they name the behaviour measured); a
+rubric may drop a check or give it 0 points.
 """
 
 from __future__ import annotations
@@ -14,11 +15,10 @@ from typing import Any
 import yaml
 
 from robot_lab.errors import RobotLabError
+from robot_lab.grading.package.registry import check_ids
 
-__all__ = ['CHECK_IDS', 'Limits', 'Rubric', 'RubricCheck', 'load_rubric', 'rubric_path']
+__all__ = ['Limits', 'Rubric', 'RubricCheck', 'load_rubric', 'rubric_path']
 
-CHECK_IDS = ('builds', 'launch_file', 'sensor_publishes', 'controller_commands',
-             'actuator_logs', 'params_file', 'params_used', 'readme')
 _DIR = Path(__file__).with_name('rubrics')
 
 
@@ -35,7 +35,7 @@ class RubricCheck:
 
 @dataclass(frozen=True)
 class Limits:
-    """What one submission's job may use (see robot_lab.grading.sandbox)."""
+    """What one submission's job may use (see robot_lab.grading.package.sandbox)."""
 
     wall_seconds: float = 300.0
     cpu_seconds: int = 120
@@ -91,13 +91,13 @@ def load_rubric(path: str | Path) -> Rubric:
                     'fix the YAML syntax (compare with the shipped rubric)') from None
     if not isinstance(data, dict) or not isinstance(data.get('checks'), list):
         raise _fail(file, 'a rubric is a mapping with a `checks:` list',
-                    'copy a shipped rubric (robot_lab/grading/rubrics/) and edit it')
+                    'copy a shipped rubric (robot_lab/grading/package/rubrics/) and edit it')
     checks = []
+    known = check_ids()
     for item in data['checks']:
-        if not isinstance(item, dict) or item.get('id') not in CHECK_IDS:
+        if not isinstance(item, dict) or item.get('id') not in known:
             got = item.get('id') if isinstance(item, dict) else item
-            raise _fail(file, f'unknown check {got!r}',
-                        f'use one of: {", ".join(CHECK_IDS)}')
+            raise _fail(file, f'unknown check {got!r}', f'use one of: {", ".join(known)}')
         points = item.get('points', 1)
         if not isinstance(points, int | float) or points < 0:
             raise _fail(file, f'check {item["id"]}: points must be a number >= 0',

@@ -1,6 +1,6 @@
 """One submission's job, fenced in: its own ROS domain, HOME, TMPDIR, limits and namespaces.
 
-The grader starts each job as `python -m robot_lab.grading.package_checks JOBDIR` through
+The grader starts each job as `python -m robot_lab.grading.package.job JOBDIR` through
 `robot_lab.process.spawn` (parent-death signal), wrapped, where the host allows
 unprivileged namespaces, in `unshare --user --map-root-user --net --pid --fork
 --kill-child`: the job then sees only a loopback interface (no DDS traffic leaves it or
@@ -34,7 +34,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from robot_lab.grading.rubric import Limits
+from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
 __all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job',
@@ -212,7 +212,7 @@ def _tail(path: Path, limit: int) -> str:
 
 
 def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
-            argv: Sequence[str] = ('-m', 'robot_lab.grading.package_checks')) -> JobRun:
+            argv: Sequence[str] = ('-m', 'robot_lab.grading.package.job')) -> JobRun:
     """Run the job in `job_dir` (its job.json is already written) and wait at most
     `limits.wall_seconds`; every process of the job is gone when this returns.
 

@@ -16,12 +16,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from robot_lab.grading.submission import Submission, copy_submission
+from robot_lab.grading.package.submission import Submission, copy_submission
 
 __all__ = ['SimilarPair', 'similar_pairs', 'similarity_report']
 
 THRESHOLD = 0.5  # share of a student's (non-boilerplate) code found in the other's
-_TEMPLATES = Path(__file__).resolve().parent.parent / 'pkg' / 'templates' / 'ament_python'
+_TEMPLATES = Path(__file__).resolve().parents[2] / 'pkg' / 'templates' / 'ament_python'
 _SKIP = {'build', 'install', 'log', 'test', '__pycache__'}
 
 # What a student writes because ROS 2 says so, not because they thought of it.
