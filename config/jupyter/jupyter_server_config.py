@@ -5,6 +5,14 @@ this file) puts the kit's venv first on PATH — a login shell would read /etc/p
 on Debian resets PATH and loses `ros2` — sets the student's ROS domain and workspace, and
 starts where the file browser is rooted (the student's course folder). The server listens
 on 127.0.0.1 only.
+
+The Lab is the student's: nbgrader's instructor and exchange tools (the Nbgrader menu,
+Create Assignment, Formgrader, Assignment and Course List) are hidden, and their server
+extensions off, because a student's Lab has no course database or exchange to show and
+they only fail there. nbgrader's Validate button stays (it checks the student's own
+notebook). An instructor turns the tools on with ROBOT_LAB_INSTRUCTOR=1 (what
+`./kit lab --instructor` sets). JupyterLab's news feed and update check are off: the Lab
+contacts no address off this machine.
 """
 
 import os
@@ -21,3 +29,35 @@ c.ServerApp.ip = '127.0.0.1'
 c.ServerApp.terminado_settings = {
     'shell_command': ['/bin/bash', '--rcfile', os.path.join(_here, 'ros_terminal.bashrc'), '-i'],
 }
+c.LabApp.news_url = None
+c.LabApp.check_for_updates_class = 'jupyterlab.NeverCheckForUpdate'
+
+# nbgrader's JupyterLab plugins an instructor uses (tests/test_lab_bench.py names them too).
+INSTRUCTOR_PLUGINS = [
+    '@jupyter/nbgrader:menu',
+    '@jupyter/nbgrader:create-assignment',
+    '@jupyter/nbgrader:formgrader',
+    '@jupyter/nbgrader:assignment-list',
+    '@jupyter/nbgrader:course-list',
+]
+# course_list stays on: it also answers /nbgrader_version, which Validate asks first.
+INSTRUCTOR_SERVER_EXTENSIONS = [
+    'nbgrader.server_extensions.formgrader',
+    'nbgrader.server_extensions.assignment_list',
+]
+
+
+def _instructor() -> bool:
+    return os.environ.get('ROBOT_LAB_INSTRUCTOR', '').lower() not in ('', '0', 'false', 'no')
+
+
+def _hide_instructor_plugins(handler: object, page_config: dict) -> dict:  # type: ignore[type-arg]
+    """JupyterLab's page-config hook: the student's page loads without those plugins."""
+    disabled = set(page_config.get('disabledExtensions', []))
+    page_config['disabledExtensions'] = sorted(disabled | set(INSTRUCTOR_PLUGINS))
+    return page_config
+
+
+if not _instructor():
+    c.ServerApp.jpserver_extensions = dict.fromkeys(INSTRUCTOR_SERVER_EXTENSIONS, False)
+    c.ServerApp.tornado_settings = {'page_config_hook': _hide_instructor_plugins}

@@ -35,6 +35,8 @@ unset _robot_lab_root
 if [ -z "${ROBOT_LAB_QUIET:-}" ]; then
   printf 'ROS 2 Jazzy terminal (robot_lab): ROS_DOMAIN_ID=%s, workspace %s\n' \
     "${ROS_DOMAIN_ID:-0}" "${ROBOT_LAB_WORKSPACE/#$HOME/\~}"
-  printf 'your packages: cd %s && colcon build && source install/setup.bash\n' \
+  # --symlink-install, as the notebooks build: a plain `colcon build` would copy the files
+  # instead, and later edits would be ignored until the next build.
+  printf 'your packages: cd %s && colcon build --symlink-install && source install/setup.bash\n' \
     "${ROBOT_LAB_WORKSPACE/#$HOME/\~}"
 fi
