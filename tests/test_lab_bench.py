@@ -72,6 +72,8 @@ def test_terminal_rcfile_makes_a_ros_shell(tmp_path: Path) -> None:
     assert seen['domain'].isdigit(), shell.stdout
     assert int(seen['domain']) == _notebook_domain(env)
     assert 'ROS 2 Jazzy terminal (robot_lab)' in shell.stdout
+    # The build the notebooks teach: a plain `colcon build` would undo --symlink-install.
+    assert 'colcon build --symlink-install && source install/setup.bash' in shell.stdout
 
 
 def test_terminal_keeps_a_domain_the_student_set(tmp_path: Path) -> None:
@@ -208,3 +210,161 @@ def test_kit_lab_serves_the_course_copy_with_ros_terminals(tmp_path: Path) -> No
     package = (course / 'notebooks' / '01_create_package.ipynb').read_text()
     assert 'raise NotImplementedError()' in package and 'BEGIN SOLUTION' not in package
     assert (course / 'exercises' / 'ex01_create_package.ipynb').is_file()
+
+
+# --- the student's Lab: nbgrader's instructor tools hidden, on for an instructor -----------
+
+INSTRUCTOR_PLUGINS = {'@jupyter/nbgrader:menu', '@jupyter/nbgrader:create-assignment',
+                      '@jupyter/nbgrader:formgrader', '@jupyter/nbgrader:assignment-list',
+                      '@jupyter/nbgrader:course-list'}
+_PAGE_CONFIG = re.compile(
+    r'<script id="jupyter-config-data" type="application/json">(.*?)</script>', re.S)
+# A log line at warning level or worse, from the server or from nbgrader's own logger.
+_LOG_TROUBLE = re.compile(r'^\[(?:W|E|C) [^]]*\].*|^\[NbGrader \| (?:WARNING|ERROR|CRITICAL)\].*',
+                          re.M)
+
+
+def _status(url: str) -> int:
+    try:
+        with urllib.request.urlopen(url, timeout=30) as reply:
+            return int(reply.status)
+    except urllib.error.HTTPError as err:
+        return int(err.code)
+
+
+def _lab_page(base: str, token: str, shots: Path) -> tuple[list[str], list[str]]:
+    """The menus and side-panel tabs a real Chromium shows on the Lab page."""
+    chromium = next((c for c in (os.environ.get('ROBOT_LAB_CHROMIUM'), '/usr/bin/chromium')
+                     if c and os.access(c, os.X_OK)), None)
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:  # pragma: no cover - the test extra installs it
+        sync_playwright = None
+    if chromium is None or sync_playwright is None:
+        pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)')
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=chromium,
+                                     args=['--no-sandbox', '--disable-gpu'])
+        try:
+            page = browser.new_page()
+            page.goto(f'{base}/lab?token={token}')
+            # The status bar comes up once every plugin has been activated (or refused).
+            page.wait_for_selector('#jp-main-statusbar .jp-StatusBar-Item', timeout=120_000)
+            page.wait_for_selector('.lm-MenuBar-itemLabel', timeout=120_000)
+            menus = page.locator('.lm-MenuBar-itemLabel').all_inner_texts()
+            tabs = page.locator('.lm-TabBar-tab').evaluate_all(
+                'tabs => tabs.map(t => t.getAttribute("title") || t.innerText)')
+            page.screenshot(path=str(shots))
+        finally:
+            browser.close()
+    return [str(m) for m in menus], [str(t) for t in tabs]
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize('who', ['student', 'instructor'])
+def test_students_lab_hides_nbgrader_instructor_tools(tmp_path: Path, who: str) -> None:
+    """`./kit lab` shows a student no nbgrader menu, Create Assignment, Formgrader or
+    Assignment List, and logs no nbgrader trouble; `./kit lab --instructor` shows them."""
+    env, _course, _workspace = _kit_home(tmp_path)
+    env['ROS_DOMAIN_ID'] = os.environ['ROS_DOMAIN_ID']
+    env.update(JUPYTER_CONFIG_DIR=str(tmp_path / 'jupyter_config'),
+               JUPYTER_DATA_DIR=str(tmp_path / 'jupyter_data'),
+               JUPYTER_RUNTIME_DIR=str(tmp_path / 'jupyter_runtime'))
+    env.pop('ROBOT_LAB_INSTRUCTOR', None)
+    port, token = _free_port(), 'robot-lab-student-test'
+    switch = ['--instructor'] if who == 'instructor' else []
+    log_path = tmp_path / 'lab.log'
+    with log_path.open('wb') as log:
+        lab = spawn([str(ROOT / 'kit'), 'lab', *switch, '--no-browser',
+                     f'--ServerApp.port={port}', '--ServerApp.port_retries=0',
+                     f'--IdentityProvider.token={token}'],
+                    env=env, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+        try:
+            base = f'http://127.0.0.1:{port}'
+            deadline = time.monotonic() + 120
+            while _status_or_none(f'{base}/api/status?token={token}') != 200:
+                assert lab.poll() is None, log_path.read_text()[-3000:]
+                assert time.monotonic() < deadline, 'JupyterLab did not answer in 120 s'
+                time.sleep(0.2)  # polling the server's own readiness answer
+            with urllib.request.urlopen(f'{base}/lab?token={token}', timeout=30) as reply:
+                page = reply.read().decode()
+            found = _PAGE_CONFIG.search(page)
+            assert found, 'no page config in the Lab page'
+            config = json.loads(found.group(1))
+            disabled = set(config['disabledExtensions'])
+            assert config['news'] == {'disabled': True}  # no news pop-up, no feed fetched
+            assert '@jupyter/nbgrader:validate-assignment' not in disabled  # Validate stays
+            import nbgrader  # type: ignore[import-untyped]
+
+            version = f'{base}/nbgrader_version?version={nbgrader.__version__}&token={token}'
+            assert _status(version) == 200  # what Validate asks before it validates
+            menus, tabs = _lab_page(base, token, tmp_path / f'{who}.png')
+            started = log_path.read_text()  # the start and the page's own requests
+            formgrader = _status(f'{base}/formgrader?token={token}')
+            assignments = _status(f'{base}/assignments?course_id=c&token={token}')
+        finally:
+            stop(lab, sigint_timeout=0)
+    if who == 'student':
+        assert disabled >= INSTRUCTOR_PLUGINS, INSTRUCTOR_PLUGINS - disabled
+        assert 'Nbgrader' not in menus, menus
+        assert not [t for t in tabs if 'Assignment' in t or 'nbgrader' in t.lower()], tabs
+        assert (formgrader, assignments) == (404, 404)  # their server extensions are off
+        # Nothing at warning level or worse from nbgrader, nothing at error level at all.
+        trouble = [line for line in _LOG_TROUBLE.findall(started)
+                   if 'nbgrader' in line.lower() or line.startswith('[E ')]
+        assert trouble == [], trouble
+    else:
+        assert not INSTRUCTOR_PLUGINS & disabled
+        assert 'Nbgrader' in menus, menus
+        assert 'Nbgrader Create Assignment' in tabs, tabs
+        assert formgrader == 200
+
+
+def _status_or_none(url: str) -> int | None:
+    try:
+        return _status(url)
+    except (urllib.error.URLError, ConnectionError, TimeoutError):
+        return None
+
+
+# --- ./kit start: a student's install, a short demo summary ---------------------------------
+
+TEST_TOOLS = {'pytest', 'pytest-timeout', 'pytest-xdist', 'nbval', 'ruff', 'mypy', 'playwright',
+              'jupyterhub', 'jupyter-repo2docker'}
+
+
+def test_student_install_has_no_test_tools() -> None:
+    """`./kit start`/`setup` install the `kit` extra; the test tools come with `./kit test`."""
+    from importlib.metadata import requires
+
+    extras: dict[str, set[str]] = {}
+    for requirement in requires('robot_lab') or []:
+        found = re.match(r'([A-Za-z0-9_.\[\]-]+).*extra == "(\w+)"', requirement)
+        if found:
+            name = re.sub(r'\[.*\]', '', found.group(1)).lower().replace('_', '-')
+            extras.setdefault(found.group(2), set()).add(name)
+    assert not extras['kit'] & TEST_TOOLS, extras['kit'] & TEST_TOOLS
+    assert extras['test'] >= TEST_TOOLS | extras['kit']
+    assert {'nbgrader', 'jupyterlab', 'colcon-core', 'ros-jazzy-rclpy'} <= extras['kit']
+    kit = (ROOT / 'kit').read_text()
+    assert re.search(r'^  test\)\n    setup test$', kit, re.M), 'kit test adds the test tools'
+    assert re.search(r'^  lint\)\n    setup test$', kit, re.M), 'kit lint adds the test tools'
+    assert re.search(r'^  start\)\n    setup$', kit, re.M), 'kit start installs the kit only'
+    assert './kit setup --test' in (ROOT / '.ci' / 'run').read_text()
+
+
+def test_kit_start_summarises_the_demo_and_logs_it_in_full(tmp_path: Path) -> None:
+    env, _course, _workspace = _kit_home(tmp_path)
+    env['ROS_DOMAIN_ID'] = os.environ['ROS_DOMAIN_ID']
+    start = subprocess.run([str(ROOT / 'kit'), 'start', '--no-lab'], env=env, cwd=ROOT,
+                           capture_output=True, text=True, timeout=300)
+    assert start.returncode == 0, start.stdout + start.stderr
+    shown = (start.stdout + start.stderr).splitlines()
+    log = Path(env['HOME']) / '.ros' / 'log' / 'robot_lab_demo.log'
+    assert shown[-1].endswith('full demo log: ~/.ros/log/robot_lab_demo.log'), shown
+    assert len(shown) <= 8, '\n'.join(shown)
+    assert 'nodes seen: /controller, /robot, /sensor' in start.stdout
+    full = log.read_text()
+    # Every node's own lines are in the file, not on the student's terminal.
+    assert re.search(r'\[robot\]: Status: OK', full) and 'Status: OK' not in start.stdout
+    assert len(full.splitlines()) > 3 * len(shown)
