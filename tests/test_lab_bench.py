@@ -330,7 +330,7 @@ def _status_or_none(url: str) -> int | None:
 # --- ./kit start: a student's install, a short demo summary ---------------------------------
 
 TEST_TOOLS = {'pytest', 'pytest-timeout', 'pytest-xdist', 'nbval', 'ruff', 'mypy', 'playwright',
-              'jupyterhub', 'jupyter-repo2docker'}
+              'jupyterhub', 'jupyter-repo2docker', 'bqplot'}
 
 
 def test_student_install_has_no_test_tools() -> None:
