@@ -13,15 +13,17 @@ below Linux's ephemeral port range (32768-60999) and 215-232 above it. Users get
 modules, grading runs) lease domains for as long as they run: 215-232 first, then free
 user domains from the top. Past 101 users the answer is one container per user.
 
-The registry is a small JSON file (default /var/tmp/robot_lab/domains.json, or
-ROBOT_LAB_DOMAIN_REGISTRY), changed only under an exclusive flock and written in place
-(a sticky shared directory lets no user replace another's file). `python -m
-robot_lab.domain` prints it; `--release USER` frees a user's entry.
+The registry is a small JSON file (ROBOT_LAB_DOMAIN_REGISTRY, else a hub's
+/srv/robot_lab/domains.json if there is one, else /var/tmp/robot_lab/domains.json),
+changed only under an exclusive flock and written in place (a sticky shared directory lets
+no user replace another's file). `robot-lab domain list` prints it; `robot-lab domain
+release USER` frees a user's entry.
 """
 
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import fcntl
 import functools
@@ -40,6 +42,7 @@ from robot_lab.errors import RobotLabError
 __all__ = [
     'DEFAULT_REGISTRY',
     'FROM_REGISTRY_VARIABLE',
+    'HUB_REGISTRY',
     'JOB_DOMAINS',
     'POOL_VARIABLE',
     'REGISTRY_VARIABLE',
@@ -48,7 +51,11 @@ __all__ = [
     'DomainRegistry',
     'domain_for',
     'fill_domain',
+    'find_user',
     'lease_domains',
+    'listing',
+    'process_domain',
+    'release_user',
     'resolve',
     'user_domain',
 ]
@@ -60,18 +67,26 @@ FROM_REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_FROM_REGISTRY'
 # `first-last` domains handed to users (an admin may narrow it; tests use their own).
 POOL_VARIABLE = 'ROBOT_LAB_USER_DOMAINS'
 DEFAULT_REGISTRY = Path('/var/tmp/robot_lab/domains.json')
+# Where a hub keeps its users' registry (deploy/tljh: outside the per-user /tmp, /var/tmp).
+HUB_REGISTRY = Path('/srv/robot_lab/domains.json')
 USER_DOMAINS = range(1, 102)
 JOB_DOMAINS = range(215, 233)
 _VALID = (*range(0, 102), *range(215, 233))
 
 _FIX_FULL = ('give each student a container of their own (Zero to JupyterHub on Kubernetes, '
              'docs/deploy.md), set ROS_DOMAIN_ID per user in the hub, or free the entries '
-             'of users who left: python -m robot_lab.domain --release USER')
+             'of users who left: robot-lab domain release USER')
 
 
 def registry_path(env: Mapping[str, str] | None = None) -> Path:
+    """ROBOT_LAB_DOMAIN_REGISTRY (what a hub sets for its users' servers), else a hub's
+    registry on this host (an admin's shell, sudo: the hub's variable is not there), else
+    the default."""
     source = os.environ if env is None else env
-    return Path(source.get(REGISTRY_VARIABLE, '').strip() or DEFAULT_REGISTRY)
+    named = source.get(REGISTRY_VARIABLE, '').strip()
+    if named:
+        return Path(named)
+    return HUB_REGISTRY if HUB_REGISTRY.is_file() else DEFAULT_REGISTRY
 
 
 def user_pool(env: Mapping[str, str] | None = None) -> range:
@@ -295,30 +310,80 @@ def lease_domains(count: int, purpose: str = '', pool: Sequence[int] | None = No
         registry.release(domains)
 
 
+_process_lease: list[int] = []
+
+
+def process_domain(purpose: str, env: Mapping[str, str] | None = None) -> int:
+    """One domain leased for as long as this process lives (an autograded notebook's
+    kernel): no user's, no other job's. Asked again, the same one; freed at exit, or by
+    the next allocation once the process is gone (kill -9 included)."""
+    if not _process_lease:
+        users = user_pool(env)
+        registry = DomainRegistry(registry_path(env))
+        _process_lease.extend(registry.lease(1, [*JOB_DOMAINS, *reversed(users)], purpose))
+        atexit.register(registry.release, list(_process_lease))
+    return _process_lease[0]
+
+
+def find_user(name: str, data: Mapping[str, Any]) -> tuple[int, str]:
+    """(uid, Unix name) of the registry's entry for `name`: a Unix name, a hub name whose
+    Unix user is `jupyter-<name>` (The Littlest JupyterHub), a uid, or a name the
+    registry remembers (a user already deleted)."""
+    users = data.get('users', {})
+    for candidate in (name, f'jupyter-{name}'):
+        with contextlib.suppress(KeyError):
+            uid = pwd.getpwnam(candidate).pw_uid
+            if str(uid) in users:
+                return uid, candidate
+    if name.isdigit() and name in users:
+        return int(name), str(users[name].get('name', name))
+    for uid, entry in users.items():
+        if entry.get('name') in (name, f'jupyter-{name}'):
+            return int(uid), str(entry['name'])
+    raise RobotLabError(f'{name!r} has no domain in the registry', fix='`robot-lab domain '
+                        'list` shows who has one (a hub user NAME is Unix user jupyter-NAME)')
+
+
+def release_user(name: str, env: Mapping[str, str] | None = None) -> tuple[str, int]:
+    """Free the domain of user `name` (see `find_user`); (their Unix name, the domain)."""
+    registry = DomainRegistry(registry_path(env))
+    uid, unix = find_user(name, registry.read())
+    freed = registry.release_user(uid)
+    if freed is None:  # released by someone else just now
+        raise RobotLabError(f'{name!r} has no domain in the registry',
+                            fix='`robot-lab domain list` shows who has one')
+    return unix, freed
+
+
+def listing(env: Mapping[str, str] | None = None) -> list[str]:
+    """The registry, as `robot-lab domain list` prints it."""
+    registry = DomainRegistry(registry_path(env))
+    data = registry.read()
+    lines = [f'{registry.path}:']
+    for uid, entry in sorted(data['users'].items(), key=lambda kv: kv[1]['domain']):
+        lines.append(f"  domain {entry['domain']:>3}  {entry.get('name', '?')} (uid {uid})")
+    for domain, lease in sorted(data['leases'].items(), key=lambda kv: int(kv[0])):
+        lines.append(f"  domain {int(domain):>3}  leased by pid {lease['pid']} "
+                     f"({lease.get('purpose') or 'a job'})")
+    return lines
+
+
 def _main(argv: list[str] | None = None) -> int:
+    """`python -m robot_lab.domain [--release USER]`: `robot-lab domain` by its old name."""
     parser = argparse.ArgumentParser(prog='python -m robot_lab.domain',
-                                     description='The host ROS domain registry')
+                                     description='The host ROS domain registry '
+                                     '(robot-lab domain list|release USER)')
     parser.add_argument('--release', metavar='USER', help="free USER's domain")
     args = parser.parse_args(argv)
-    registry = DomainRegistry(registry_path())
     try:
         if args.release:
-            uid = int(args.release) if args.release.isdigit() else pwd.getpwnam(
-                args.release).pw_uid
-            freed = registry.release_user(uid)
-            print(f'{args.release}: ' + ('had no domain' if freed is None
-                                         else f'domain {freed} freed'))
-            return 0
-        data = registry.read()
-    except (RobotLabError, KeyError) as err:
+            unix, freed = release_user(args.release)
+            print(f'{unix}: domain {freed} freed')
+        else:
+            print('\n'.join(listing()))
+    except RobotLabError as err:
         print(err, file=sys.stderr)
         return 1
-    print(f'{registry.path}:')
-    for uid, entry in sorted(data['users'].items(), key=lambda kv: kv[1]['domain']):
-        print(f"  domain {entry['domain']:>3}  {entry.get('name', '?')} (uid {uid})")
-    for domain, lease in sorted(data['leases'].items(), key=lambda kv: int(kv[0])):
-        print(f"  domain {int(domain):>3}  leased by pid {lease['pid']} "
-              f"({lease.get('purpose') or 'a job'})")
     return 0
 
 

@@ -21,7 +21,7 @@ from typing import Any
 import nbformat
 import psutil
 import pytest
-from conftest import BIN, REPO, extra_domain, run_cli
+from conftest import BIN, REPO, run_cli
 
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.exercises import (
@@ -169,9 +169,9 @@ def unanswered() -> Iterator[Any]:
     at a time (`-j 3`, one ROS domain per slot, well away from the test modules' domains)
     while the solutions are graded in the foreground; the last test collects the results.
     """
-    first = extra_domain(0)  # and the next two: -j 3 gives slot k the domain first + k
+    # -j 3: three domains leased from the host's registry, none of the test modules'.
     proc = spawn([str(BIN / 'robot-lab'), 'grade', str(REPO / 'exercises'), '--json',
-                  '-j', '3', '--domain-id', str(first), '--timeout', '30'],
+                  '-j', '3', '--timeout', '30'],
                  stderr=subprocess.DEVNULL)
     yield proc
     stop(proc)
@@ -410,10 +410,12 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
         (class_dir / name).parent.mkdir(parents=True, exist_ok=True)
         (class_dir / f'{name}.ipynb').write_text(nbformat.writes(nb) + '\n')
     done = run_cli('grade', str(class_dir), '--json', '-j', '2', '--solutions', str(solutions),
-                   '--domain-id', str(extra_domain(3)), '--timeout', '20',
+                   '--timeout', '20',
                    '--executed', str(tmp_path / 'executed'), '-o', str(tmp_path / 'out'),
                    timeout=300)
-    assert done.returncode == 0, done.stderr
+    # One notebook was refused: exit 2, and stderr names it (the rule of labs too).
+    assert done.returncode == 2, done.stderr
+    assert 'could not grade' in done.stderr and 'renamed' in done.stderr, done.stderr
     results = {f'{r["student"]}/{r["exercise"]}': r for r in json.loads(done.stdout)}
     assert sorted(results) == sorted(forged), sorted(results)
     assert results.pop('model/tiny')['score'] == 5
@@ -442,10 +444,17 @@ def test_forgeries_score_what_an_unanswered_exercise_scores(tmp_path: Path) -> N
                              'ex04_parameters/check-file-loads': '0',
                              'ex04_parameters/check-sensor-values': '0',
                              'ex04_parameters/check-controller-threshold': '0'}
-    assert {row['score'] for name, row in rows.items() if name != 'model'} == {'0'}
-    for student in rows:
+    assert rows['renamed']['score'] == 'not graded'  # refused: a row that says so
+    assert {row['score'] for name, row in rows.items()
+            if name not in ('model', 'renamed')} == {'0'}
+    for student, row in rows.items():
         feedback = (tmp_path / 'out' / 'feedback' / f'{student}.md').read_text()
         assert feedback.startswith(f'# Feedback for {student}')
+        if student == 'renamed':
+            continue
+        columns = [float(v) for k, v in row.items() if k not in ('student', 'score',
+                                                                  'max_score')]
+        assert float(row['score']) == sum(columns)  # the total is its columns' sum
         gradescope = json.loads((tmp_path / 'out' / 'results' / f'{student}.json').read_text())
         assert gradescope['score'] == float(rows[student]['score'])
     assert "refused: its metadata names exercise 'tiny_v2'" in (

@@ -40,6 +40,7 @@ VERBS: dict[str, str] = {
     'exercises': 'exercises',
     'course': 'course',
     'grade': 'grade',
+    'domain': 'domain',
 }
 
 

@@ -38,9 +38,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Seconds a whole submission may run (default: 900)')
     parser.add_argument('-j', '--jobs', type=int, default=1, metavar='N',
                         help='Grade N submissions at a time, each in its own ROS domain '
-                        '(the domain id, then the next N-1)')
+                        "leased from the host's registry")
     parser.add_argument('--domain-id', type=int, metavar='N',
-                        help='ROS_DOMAIN_ID for the submissions (default: ROS_DOMAIN_ID)')
+                        help='ROS_DOMAIN_ID to grade in (notebooks: one after the other; '
+                        'default: domains leased from the registry)')
     parser.add_argument('--solutions', metavar='DIR',
                         help="Solutions whose check cells are used (default: the kit's)")
     parser.add_argument('--executed', metavar='DIR',
@@ -157,4 +158,8 @@ def main(args: argparse.Namespace) -> int:
         write_outputs(args.out, reports)
         print(f'wrote {args.out}/grades.csv, feedback/ and results/ for {len(reports)} '
               'student(s)', file=sys.stderr if args.json else sys.stdout)
-    return 0
+    # The rule for notebooks and labs alike: 0 when every submission was graded.
+    refused = [r for r in results if r.status == 'error' and not r.checks]
+    for r in refused:
+        print(f'robot-lab grade: could not grade {r.notebook}: {r.detail}', file=sys.stderr)
+    return 2 if refused else 0

@@ -5,12 +5,21 @@ lesson's ROS_DOMAIN_ID when a test run asks for one (notebooks run by nbval must
 each other or the tests), and names the scratch workspace where student work goes —
 never the repository. A test run (a domain base in the environment) is headless, and its
 workspace is a temporary folder shared by the notebooks of that run.
+
+Under nbgrader's autograder (NBGRADER_EXECUTION=autograde) each notebook is one student's
+submission: it gets a workspace of its own (new, removed when the kernel ends — never the
+instructor's ~/robot_lab_ws, where the previous student's files would be) and a domain
+leased from the host's registry for the kernel's life (never a user's, never another
+job's). nbgrader's Validate keeps the student's own workspace and domain: their notebooks
+build on each other's packages.
 """
 
 from __future__ import annotations
 
+import atexit
 import os
 import re
+import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -39,12 +48,20 @@ def _number(notebook: str) -> int:
     return int(found.group(1)) if found else 0
 
 
+def _autograding() -> bool:
+    return os.environ.get('NBGRADER_EXECUTION', '').strip() == 'autograde'
+
+
 def _domain(notebook: str) -> int:
     """ROBOT_LAB_NOTEBOOK_DOMAIN_BASE + lesson number when set (test runs); else as is.
 
     Without it, a test run's ROBOT_LAB_TEST_DOMAIN_BASE still keeps notebooks apart from
     the test modules (which count up from base + 1): lessons use base + 60 + number.
     """
+    if _autograding():
+        from robot_lab.domain import process_domain
+
+        return process_domain(f'nbgrader autograde {notebook}')
     base = os.environ.get('ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', '').strip()
     if base:
         return (int(base) + _number(notebook)) % 102
@@ -57,8 +74,16 @@ def _domain(notebook: str) -> int:
     return int(apply_ros_defaults()['ROS_DOMAIN_ID'])
 
 
+_fresh: list[Path] = []
+
+
 def _workspace() -> Path:
-    if 'ROBOT_LAB_WORKSPACE' not in os.environ and is_headless():
+    if _autograding():
+        if not _fresh:  # one per kernel, however often the set-up cell runs
+            _fresh.append(Path(tempfile.mkdtemp(prefix='robot_lab_autograde_')))
+            atexit.register(shutil.rmtree, _fresh[0], True)
+        os.environ['ROBOT_LAB_WORKSPACE'] = str(_fresh[0])
+    elif 'ROBOT_LAB_WORKSPACE' not in os.environ and is_headless():
         # One folder per test run (the kernels of one nbval run share a parent), so
         # notebook 02 finds the package notebook 01 created.
         run = tempfile.gettempdir() + f'/robot_lab_ws-{os.getuid()}-{os.getppid()}'
@@ -76,7 +101,7 @@ def _in_test_run() -> bool:
 
 def setup(notebook: str) -> Lesson:
     """Prepare this kernel for lesson `notebook` (e.g. '04_parameters'); what was chosen."""
-    if _in_test_run():
+    if _in_test_run() or _autograding():
         # Nobody watches a test run: widgets leave static images, work goes to a temp folder.
         os.environ.setdefault('ROBOT_LAB_HEADLESS', '1')
     bin_dir = os.path.dirname(sys.executable)

@@ -43,7 +43,8 @@ class CheckOutcome:
 @dataclass
 class StudentReport:
     """Everything graded for one student. `status` is 'graded' unless the run itself failed
-    ('error': `error` says why; the checks not reached score 0)."""
+    ('error': `error` says why; the checks not reached score 0) or nothing could be run
+    ('not graded': a refused notebook; its gradebook row says so)."""
 
     student: str
     checks: list[CheckOutcome] = field(default_factory=list)
@@ -99,7 +100,9 @@ class StudentReport:
         if self.title:
             head += f' — {self.title}'
         lines = [head, '', f'**Score: {number(self.score)} / {number(self.max_score)}**', '']
-        if self.status != 'graded':
+        if self.status == 'not graded':
+            lines += [f'> Not graded: {self.error}', '']
+        elif self.status != 'graded':
             lines += [f'> Grading ended early ({self.status}): {self.error}', '']
         lines += ['| check | points | result |', '|---|---|---|']
         for c in self.checks:
@@ -165,6 +168,9 @@ def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
         writer.writerow(['student', 'score', 'max_score', *ids])
         for r in sorted(reports, key=lambda r: r.student):
             earned = {c.id: c.score for c in r.checks}
+            if r.status == 'not graded':  # nothing ran: no points, a row that says so
+                writer.writerow([r.student, 'not graded', '', *('' for _ in ids)])
+                continue
             writer.writerow([r.student, number(r.score), number(r.max_score),
                              *(number(earned.get(i, 0.0)) for i in ids)])
     for r in reports:

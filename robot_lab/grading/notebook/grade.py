@@ -85,6 +85,7 @@ class GradeResult:
     detail: str = ''
     elapsed: float = 0.0
     leftovers: list[str] = field(default_factory=list)  # outlived the kernel, were killed
+    domain: int | None = None  # the ROS_DOMAIN_ID it ran in
 
     @property
     def score(self) -> float:
@@ -275,6 +276,7 @@ def grade(
                                'MPLBACKEND': 'Agg'})
         if domain_id is not None:
             env['ROS_DOMAIN_ID'] = str(domain_id)
+        result.domain = int(env['ROS_DOMAIN_ID'])
         # The grader picks the domain: lesson set-up must not move the kernel elsewhere.
         for name in _DOMAIN_BASES:
             env.pop(name, None)
@@ -426,44 +428,90 @@ def grade_many(paths: list[str | Path], jobs: int = 1, domain_id: int | None = N
     notebook as STUDENT/EXERCISE.graded.ipynb (one file per submission, never overwritten
     by the next student's).
 
-    Submissions graded at the same time never share a ROS domain: job slot k uses
-    `domain_id` (default: ROS_DOMAIN_ID) + k, so one student's nodes never answer another's
-    checks. With jobs > 1 each submission is graded by a child `robot-lab grade --json`.
+    Every submission runs in a ROS domain leased from the host's registry for the run
+    (robot_lab.domain.lease_domains: never a user's, never another job's, never 0..N-1),
+    one per job slot, so one student's nodes never answer another's checks; `domain_id`
+    instead names the one domain to use (then `jobs` must be 1). With jobs > 1 each
+    submission is graded by a child `robot-lab grade --json`.
     """
+    from robot_lab.domain import lease_domains
+
     found = submissions(paths)
+    _one_copy_each(paths, found, kwargs.get('solutions_dir'))
     targets = _executed_paths(found, executed_dir, kwargs.get('solutions_dir'))
 
     def executed(path: Path) -> Path | None:
         return targets.get(path)
 
-    base = domain_id if domain_id is not None else int(os.environ.get('ROS_DOMAIN_ID', '0') or 0)
-    if jobs <= 1 or len(found) <= 1:
-        results = []
-        for path in found:
-            try:
-                results.append(grade(path, domain_id=domain_id, executed=executed(path),
-                                     **kwargs))
-            except RobotLabError as err:  # one unreadable file must not stop the batch
-                results.append(_refused(path, str(err)))
-            if on_result is not None:
-                on_result(results[-1])
-        return results
-    slots: queue.Queue[int] = queue.Queue()
-    for k in range(min(jobs, len(found))):
-        slots.put(base + k)
-
-    def one(path: Path) -> GradeResult:
-        domain = slots.get()
-        try:
-            result = _grade_in_child(path, domain, executed=executed(path), **kwargs)
-        finally:
+    if domain_id is not None and jobs > 1:
+        raise RobotLabError(f'--domain-id names one domain, but -j {jobs} grades {jobs} '
+                            'notebooks at once', fix='leave out --domain-id: the grader '
+                            'then leases a domain per job from the registry')
+    if domain_id is not None:
+        return _grade_in_turn(found, domain_id, executed, on_result, **kwargs)
+    slots_needed = max(1, min(jobs, len(found)))
+    with lease_domains(slots_needed, purpose='robot-lab grade') as leased:
+        if jobs <= 1 or len(found) <= 1:
+            return _grade_in_turn(found, leased[0], executed, on_result, **kwargs)
+        slots: queue.Queue[int] = queue.Queue()
+        for domain in leased:
             slots.put(domain)
-        if on_result is not None:
-            on_result(result)
-        return result
 
-    with ThreadPoolExecutor(slots.qsize(), thread_name_prefix='robot_lab-grade') as pool:
-        return list(pool.map(one, found))
+        def one(path: Path) -> GradeResult:
+            domain = slots.get()
+            try:
+                result = _grade_in_child(path, domain, executed=executed(path), **kwargs)
+            finally:
+                slots.put(domain)
+            if on_result is not None:
+                on_result(result)
+            return result
+
+        with ThreadPoolExecutor(len(leased), thread_name_prefix='robot_lab-grade') as pool:
+            return list(pool.map(one, found))
+
+
+def _one_copy_each(paths: list[str | Path], found: list[Path],
+                   solutions_dir: str | Path | None) -> None:
+    """Refuse, in one line, a set that holds a student's exercise twice (an nbgrader course
+    folder holds source/, release/, submitted/ and autograded/ copies): its total would
+    add the copies up."""
+    for raw in paths:
+        folder = Path(raw)
+        if folder.is_dir() and ((folder / 'nbgrader_config.py').is_file() or all(
+                (folder / part).is_dir() for part in ('source', 'submitted'))):
+            raise RobotLabError('this is an nbgrader course folder: it holds the source, the '
+                                'release and every student copy', file=folder,
+                                fix=f'grade what students handed in: {folder / "submitted"}')
+    seen: dict[tuple[str, str], Path] = {}
+    for path in found:
+        try:
+            exercise = identify(path, read_notebook(path), solutions_dir)
+        except (RobotLabError, OSError, ValueError):
+            continue  # refused later, on its own row
+        key = (student_of(path, exercise), exercise)
+        if key in seen:
+            raise RobotLabError(f'{key[0]} has two copies of {exercise}: {seen[key]} and '
+                                'this one', file=path,
+                                fix='give one copy per student and exercise (e.g. only an '
+                                "nbgrader course's submitted/ folder)")
+        seen[key] = path
+
+
+def _grade_in_turn(found: list[Path], domain: int,
+                   executed: Callable[[Path], Path | None],
+                   on_result: Callable[[GradeResult], None] | None,
+                   **kwargs: Any) -> list[GradeResult]:
+    """Grade one submission after the other in `domain`, each in a fresh kernel and folder."""
+    results = []
+    for path in found:
+        try:
+            results.append(grade(path, domain_id=domain, executed=executed(path), **kwargs))
+        except RobotLabError as err:  # one unreadable file must not stop the batch
+            results.append(_refused(path, str(err)))
+        if on_result is not None:
+            on_result(results[-1])
+    return results
 
 
 def _grade_in_child(path: Path, domain: int, cell_timeout: float = 60.0,
@@ -529,14 +577,18 @@ def student_reports(results: list[GradeResult]) -> list[StudentReport]:
     from robot_lab.grading.report import CheckOutcome, StudentReport
 
     reports: dict[str, StudentReport] = {}
+    graded = {r.student for r in results if r.checks}
     for r in results:
+        if r.status == 'error' and not r.checks:  # refused: a visible "not graded" row
+            name = f'{r.student} ({Path(r.notebook).name})' if r.student in graded else \
+                r.student
+            refused = reports.setdefault(name, StudentReport(name, status='not graded'))
+            refused.title = ', '.join(filter(None, [refused.title, Path(r.notebook).name]))
+            refused.error = '; '.join(filter(None, [refused.error, r.detail]))
+            continue
         report = reports.setdefault(r.student, StudentReport(r.student))
         report.title = ', '.join(filter(None, [report.title, r.exercise]))
         report.elapsed += r.elapsed
-        if r.status == 'error' and not r.checks:
-            report.status = 'error'
-            report.error = '; '.join(filter(None, [report.error, r.detail]))
-            continue
         for c in r.checks:
             if c.passed:
                 output = f'```\n{c.output}\n```' if c.output else 'Passed.'
