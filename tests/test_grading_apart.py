@@ -21,7 +21,7 @@ import pytest
 from conftest import BIN, run_cli
 
 from robot_lab.domain import JOB_DOMAINS
-from robot_lab.grading.grade import grade_many
+from robot_lab.grading.notebook.batch import grade_many
 
 ANSWER = ("import os, pathlib\n"
           "### BEGIN SOLUTION\n"

@@ -126,7 +126,8 @@ def main(args: argparse.Namespace) -> int:
         return 2
     if args.lab or args.rubric:
         return _packages(args)
-    from robot_lab.grading.notebook.grade import GradeResult, grade, grade_many, submissions
+    from robot_lab.grading.notebook.batch import grade_many
+    from robot_lab.grading.notebook.grade import GradeResult, grade, submissions
 
     def show(result: GradeResult) -> None:
         if not args.json:
@@ -151,7 +152,7 @@ def main(args: argparse.Namespace) -> int:
         for r in results:
             print(f'{r.student}: {r.summary()}' if r.student else r.summary())
     if args.out and not args.executed_as:
-        from robot_lab.grading.notebook.grade import student_reports
+        from robot_lab.grading.notebook.batch import student_reports
         from robot_lab.grading.report import write_outputs
 
         reports = student_reports(results)

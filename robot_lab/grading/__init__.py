@@ -30,7 +30,7 @@ __all__ = [
 _LAZY = {
     'GradeResult': 'robot_lab.grading.notebook.grade',
     'build_exercises': 'robot_lab.grading.exercises',
-    'grade_many': 'robot_lab.grading.notebook.grade',
+    'grade_many': 'robot_lab.grading.notebook.batch',
     'release_course': 'robot_lab.grading.release',
 }
 
