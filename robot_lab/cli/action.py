@@ -8,6 +8,7 @@ import sys
 from typing import Any
 
 from robot_lab.cli import print_names, run_sub_verb
+from robot_lab.cli.daemon import ask_daemon
 
 HELP = 'Various action related sub-commands'
 
@@ -51,16 +52,28 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _list(args: argparse.Namespace) -> int:
-    from robot_lab.graph.actions import action_list
+    # From the daemon, as ros2cli does: a fresh participant on a loaded host can answer
+    # before it has heard the action servers.
+    found = ask_daemon(args, 'action_list')
+    if found is None:
+        from robot_lab.graph.actions import action_list
 
-    print_names(action_list(), count=args.count_actions, show_types=args.show_types)
+        found = action_list()
+    print_names([(name, list(types)) for name, types in found], count=args.count_actions,
+                show_types=args.show_types)
     return 0
 
 
 def _info(args: argparse.Namespace) -> int:
-    from robot_lab.graph.actions import action_info
+    from robot_lab.graph.actions import ActionInfo, action_info
 
-    info = action_info(args.action_name)
+    answer = ask_daemon(args, 'action_info', name=args.action_name)
+    if answer is not None:
+        info = ActionInfo(name=answer['name'],
+                          clients=[(node, list(types)) for node, types in answer['clients']],
+                          servers=[(node, list(types)) for node, types in answer['servers']])
+    else:
+        info = action_info(args.action_name)
     print(f'Action: {args.action_name}')
     for title, entries in (('Action clients', info.clients), ('Action servers', info.servers)):
         print(f'{title}: {len(entries)}')

@@ -45,7 +45,14 @@ def main(args: argparse.Namespace) -> int:
             print(*names, sep='\n')
         return 0
     if args.node_verb == 'info':
-        info = api.node_info(args.node_name, include_hidden=args.include_hidden)
+        answer = ask_daemon(args, 'node_info', name=args.node_name,
+                            include_hidden=args.include_hidden)
+        if answer is not None:
+            sections = {key: [(name, list(types)) for name, types in value]
+                        for key, value in answer.items() if key != 'name'}
+            info = api.NodeInfo(str(answer['name']), **sections)
+        else:
+            info = api.node_info(args.node_name, include_hidden=args.include_hidden)
         print(info.name)
         for title, items in (
             ('Subscribers', info.subscribers), ('Publishers', info.publishers),

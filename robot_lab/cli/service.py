@@ -130,9 +130,11 @@ def _find(args: argparse.Namespace) -> int:
 
 
 def _info(args: argparse.Namespace) -> int:
-    from robot_lab.graph.services import service_info
+    from robot_lab.graph.services import ServiceInfo, service_info
 
-    info = service_info(args.service_name)  # GraphError: Unknown service '/x'
+    answer = ask_daemon(args, 'service_info', name=args.service_name)
+    # GraphError: Unknown service '/x' (from the daemon too)
+    info = ServiceInfo(**answer) if answer is not None else service_info(args.service_name)
     print(f'Type: {info.types[0] if len(info.types) == 1 else info.types}')
     print(f'Clients count: {info.clients}')
     print(f'Services count: {info.servers}')

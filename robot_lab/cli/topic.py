@@ -246,7 +246,15 @@ def _print_topics(args: argparse.Namespace, topics: list[tuple[str, list[str]]])
 def _info(args: argparse.Namespace) -> int:
     from robot_lab.graph import api
 
-    info = api.topic_info(args.topic_name, verbose=args.verbose)
+    answer = ask_daemon(args, 'topic_info', name=args.topic_name)
+    if answer is not None:
+        from robot_lab.graph.topics import Endpoint, TopicInfo
+
+        info = TopicInfo(name=answer['name'], types=answer['types'],
+                         publishers=[Endpoint(**e) for e in answer['publishers']],
+                         subscribers=[Endpoint(**e) for e in answer['subscribers']])
+    else:
+        info = api.topic_info(args.topic_name, verbose=args.verbose)
     end = '\n\n' if args.verbose else '\n'
     type_text = info.types[0] if len(info.types) == 1 else str(info.types)
     print(f'Type: {type_text}', end=end)

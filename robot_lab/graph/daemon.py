@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import fcntl
 import json
 import os
@@ -349,12 +350,26 @@ class _Server:
         self.graph = graph_dir()
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
-        from robot_lab.graph import services, topics
+        from robot_lab.graph import actions, nodes, services, topics
 
         def hidden(request: dict[str, Any]) -> bool:
             return bool(request.get('include_hidden', False))
 
+        def name(request: dict[str, Any]) -> str:
+            return str(request.get('name', ''))
+
+        sess = self.session
         return {
+            # ros2cli's daemon answers the info verbs too (any graph query); a warm graph
+            # has every endpoint where a fresh participant may not have them yet.
+            'action_list': lambda r: actions.action_list(session=sess),
+            'node_info': lambda r: dataclasses.asdict(
+                nodes.node_info(name(r), include_hidden=hidden(r), session=sess)),
+            'topic_info': lambda r: dataclasses.asdict(topics.topic_info(name(r), session=sess)),
+            'service_info': lambda r: dataclasses.asdict(
+                services.service_info(name(r), session=sess)),
+            'action_info': lambda r: dataclasses.asdict(actions.action_info(name(r),
+                                                                            session=sess)),
             'ping': lambda r: {'pid': os.getpid(),
                                'age': time.monotonic() - self.session.created},
             'node_list': lambda r: self.node_list(hidden(r)),

@@ -10,6 +10,12 @@ until it appears, bounded by a deadline, before calling it unknown.
 When robot_lab launches are running, their launchers say which nodes they have up
 (robot_lab/graph/expected.py); once all of those are seen, a complete answer is ready
 without waiting out the window.
+
+A young session answers on conditions, not on its age alone: the others must have
+answered it at all (an empty graph is believed only at the deadline: on a loaded host
+the first answers can take longer than the window), for a full announcement burst since
+the first answer, and every node it lists must have its endpoints (its /rosout
+publisher), since a node's name arrives before its topics, services and actions.
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ if TYPE_CHECKING:
     from robot_lab.context import Session
 
 __all__ = [
-    'DISCOVERY_WINDOW',
+    'ANSWER_BURST',
     'EXPECTED_TIMEOUT',
     'LOOKUP_TIMEOUT',
     'POLL',
@@ -33,6 +39,7 @@ __all__ = [
     'endpoints_attributed',
     'full_node_names',
     'get_session',
+    'heard_from_others',
     'launched_nodes_seen',
     'settled',
     'wait_until',
@@ -44,10 +51,12 @@ T = TypeVar('T')
 # announcement (0.2 s with the kit's profile), then endpoints and node names follow.
 # Measured for a fresh process against a running 3-node system (2 cores): with a 0.5 s
 # announcement period, complete after 0.55 s (median) and up to 1.02 s (25 runs, load 4-6);
-# with 0.2 s, 0.32 s and up to 0.70 s (20 runs, quiet). Without a daemon holding a warm
-# session, or a launch saying which nodes to expect, a cold CLI can only wait that out.
-DISCOVERY_WINDOW = 1.0
-# An answer unchanged for this long (after the window) is taken as the settled graph.
+# with 0.2 s, 0.32 s and up to 0.70 s (20 runs, quiet). On a loaded host the first answer
+# itself can come later than any fixed window, so a young session waits for answers: it is
+# complete ANSWER_BURST after the first one at the earliest (all who heard the same
+# announcements answer within about two lease periods), once every node it lists has its
+# endpoints and the answer has been unchanged for SETTLE.
+ANSWER_BURST = 0.45
 SETTLE = 0.25
 # A session past its first second has seen the graph; only fresh changes need settling.
 WARM_AGE = 1.5
@@ -142,13 +151,34 @@ def endpoints_attributed(session: Session,
     return ready
 
 
+def heard_from_others(session: Session) -> Callable[[], bool]:
+    """A probe: True once the session's graph holds a node other than its own and every
+    non-hidden node it lists has its /rosout publisher (a node's endpoints are announced
+    after its name, so a node without them is still arriving)."""
+    node = session.node
+
+    def heard() -> bool:
+        own = node.get_namespace().rstrip('/') + '/' + node.get_name()
+        names = [n for n in full_node_names(session, include_hidden=True) if n != own]
+        if not names:
+            return False
+        with_rosout = {
+            (info.node_namespace.rstrip('/') + '/' + info.node_name)
+            for info in node.get_publishers_info_by_topic('/rosout')
+        }
+        return all(n in with_rosout for n in names if not n.rsplit('/', 1)[-1].startswith('_'))
+
+    return heard
+
+
 def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
-            window: float = DISCOVERY_WINDOW, settle: float = SETTLE,
+            settle: float = SETTLE,
             ready: Callable[[], bool | None] | None = None,
             ready_settle: float = WARM_SETTLE) -> T:
-    """`probe()` once discovery has had its window and the answer stopped changing.
+    """`probe()` once discovery has answered (see ANSWER_BURST) and the answer stopped
+    changing; a graph nobody answered in is believed only at the deadline (`timeout`).
 
-    `ready` (default: `launched_nodes_seen(session)`) can end the window early: True
+    `ready` (default: `launched_nodes_seen(session)`) can shorten the settling: True
     means everything known to be coming has been seen; False means more is coming, so the
     wait may extend to EXPECTED_TIMEOUT; once True, the answer need only be stable for
     `ready_settle`. Bounded: on a graph that keeps changing it returns the latest answer.
@@ -156,8 +186,11 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     if ready is None:
         ready = launched_nodes_seen(session)
     start = time.monotonic()
-    if start - session.created >= WARM_AGE:
+    young = start - session.created < WARM_AGE
+    if not young:
         settle = min(settle, WARM_SETTLE)
+    heard = heard_from_others(session)
+    heard_at: float | None = None
     value: T | None = None
     changed = start
     while True:
@@ -168,11 +201,19 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         now = time.monotonic()
         if value is None or fresh != value:
             value, changed = fresh, now
-        old_enough = now - session.created >= window
+        if young:
+            # A young session answers once the others have answered it (a whole burst)
+            # and every node it lists has its endpoints; never on its age alone.
+            if heard_at is None and heard():
+                heard_at = now
+            old_enough = (heard_at is not None and now - heard_at >= ANSWER_BURST
+                          and heard())
+        else:
+            old_enough = True
         deadline = start + timeout
         if expectation is True:
-            # Every announced node is seen; a fresh session still waits out its window,
-            # since a node nobody announced (a kernel's, a `ros2 run`) may not be heard yet.
+            # Every announced node is seen; a young session still waits for the others'
+            # answers, since a node nobody announced (a kernel's) may not be heard yet.
             settle = min(settle, ready_settle)
         elif expectation is False:
             # Nodes are on their way: a quiet graph is not a complete one yet.
