@@ -126,7 +126,7 @@ def _sqlite_distro(path: Path) -> str:
 def _mcap_distro(path: Path) -> str:
     """ros_distro from the file's `rosbag2` metadata record (rosbag2 stores it there)."""
     try:
-        from mcap.reader import make_reader  # type: ignore[import-untyped]
+        from mcap.reader import make_reader
 
         with path.open('rb') as f:
             for record in make_reader(f).iter_metadata():

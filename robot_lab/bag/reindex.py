@@ -96,10 +96,10 @@ def _from_summary(f: Any, summary: Any, scan: _Scan) -> None:
 
 def _scan_mcap(path: Path) -> _Scan:
     """Read a .mcap file with the mcap library; an unfinished one up to its last record."""
-    from mcap.exceptions import McapError  # type: ignore[import-untyped]
-    from mcap.reader import make_reader  # type: ignore[import-untyped]
-    from mcap.records import Channel, Message, Metadata, Schema  # type: ignore[import-untyped]
-    from mcap.stream_reader import StreamReader  # type: ignore[import-untyped]
+    from mcap.exceptions import McapError
+    from mcap.reader import make_reader
+    from mcap.records import Channel, Message, Metadata, Schema
+    from mcap.stream_reader import StreamReader
 
     scan = _Scan()
     size = path.stat().st_size

@@ -81,45 +81,64 @@ def _typestore() -> Any:
     return _TYPESTORE
 
 
+def _missing_types(store: Any, msgtype: str) -> list[str]:
+    """The message types `msgtype` uses (itself included, directly or through the
+    messages it uses) that the typestore does not know yet."""
+    from rosbags.interfaces import Nodetype
+
+    missing: list[str] = []
+    seen: set[str] = set()
+    pending = [msgtype]
+    while pending:
+        name = pending.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        if name not in store.fielddefs:
+            missing.append(name)
+            continue
+        for _field, desc in store.fielddefs[name][1]:
+            if desc[0] == Nodetype.NAME:
+                pending.append(desc[1])
+            elif desc[0] in (Nodetype.ARRAY, Nodetype.SEQUENCE):
+                (kind, used), _count = desc[1]
+                if kind == Nodetype.NAME:
+                    pending.append(used)
+    return missing
+
+
 def _register_from_share(msgtype: str) -> bool:
-    """Teach the typestore a workspace's own message from its installed .msg file."""
+    """Teach the typestore a workspace's own message (and the messages it uses) from the
+    installed .msg files; False when one of them is not installed here."""
     from rosbags.typesys import get_types_from_msg
 
+    from robot_lab.errors import PackageNotFoundError
     from robot_lab.pkg.index import package_share
 
     store = _typestore()
-    pending = [msgtype]
-    for _ in range(50):  # a message and the messages it uses, until all are known
-        if not pending:
-            return True
-        name = pending.pop()
-        package, _kind, leaf = name.split('/')
+    while missing := _missing_types(store, msgtype):
+        name = missing[0]
+        parts = name.split('/')
+        if len(parts) != 3:
+            return False
+        package, _kind, leaf = parts
         try:
             text = (package_share(package) / 'msg' / f'{leaf}.msg').read_text()
-        except Exception:  # package or file missing: no definition to store
+        except (PackageNotFoundError, OSError):  # no definition to store
             return False
         store.register(get_types_from_msg(text, name))
-        try:
-            store.generate_msgdef(msgtype, ros_version=2)
-        except Exception as exc:
-            missing = str(exc).split("'")
-            dep = next((m for m in missing if m.count('/') == 2), None)
-            if dep is None or dep == name:
-                return False
-            pending.extend([name, dep])
-    return False
+        if name not in store.fielddefs:
+            return False
+    return True
 
 
 def message_definition(msgtype: str) -> tuple[str, str]:
     """(definition text as rosbag2 stores it, RIHS01 hash), or ('', '') if unknown here."""
     store = _typestore()
-    if msgtype not in store.fielddefs and not _register_from_share(msgtype):
+    if not _register_from_share(msgtype):
         return '', ''
-    try:
-        msgdef, _ = store.generate_msgdef(msgtype, ros_version=2)
-        return str(msgdef), str(store.hash_rihs01(msgtype))
-    except Exception:
-        return '', ''
+    msgdef, _ = store.generate_msgdef(msgtype, ros_version=2)
+    return str(msgdef), str(store.hash_rihs01(msgtype))
 
 
 def _file_name(file: Path, target: Path | None) -> Path:
@@ -135,7 +154,7 @@ def _mcap_storage_class() -> type:
 
     from rosbags.rosbag2.storage_mcap import Channel, McapWriter, write_channel, write_string
 
-    class FlushingMcapWriter(McapWriter):  # type: ignore[misc]
+    class FlushingMcapWriter(McapWriter):
         """rosbags' mcap storage plus rosbag2's `topic_type_hash` and on-demand flushing."""
 
         type_hashes: dict[str, str] = {}
@@ -179,7 +198,7 @@ def _mcap_storage_class() -> type:
 def _sqlite_storage_class() -> type:
     from rosbags.rosbag2.storage_sqlite3 import Sqlite3Writer
 
-    class CommittingSqlite3Writer(Sqlite3Writer):  # type: ignore[misc]
+    class CommittingSqlite3Writer(Sqlite3Writer):
         """rosbags' sqlite3 storage, stamped with the distro the data came from."""
 
         target: Path | None = None

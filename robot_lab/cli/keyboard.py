@@ -66,5 +66,5 @@ def listen(bindings: Sequence[KeyBinding], log: Callable[[str, str], None],
                     action()
 
     threading.Thread(target=read_keys, name='robot_lab-bag-keys', daemon=True).start()
-    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)  # type: ignore[arg-type]
+    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)
 

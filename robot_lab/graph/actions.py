@@ -96,6 +96,7 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
         get_action_client_names_and_types_by_node,
         get_action_server_names_and_types_by_node,
     )
+    from rclpy.node import NodeNameNonExistentError
 
     sess = get_session(session)
     action = absolute_name(name)
@@ -106,7 +107,7 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
             base, namespace = split_name(full)
             try:
                 entries = query(sess.node, base, namespace)
-            except Exception:  # the node left between the two queries
+            except NodeNameNonExistentError:  # the node left between the two queries
                 continue
             found += [(full, list(t)) for n, t in entries if n == action]
         return found

@@ -147,9 +147,11 @@ class NodeInfo:
 
 def _by_node(query: Callable[..., Any], node: Any, name: str, namespace: str,
              include_hidden: bool) -> NamesAndTypes:
+    from rclpy.node import NodeNameNonExistentError
+
     try:
         found = query(node, name, namespace)
-    except Exception as exc:  # rclpy raises NodeNameNonExistentError and the like
+    except NodeNameNonExistentError as exc:  # the node left after it was found
         raise GraphError(
             f"Unable to find node '{namespace.rstrip('/')}/{name}' ({exc})",
             fix='check the name with `robot-lab node list`',

@@ -59,6 +59,7 @@ def graph_model(include_hidden: bool = False,
     'publish' or 'subscribe'.
     """
     import networkx as nx
+    from rclpy.node import NodeNameNonExistentError
 
     sess = get_session(session)
     hidden_topics = set(hide_topics)
@@ -73,7 +74,7 @@ def graph_model(include_hidden: bool = False,
                                  'subscribe')):
                 try:
                     endpoints = query(base, namespace)
-                except Exception:  # the node left between the two queries: skip it
+                except NodeNameNonExistentError:  # the node left between the queries
                     continue
                 links.extend((full, topic, list(types), kind) for topic, types in endpoints
                              if topic not in hidden_topics

@@ -322,13 +322,6 @@ class PathJoin(Substitution):
         return f'PathJoinSubstitution([{", ".join(parts)}])'
 
 
-# frontend name -> (factory, allowed argument counts)
-
-
-def is_literal(subs: Subs) -> bool:
-    return all(isinstance(sub, Text) for sub in subs)
-
-
 _LIST_TYPES = {'list_of_str': str, 'list_of_bool': bool, 'list_of_float': float,
                'list_of_int': int}
 TYPE_NAMES = ('str', 'bool', 'float', 'int', *_LIST_TYPES, 'yaml')

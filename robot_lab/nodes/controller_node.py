@@ -19,7 +19,7 @@ from robot_lab.nodes.base import declare, run_node
 __all__ = ['ControllerNode', 'main']
 
 
-class ControllerNode(Node):  # type: ignore[misc]
+class ControllerNode(Node):
     """Runs its control loop at `control_rate` Hz on the latest temperature."""
 
     def __init__(self, **kwargs: Any) -> None:

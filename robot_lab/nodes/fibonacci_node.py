@@ -22,7 +22,7 @@ from robot_lab.nodes.base import declare, run_node
 
 __all__ = ['FibonacciNode', 'main']
 
-class FibonacciNode(Node):  # type: ignore[misc]
+class FibonacciNode(Node):
     """Serves /fibonacci (test_msgs/action/Fibonacci)."""
 
     def __init__(self, **kwargs: Any) -> None:

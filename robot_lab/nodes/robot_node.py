@@ -14,7 +14,7 @@ from robot_lab.nodes.base import declare, run_node
 __all__ = ['RobotNode', 'main']
 
 
-class RobotNode(Node):  # type: ignore[misc]
+class RobotNode(Node):
     """Subscribes /robot/status and /cmd_vel."""
 
     def __init__(self, **kwargs: Any) -> None:

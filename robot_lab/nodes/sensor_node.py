@@ -17,7 +17,7 @@ __all__ = ['BASE_TEMPERATURE', 'SensorNode', 'main']
 BASE_TEMPERATURE = 22.5
 
 
-class SensorNode(Node):  # type: ignore[misc]
+class SensorNode(Node):
     """Publishes Float32 at `sensor_rate` Hz; `noise_level` is the ± uniform noise."""
 
     def __init__(self, **kwargs: Any) -> None:

@@ -23,7 +23,7 @@ from robot_lab.nodes.base import declare, run_node
 __all__ = ['SwitchNode', 'main']
 
 
-class SwitchNode(Node):  # type: ignore[misc]
+class SwitchNode(Node):
     """Holds one bool (`enabled`), set over /enable and read over /get_state."""
 
     def __init__(self, **kwargs: Any) -> None:

@@ -328,7 +328,7 @@ export default { render };
 """
 
 
-class Chart(anywidget.AnyWidget):  # type: ignore[misc]
+class Chart(anywidget.AnyWidget):
     """Time series in stacked panels, one per topic; fed by `Feed`."""
 
     _esm = _CHART_ESM
@@ -338,7 +338,7 @@ class Chart(anywidget.AnyWidget):  # type: ignore[misc]
     note = traitlets.Unicode('').tag(sync=True)
 
 
-class PoseCanvas(anywidget.AnyWidget):  # type: ignore[misc]
+class PoseCanvas(anywidget.AnyWidget):
     """A robot's 2-D pose and trail seen from above; fed by `Feed`."""
 
     _esm = _POSE_ESM
@@ -346,7 +346,7 @@ class PoseCanvas(anywidget.AnyWidget):  # type: ignore[misc]
     note = traitlets.Unicode('').tag(sync=True)
 
 
-class StyleBeacon(anywidget.AnyWidget):  # type: ignore[misc]
+class StyleBeacon(anywidget.AnyWidget):
     """Invisible; loads the shared style so a plain ipywidgets box shows when disconnected."""
 
     _esm = _BEACON_ESM

@@ -157,9 +157,9 @@ def _install_router() -> None:
     """Wrap sys.stdout/sys.stderr once; unrouted threads write exactly as before."""
     with _INSTALL_LOCK:
         if not isinstance(sys.stdout, _ThreadRouter):
-            sys.stdout = _ThreadRouter(sys.stdout)  # type: ignore[assignment]
+            sys.stdout = _ThreadRouter(sys.stdout)
         if not isinstance(sys.stderr, _ThreadRouter):
-            sys.stderr = _ThreadRouter(sys.stderr)  # type: ignore[assignment]
+            sys.stderr = _ThreadRouter(sys.stderr)
 
 
 @contextmanager

@@ -108,9 +108,6 @@ class GradeResult:
         fields = {k: v for k, v in data.items() if k not in ('checks', 'score', 'max_score')}
         return cls(**fields, checks=[CheckResult(**c) for c in data.get('checks', [])])
 
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
-
     def table(self) -> str:
         """The per-check table the CLI prints, then the summary line."""
         if self.status == 'error' and not self.checks:
