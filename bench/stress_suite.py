@@ -90,7 +90,7 @@ def main(argv: list[str] | None = None) -> int:
                     proc.wait()
             took = time.monotonic() - started
             failed = failures(junit)
-            counts.update(failed)
+            counts.update(failed.keys())
             last.update(failed)
             summary = done.stdout.strip().splitlines()[-1] if done.stdout.strip() else ''
             runs.append(f'run {index}: exit {done.returncode}, {took / 60:.1f} min, '
