@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
-from robot_lab.grading.package.sandbox import job_domains, run_job
+from robot_lab.grading.package.sandbox import job_domains, run_job, stop_jobs
 from robot_lab.grading.package.submission import Submission, find_submissions
 from robot_lab.grading.report import CheckOutcome, StudentReport, write_outputs
 
@@ -155,8 +155,14 @@ def grade_packages(
                 max_workers=jobs, thread_name_prefix='grade-job') as pool:
             for domain in leased:
                 slots.put(domain)
-            reports = list(pool.map(one, entries))
+            try:
+                reports = list(pool.map(one, entries))
+            except KeyboardInterrupt:  # the jobs have process groups of their own
+                pool.shutdown(wait=False, cancel_futures=True)
+                stop_jobs()
+                raise
     finally:
+        stop_jobs(False)
         if bar is not None:
             bar.close()
     if out is not None:

@@ -29,6 +29,7 @@ import socket
 import struct
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -38,7 +39,7 @@ from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
 __all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job',
-           'sweep']
+           'stop_jobs', 'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
 CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
@@ -163,13 +164,18 @@ def enter(limits: Limits, in_namespace: bool) -> None:
     if group:
         with contextlib.suppress(OSError):  # '0': this process, whatever its PID namespace
             Path(group, 'cgroup.procs').write_text('0')
+    # A process group of its own, in a namespace too: else the job, its launcher and the
+    # student's nodes share the group of whatever started the grader, and a SIGINT meant
+    # for that group (Jupyter interrupting the kernel that runs `robot-lab grade` sends
+    # it with killpg, a terminal's Ctrl-C, a shell's `kill -INT` of a job) stops a
+    # student's nodes before they are observed (issue 22: a sensor that died of rclpy's
+    # ExternalShutdownException mid-grading).
+    with contextlib.suppress(OSError):
+        os.setpgrp()
     if in_namespace:
         _loopback_up()
         if os.getpid() == 1:
             _init_process()
-    else:
-        with contextlib.suppress(OSError):
-            os.setpgrp()
     mb = 1024 * 1024
     wanted = {
         resource.RLIMIT_CPU: limits.cpu_seconds,
@@ -248,6 +254,10 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
     started = time.monotonic()
     with log.open('wb') as out:
         proc = spawn(cmd, env=env, cwd=job_dir, stdout=out, stderr=subprocess.STDOUT)
+        with _RUNNING_LOCK:
+            _RUNNING.add(proc)
+            if _STOPPING.is_set():
+                proc.kill()
         timed_out = False
         try:
             proc.wait(limits.wall_seconds)
@@ -255,12 +265,34 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
             timed_out = True
         finally:
             _kill(proc, isolated)
+            with _RUNNING_LOCK:
+                _RUNNING.discard(proc)
     sweep(token)
     if group is not None:
         _remove_cgroup(group)
     code = None if timed_out else proc.returncode
     return JobRun(code, timed_out, _tail(log, limits.output_kb * 1024),
                   time.monotonic() - started, isolated)
+
+
+# The jobs running now: each is in a process group of its own (see enter), so a Ctrl-C of
+# the grader does not reach them; the grader stops them with stop_jobs().
+_RUNNING: set[subprocess.Popen[bytes]] = set()
+_RUNNING_LOCK = threading.Lock()
+_STOPPING = threading.Event()
+
+
+def stop_jobs(stopping: bool = True) -> None:
+    """Kill every running job and any that starts until `stop_jobs(False)` (the grader's
+    Ctrl-C: until its worker threads have ended)."""
+    with _RUNNING_LOCK:
+        if not stopping:
+            _STOPPING.clear()
+            return
+        _STOPPING.set()
+        for proc in _RUNNING:
+            with contextlib.suppress(OSError):
+                proc.kill()
 
 
 def _kill(proc: subprocess.Popen[bytes], isolated: bool) -> None:
