@@ -78,7 +78,7 @@ def _list(paths: list[str]) -> int:
 
 def _packages(args: argparse.Namespace) -> int:
     from robot_lab.grading.package.grade import grade_packages, resolve_rubric
-    from robot_lab.grading.report import StudentReport, number
+    from robot_lab.grading.report import StudentReport, number, run_summary
 
     if args.domain_id is not None:
         os.environ['ROS_DOMAIN_ID'] = str(args.domain_id)
@@ -106,12 +106,15 @@ def _packages(args: argparse.Namespace) -> int:
         for r in reports:
             print(r.summary() if args.out else table(r))
     if args.out:
-        print(f'wrote {args.out}/grades.csv, feedback/, results/ and similarity.html '
-              f'for {len(reports)} student(s)')
-    failed = [r for r in reports if r.status == 'error']
-    for r in failed:
-        print(f'robot-lab grade: could not grade {r.student}: {r.error}', file=sys.stderr)
-    return 2 if failed else 0
+        wrote = 'grades.csv, feedback/, results/' + (
+            ' and similarity.html' if len(reports) > 1 else '')
+        print(f'wrote {args.out}/: {wrote}')
+    for r in reports:
+        if r.status != 'graded':
+            print(f'robot-lab grade: {r.student} not fully graded ({r.status}): {r.error}',
+                  file=sys.stderr)
+    print(run_summary(reports), file=sys.stderr if args.json else sys.stdout)
+    return 0  # the grader ran: each student's problems are in their row and feedback
 
 
 def main(args: argparse.Namespace) -> int:

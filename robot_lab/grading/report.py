@@ -5,24 +5,28 @@ one `CheckOutcome` per rubric check, and `write_outputs(out_dir, reports)` write
 
 - `OUT/grades.csv` — `student,score,max_score,<check ids>`, a cell is the points earned;
 - `OUT/feedback/<student>.md` and `.html` — per check: points, then the check's output
-  (what was expected, what was observed, how to fix it), and any pictures;
+  (what was expected, what was observed, how to fix it), and any pictures (the HTML
+  carries them as data URIs, so it can be uploaded alone); file names keep the student id;
 - `OUT/results/<student>.json` — Gradescope's `results.json` schema (`score`, `tests`
   of `{name, score, max_score, output}`), so the same checks run inside its autograder.
 """
 
 from __future__ import annotations
 
+import base64
 import csv
 import html
 import json
 import re
 import shutil
+import unicodedata
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ['CheckOutcome', 'StudentReport', 'safe_name', 'write_outputs']
+__all__ = ['CheckOutcome', 'StudentReport', 'ascii_name', 'data_uri', 'run_summary',
+           'safe_name', 'write_outputs']
 
 
 @dataclass
@@ -123,12 +127,49 @@ def number(value: float) -> str:
     return str(int(value)) if float(value).is_integer() else f'{value:g}'
 
 
-_UNSAFE = re.compile(r'[^A-Za-z0-9_.@+-]+')
+_UNSAFE = re.compile(r'[^\w.@+-]+')
 
 
 def safe_name(student: str) -> str:
-    """A file name for a student id (no path separators, no leading dot)."""
-    return _UNSAFE.sub('_', student).lstrip('.') or 'student'
+    """A file name for a student id: the id itself, letters of any script kept (NFC), every
+    run of anything else (spaces, slashes, punctuation) one `_`; never a leading dot."""
+    name = _UNSAFE.sub('_', unicodedata.normalize('NFC', student)).strip('._')
+    return name[:120] or 'student'
+
+
+def ascii_name(student: str) -> str:
+    """`José Núñez_1234567` -> `Jose_Nunez_1234567`: for systems that want ASCII names."""
+    def ascii_of(text: str) -> str:
+        return unicodedata.normalize('NFKD', text).encode('ascii', 'ignore').decode()
+
+    if all(ascii_of(c) for c in student if c.isalnum()):
+        return safe_name(ascii_of(student))
+    return safe_name(student)  # a script with no ASCII spelling: keep the id as it is
+
+
+def _file_names(reports: Sequence[StudentReport]) -> dict[int, str]:
+    """A distinct file name per report (two ids reduced to the same name get `-2`, ...)."""
+    names: dict[int, str] = {}
+    taken: set[str] = set()
+    for i, r in enumerate(reports):
+        base = name = safe_name(r.student)
+        n = 1
+        while name.casefold() in taken:
+            n += 1
+            name = f'{base}-{n}'
+        taken.add(name.casefold())
+        names[i] = name
+    return names
+
+
+_MIME = {'.png': 'image/png', '.svg': 'image/svg+xml', '.jpg': 'image/jpeg',
+         '.jpeg': 'image/jpeg', '.gif': 'image/gif'}
+
+
+def data_uri(path: Path) -> str:
+    """A picture as a `data:` URI, so a page carries it when uploaded on its own."""
+    mime = _MIME.get(path.suffix.lower(), 'application/octet-stream')
+    return f'data:{mime};base64,{base64.b64encode(path.read_bytes()).decode()}'
 
 
 def _to_html(markdown_text: str, title: str) -> str:
@@ -141,6 +182,16 @@ def _to_html(markdown_text: str, title: str) -> str:
             'table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.2em .6em}'
             'pre{background:#f6f8fa;padding:.6em;overflow-x:auto}img{max-width:100%}'
             f'</style></head><body>\n{body}</body></html>\n')
+
+
+def run_summary(reports: Sequence[StudentReport]) -> str:
+    """The run's last line: how many, and who was not fully graded (and why, briefly)."""
+    short = [r for r in reports if r.status != 'graded']
+    line = f'{len(reports)} student(s): {len(reports) - len(short)} fully graded'
+    if not short:
+        return line
+    names = ', '.join(f'{r.student} ({r.status})' for r in sorted(short, key=lambda r: r.student))
+    return f'{line}, {len(short)} not fully graded: {names}'
 
 
 def check_ids(reports: Iterable[StudentReport]) -> list[str]:
@@ -173,18 +224,20 @@ def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
                 continue
             writer.writerow([r.student, number(r.score), number(r.max_score),
                              *(number(earned.get(i, 0.0)) for i in ids)])
-    for r in reports:
-        name = safe_name(r.student)
-        images = []
+    names = _file_names(reports)
+    for i, r in enumerate(reports):
+        name = names[i]
+        images: list[Path] = []
         for image in r.images:
             if Path(image).is_file():
                 target = out / 'feedback' / f'{name}.{Path(image).name}'
                 if Path(image).resolve() != target.resolve():
                     shutil.copyfile(image, target)
-                images.append(target.name)
-        text = r.markdown(images)
+                images.append(target)
+        text = r.markdown([p.name for p in images])
         (out / 'feedback' / f'{name}.md').write_text(text)
-        (out / 'feedback' / f'{name}.html').write_text(_to_html(text, f'Feedback: {r.student}'))
+        page = r.markdown([data_uri(p) for p in images])
+        (out / 'feedback' / f'{name}.html').write_text(_to_html(page, f'Feedback: {r.student}'))
         (out / 'results' / f'{name}.json').write_text(
             json.dumps(r.results_json(), indent=2) + '\n')
     return out
