@@ -48,6 +48,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Also save each executed notebook there as '
                         'STUDENT/EXERCISE.graded.ipynb')
     parser.add_argument('--executed-as', metavar='FILE', help=argparse.SUPPRESS)
+    lms = parser.add_argument_group('with --lab: regrading, the LMS, late hand-ins')
+    lms.add_argument('--only', metavar='ID[,ID...]',
+                     help='Regrade only these students (ids as in grades.csv) and merge '
+                     'them into the existing OUT: their rows replaced, the others untouched')
+    lms.add_argument('--roster', metavar='FILE',
+                     help="Moodle's grading worksheet or Canvas's gradebook export (CSV): "
+                     'write it back filled as OUT/moodle-grades.csv or OUT/canvas-grades.csv')
+    lms.add_argument('--roster-column', metavar='NAME',
+                     help="Canvas: the assignment column to fill, e.g. 'Lab 1 (1234)'")
+    lms.add_argument('--due', metavar="'YYYY-MM-DD HH:MM'",
+                     help="The deadline; late hand-ins lose --late-penalty per day (the "
+                     "LMS's submission time: Moodle's worksheet, Canvas's LATE mark)")
+    lms.add_argument('--late-penalty', type=float, default=10.0, metavar='PCT',
+                     help='Percent of the maximum taken off per day late (default: 10)')
+    parser.add_argument('--gradescope-autograder', metavar='ZIP',
+                        help='With --lab/--rubric: write a Gradescope autograder zip '
+                        '(setup.sh, run_autograder) that grades with the same checks')
 
 
 def _list(paths: list[str]) -> int:
@@ -77,7 +94,8 @@ def _list(paths: list[str]) -> int:
 
 
 def _packages(args: argparse.Namespace) -> int:
-    from robot_lab.grading.package.grade import grade_packages, resolve_rubric
+    from robot_lab.grading.late import LatePolicy, parse_due
+    from robot_lab.grading.package.grade import grade_class, resolve_rubric
     from robot_lab.grading.report import StudentReport, number, run_summary
 
     if args.domain_id is not None:
@@ -94,8 +112,18 @@ def _packages(args: argparse.Namespace) -> int:
         lines.append(report.summary())
         return '\n'.join(lines)
 
-    reports = grade_packages(args.submissions, rubric, args.out, jobs=args.jobs,
-                             progress=(not args.json and sys.stderr.isatty()) or bool(args.out))
+    late = None
+    if args.due is not None or args.roster is not None:
+        late = LatePolicy(parse_due(args.due) if args.due else None, args.late_penalty / 100)
+    only = [s.strip() for s in args.only.split(',') if s.strip()] if args.only else None
+    if (only or args.roster) and not args.out:
+        print('robot-lab grade: error: --only and --roster need -o OUT (the class folder)',
+              file=sys.stderr)
+        return 2
+    run = grade_class(args.submissions, rubric, args.out, jobs=args.jobs, only=only,
+                      late=late, roster=args.roster, roster_column=args.roster_column,
+                      progress=(not args.json and sys.stderr.isatty()) or bool(args.out))
+    reports = run.reports
     if args.json:
         data = [r.to_dict() for r in reports]
         json.dump(data[0] if len(data) == 1 else data, sys.stdout, indent=2)
@@ -105,15 +133,24 @@ def _packages(args: argparse.Namespace) -> int:
     else:
         for r in reports:
             print(r.summary() if args.out else table(r))
-    if args.out:
-        wrote = 'grades.csv, feedback/, results/' + (
-            ' and similarity.html' if len(reports) > 1 else '')
-        print(f'wrote {args.out}/: {wrote}')
+    shown = sys.stderr if args.json else sys.stdout
+    if run.outputs is not None:
+        done = run.outputs
+        merged = f' ({len(reports)} regraded, merged into {len(done.everyone)})' if only else ''
+        wrote = 'grades.csv, feedback/, results/, summary.html' + (
+            ', similarity.html' if run.similarity is not None else '')
+        print(f'wrote {args.out}/: {wrote}{merged}', file=shown)
+        if done.previous:
+            changed = ', '.join(str(c) for c in done.changes) or 'none'
+            print(f'scores changed since the last run: {changed}', file=shown)
+        if done.roster is not None:
+            for line in done.roster.lines():
+                print(line, file=shown)
     for r in reports:
         if r.status != 'graded':
             print(f'robot-lab grade: {r.student} not fully graded ({r.status}): {r.error}',
                   file=sys.stderr)
-    print(run_summary(reports), file=sys.stderr if args.json else sys.stdout)
+    print(run_summary(reports), file=shown)
     return 0  # the grader ran: each student's problems are in their row and feedback
 
 
@@ -122,6 +159,19 @@ def main(args: argparse.Namespace) -> int:
         from robot_lab.grading.package.rubric import rubric_path
 
         print(rubric_path(args.lab or 'ch6-lab1').read_text(), end='')
+        return 0
+    if args.gradescope_autograder:
+        from robot_lab.grading.package.grade import resolve_rubric
+        from robot_lab.grading.package.gradescope import write_autograder
+
+        if not (args.lab or args.rubric):
+            print('robot-lab grade: error: --gradescope-autograder needs --lab LAB or '
+                  '--rubric FILE', file=sys.stderr)
+            return 2
+        rubric = resolve_rubric(args.lab, args.rubric)
+        path = write_autograder(args.gradescope_autograder, rubric)
+        print(f'wrote {path}: upload it in Gradescope (Configure Autograder → Zip file); '
+              f'it grades {rubric.lab} with the same checks')
         return 0
     if not args.submissions:
         print('robot-lab grade: error: the following arguments are required: SUBMISSION',

@@ -20,7 +20,7 @@ import json
 import re
 import shutil
 import unicodedata
-from collections.abc import Iterable, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -57,10 +57,19 @@ class StudentReport:
     images: list[Path] = field(default_factory=list)  # PNG/SVG files shown in the feedback
     title: str = ''  # what was graded, e.g. 'ch6-lab1' or a notebook's name
     elapsed: float = 0.0
+    submitted: str = ''  # when the LMS says it was handed in (ISO 8601), if known
+    late_days: int = 0
+    penalty: float = 0.0  # points taken off for lateness
+
+    @property
+    def earned(self) -> float:
+        """The checks' points, before any late penalty."""
+        return sum(c.score for c in self.checks)
 
     @property
     def score(self) -> float:
-        return sum(c.score for c in self.checks)
+        """The grade: the checks' points less the late penalty (never below 0)."""
+        return max(0.0, self.earned - self.penalty)
 
     @property
     def max_score(self) -> float:
@@ -94,8 +103,14 @@ class StudentReport:
             'tests': [{'name': c.name or c.id, 'score': c.score, 'max_score': c.max_score,
                        'output': c.output, 'number': c.id} for c in self.checks],
         }
+        notes = []
         if self.status != 'graded':
-            data['output'] = f'Grading ended early ({self.status}): {self.error}'
+            notes.append(f'Grading ended early ({self.status}): {self.error}')
+        if self.late_days:
+            notes.append(f'Late by {self.late_days} day(s): {number(self.penalty)} point(s) '
+                         'off.')
+        if notes:
+            data['output'] = '\n\n'.join(notes)
         return data
 
     def markdown(self, image_names: Sequence[str] = ()) -> str:
@@ -104,6 +119,9 @@ class StudentReport:
         if self.title:
             head += f' — {self.title}'
         lines = [head, '', f'**Score: {number(self.score)} / {number(self.max_score)}**', '']
+        if self.late_days:
+            lines += [f'> Handed in {self.late_days} day(s) late{self._when()}: '
+                      f'{number(self.penalty)} point(s) off the {number(self.earned)} earned.', '']
         if self.status == 'not graded':
             lines += [f'> Not graded: {self.error}', '']
         elif self.status != 'graded':
@@ -120,6 +138,10 @@ class StudentReport:
             lines += [f'## {c.name or c.id} — {number(c.score)}/{number(c.max_score)}', '',
                       c.output.strip() or ('Passed.' if c.passed else 'Not met.'), '']
         return '\n'.join(lines)
+
+
+    def _when(self) -> str:
+        return f' ({self.submitted.replace("T", " ")})' if self.submitted else ''
 
 
 def number(value: float) -> str:
@@ -151,7 +173,8 @@ def _file_names(reports: Sequence[StudentReport]) -> dict[int, str]:
     """A distinct file name per report (two ids reduced to the same name get `-2`, ...)."""
     names: dict[int, str] = {}
     taken: set[str] = set()
-    for i, r in enumerate(reports):
+    for i in sorted(range(len(reports)), key=lambda i: reports[i].student):
+        r = reports[i]
         base = name = safe_name(r.student)
         n = 1
         while name.casefold() in taken:
@@ -203,29 +226,43 @@ def check_ids(reports: Iterable[StudentReport]) -> list[str]:
     return list(ids)
 
 
+def write_gradebook(path: Path, reports: Sequence[StudentReport],
+                    columns: Sequence[str] | None = None) -> None:
+    """grades.csv: a row per student; `late_days,penalty` columns when anyone was late."""
+    ids = list(columns) if columns is not None else check_ids(reports)
+    late = any(r.late_days for r in reports)
+    with path.open('w', newline='') as f:
+        writer = csv.writer(f)
+        writer.writerow(['student', 'score', 'max_score', *ids]
+                        + (['late_days', 'penalty'] if late else []))
+        for r in sorted(reports, key=lambda r: r.student):
+            earned = {c.id: c.score for c in r.checks}
+            if r.status == 'not graded':  # nothing ran: no points, a row that says so
+                writer.writerow([r.student, 'not graded', '', *('' for _ in ids)]
+                                + (['', ''] if late else []))
+                continue
+            writer.writerow([r.student, number(r.score), number(r.max_score),
+                             *(number(earned.get(i, 0.0)) for i in ids)]
+                            + ([str(r.late_days), number(r.penalty)] if late else []))
+
+
 def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
-                  columns: Sequence[str] | None = None) -> Path:
+                  columns: Sequence[str] | None = None,
+                  only: Collection[str] | None = None) -> Path:
     """Write grades.csv, feedback/<student>.md+.html and results/<student>.json; return OUT.
 
     `columns` fixes the check-id columns (e.g. the rubric's order); by default every id seen.
+    `only`: write feedback and results for these students alone (grades.csv has everyone).
     Images are copied next to the feedback as `<student>.<name>` so the pages are portable.
     """
     out = Path(out_dir)
     (out / 'feedback').mkdir(parents=True, exist_ok=True)
     (out / 'results').mkdir(parents=True, exist_ok=True)
-    ids = list(columns) if columns is not None else check_ids(reports)
-    with (out / 'grades.csv').open('w', newline='') as f:
-        writer = csv.writer(f)
-        writer.writerow(['student', 'score', 'max_score', *ids])
-        for r in sorted(reports, key=lambda r: r.student):
-            earned = {c.id: c.score for c in r.checks}
-            if r.status == 'not graded':  # nothing ran: no points, a row that says so
-                writer.writerow([r.student, 'not graded', '', *('' for _ in ids)])
-                continue
-            writer.writerow([r.student, number(r.score), number(r.max_score),
-                             *(number(earned.get(i, 0.0)) for i in ids)])
+    write_gradebook(out / 'grades.csv', reports, columns)
     names = _file_names(reports)
     for i, r in enumerate(reports):
+        if only is not None and r.student not in only:
+            continue
         name = names[i]
         images: list[Path] = []
         for image in r.images:

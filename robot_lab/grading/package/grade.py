@@ -16,17 +16,21 @@ import shutil
 import tempfile
 import threading
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from robot_lab.errors import RobotLabError
+from robot_lab.grading.gradebook import ClassOutputs, write_class
+from robot_lab.grading.late import LatePolicy
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
 from robot_lab.grading.package.sandbox import job_domains, run_job, stop_jobs
 from robot_lab.grading.package.submission import Submission, find_submissions
-from robot_lab.grading.report import CheckOutcome, StudentReport, write_outputs
+from robot_lab.grading.report import CheckOutcome, StudentReport
 
-__all__ = ['grade_package', 'grade_packages', 'resolve_rubric']
+__all__ = ['ClassRun', 'grade_class', 'grade_package', 'grade_packages', 'resolve_rubric']
 
 
 def resolve_rubric(lab: str | None, rubric: str | Path | None) -> Rubric:
@@ -92,7 +96,8 @@ def _read_report(job_dir: Path, student: str, rubric: Rubric) -> StudentReport:
             pass
     return StudentReport(student, [CheckOutcome(c.id, c.name, 0.0, c.points,
                                                 'Not reached: the grading job ended early.')
-                                   for c in rubric.checks], title=rubric.lab)
+                                   for c in rubric.checks], title=rubric.lab, status='error',
+                         error='the grading job left no readable report')
 
 
 def _progress(total: int, enabled: bool) -> Any:
@@ -101,6 +106,26 @@ def _progress(total: int, enabled: bool) -> Any:
     from tqdm import tqdm
 
     return tqdm(total=total, unit='student', desc='grading', dynamic_ncols=True)
+
+
+@dataclass
+class ClassRun:
+    """A run over a class: this run's reports, what OUT holds now, the similarity page."""
+
+    reports: list[StudentReport]
+    outputs: ClassOutputs | None = None
+    similarity: Path | None = None
+
+
+def select(entries: Sequence[Submission], only: Collection[str]) -> list[Submission]:
+    """The entries of the students named by `--only` (ids as in grades.csv)."""
+    known = {e.student for e in entries}
+    unknown = [s for s in only if s not in known]
+    if unknown:
+        raise RobotLabError(f'--only: no hand-in for {", ".join(unknown)}',
+                            fix='use the ids of grades.csv (robot-lab grade DIR --lab LAB '
+                            '--list shows them)')
+    return [e for e in entries if e.student in only]
 
 
 def grade_packages(
@@ -112,12 +137,33 @@ def grade_packages(
     on_report: Callable[[StudentReport], None] | None = None,
 ) -> list[StudentReport]:
     """Grade every student under `submissions`; write OUT's files when `out_dir` is given."""
+    return grade_class(submissions, rubric, out_dir, jobs=jobs, progress=progress,
+                       on_report=on_report).reports
+
+
+def grade_class(
+    submissions: str | Path | Sequence[str | Path],
+    rubric: Rubric,
+    out_dir: str | Path | None = None,
+    *,
+    jobs: int = 1,
+    progress: bool = True,
+    on_report: Callable[[StudentReport], None] | None = None,
+    only: Collection[str] | None = None,
+    late: LatePolicy | None = None,
+    roster: str | Path | None = None,
+    roster_column: str | None = None,
+) -> ClassRun:
+    """Grade a class (or, `only`, some of its students) and merge the results into OUT."""
     if isinstance(submissions, str | Path):
         entries = find_submissions(submissions)
     elif len(submissions) == 1:
         entries = find_submissions(submissions[0])
     else:  # several entries named on the command line: one student each
         entries = [e for path in submissions for e in find_submissions(path)]
+    everyone = entries
+    if only is not None:
+        entries = select(entries, only)
     jobs = max(1, min(jobs, len(entries) or 1))
     slots: queue.Queue[int] = queue.Queue()
     bar = _progress(len(entries), progress)
@@ -165,12 +211,17 @@ def grade_packages(
         stop_jobs(False)
         if bar is not None:
             bar.close()
+    run = ClassRun(reports)
     if out is not None:
-        write_outputs(out, reports, columns=rubric.ids)
+        run.outputs = write_class(
+            out, reports, rubric.ids, only=only, late=late, roster=roster,
+            roster_column=roster_column, title=rubric.lab,
+            sources={e.student: e.source.name for e in entries})
         if keep is not None:
             shutil.rmtree(keep, ignore_errors=True)
-        if len(entries) > 1:
+        if only is None and len(everyone) > 1:
             from robot_lab.grading.package.similarity import similarity_report
 
-            similarity_report(entries, out / 'similarity.html')
-    return reports
+            run.similarity = out / 'similarity.html'
+            similarity_report(everyone, run.similarity)
+    return run
