@@ -112,9 +112,7 @@ def _packages(args: argparse.Namespace) -> int:
         lines.append(report.summary())
         return '\n'.join(lines)
 
-    late = None
-    if args.due is not None or args.roster is not None:
-        late = LatePolicy(parse_due(args.due) if args.due else None, args.late_penalty / 100)
+    late = LatePolicy(parse_due(args.due), args.late_penalty / 100) if args.due else None
     only = [s.strip() for s in args.only.split(',') if s.strip()] if args.only else None
     if (only or args.roster) and not args.out:
         print('robot-lab grade: error: --only and --roster need -o OUT (the class folder)',
