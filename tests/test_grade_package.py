@@ -227,7 +227,7 @@ def test_feedback_explains_and_shows_the_graph(graded: dict[str, object]) -> Non
     assert '**Expected:**' in alice and '**Observed:**' in alice
     assert '/distance' in alice and '/cmd_vel' in alice  # topics seen, found by role
     assert 'drive at' in alice  # the actuator's last log lines
-    assert '![your running graph](alice.graph.png)' in alice
+    assert '![your running graph](data:image/png;base64,' in alice  # embedded: shows anywhere
     assert (out / 'feedback' / 'alice.graph.png').read_bytes()[:4] == b'\x89PNG'
     assert '<table>' in (out / 'feedback' / 'alice.html').read_text()
     # A failed build names colcon's file and line; a flat file gets the rcl fix.

@@ -5,8 +5,9 @@ one `CheckOutcome` per rubric check, and `write_outputs(out_dir, reports)` write
 
 - `OUT/grades.csv` — `student,score,max_score,<check ids>`, a cell is the points earned;
 - `OUT/feedback/<student>.md` and `.html` — per check: points, then the check's output
-  (what was expected, what was observed, how to fix it), and any pictures (the HTML
-  carries them as data URIs, so it can be uploaded alone); file names keep the student id;
+  (what was expected, what was observed, how to fix it), and any pictures (both carry them
+  as data URIs, so a page can be uploaded alone or shown in a notebook; each picture is also
+  saved beside them); file names keep the student id;
 - `OUT/results/<student>.json` — Gradescope's `results.json` schema (`score`, `tests`
   of `{name, score, max_score, output}`), so the same checks run inside its autograder.
 """
@@ -253,7 +254,7 @@ def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
 
     `columns` fixes the check-id columns (e.g. the rubric's order); by default every id seen.
     `only`: write feedback and results for these students alone (grades.csv has everyone).
-    Images are copied next to the feedback as `<student>.<name>` so the pages are portable.
+    Images are embedded in the pages and copied next to them as `<student>.<name>`.
     """
     out = Path(out_dir)
     (out / 'feedback').mkdir(parents=True, exist_ok=True)
@@ -271,9 +272,10 @@ def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
                 if Path(image).resolve() != target.resolve():
                     shutil.copyfile(image, target)
                 images.append(target)
-        text = r.markdown([p.name for p in images])
-        (out / 'feedback' / f'{name}.md').write_text(text)
+        # Both pages embed the pictures: notebook 07 shows the .md as a Markdown output, where
+        # a link to a file beside the page is a broken image.
         page = r.markdown([data_uri(p) for p in images])
+        (out / 'feedback' / f'{name}.md').write_text(page)
         (out / 'feedback' / f'{name}.html').write_text(_to_html(page, f'Feedback: {r.student}'))
         (out / 'results' / f'{name}.json').write_text(
             json.dumps(r.results_json(), indent=2) + '\n')
