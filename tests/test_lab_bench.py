@@ -292,7 +292,12 @@ def test_students_lab_hides_nbgrader_instructor_tools(tmp_path: Path, who: str) 
             assert found, 'no page config in the Lab page'
             config = json.loads(found.group(1))
             disabled = set(config['disabledExtensions'])
-            assert config['news'] == {'disabled': True}  # no news pop-up, no feed fetched
+            assert config['news'] == {'disabled': True}  # no news feed fetched
+            notification = _get(f'{base}/lab/api/settings/@jupyterlab/apputils-extension:'
+                                f'notification?token={token}')
+            assert isinstance(notification, dict)
+            # ...and JupyterLab does not ask "get notified about official Jupyter news?"
+            assert notification['schema']['properties']['fetchNews']['default'] == 'false'
             assert '@jupyter/nbgrader:validate-assignment' not in disabled  # Validate stays
             import nbgrader  # type: ignore[import-untyped]
 

@@ -31,6 +31,10 @@ c.ServerApp.terminado_settings = {
 }
 c.LabApp.news_url = None
 c.LabApp.check_for_updates_class = 'jupyterlab.NeverCheckForUpdate'
+# JupyterLab would still ask "get notified about official Jupyter news?": its setting's
+# default becomes Never (lab/labconfig/default_setting_overrides.json; a student may change it).
+os.environ['JUPYTER_CONFIG_PATH'] = os.pathsep.join(
+    p for p in (os.path.join(_here, 'lab'), os.environ.get('JUPYTER_CONFIG_PATH')) if p)
 
 # nbgrader's JupyterLab plugins an instructor uses (tests/test_lab_bench.py names them too).
 INSTRUCTOR_PLUGINS = [
