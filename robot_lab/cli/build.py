@@ -16,10 +16,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='Only process a subset of packages')
     parser.add_argument('--symlink-install', action='store_true',
                         help='Use symlinks instead of copying files where possible')
+    parser.add_argument('--kit', action='store_true',
+                        help="Build the kit's own ament packages (example_interfaces, "
+                        'action_tutorials_interfaces, turtlesim, ament_lint_auto/common) '
+                        'into its venv; ./kit setup runs this')
+    parser.add_argument('--force', action='store_true',
+                        help='With --kit: rebuild even the packages that are up to date')
+
+
+def _kit(force: bool) -> int:
+    from robot_lab.pkg.kit_packages import build_kit_packages
+
+    result = build_kit_packages(force=force, progress=lambda line: print(line, flush=True))
+    for line in result.lines():
+        print(line)
+    return 0
 
 
 def main(args: argparse.Namespace) -> int:
     from robot_lab.pkg.build import build
+
+    if args.kit:
+        return _kit(args.force)
 
     result = build(args.workspace, packages_select=args.packages_select,
                    symlink_install=args.symlink_install, progress=True)

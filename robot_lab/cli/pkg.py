@@ -25,8 +25,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     create.add_argument('--destination-directory', default='.',
                         help='Directory where to create the package directory')
     create.add_argument('--build-type', default='ament_python',
+                        choices=['cmake', 'ament_cmake', 'ament_python'],
                         help='The build type to process the package with (this kit: '
-                        'ament_python only)')
+                        'ament_python by default; ament_cmake for interface packages)')
     create.add_argument('--dependencies', nargs='+', default=[], help='list of dependencies')
     create.add_argument('--maintainer-email',
                         help='email address of the maintainer of this package')

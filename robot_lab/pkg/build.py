@@ -204,6 +204,11 @@ def _hints(source: Path | None, pkg: str, pkg_type: str, lines: Iterable[str]) -
             '<export><build_type>ament_python</build_type></export>; add it '
             '(robot-lab doctor shows where)'
         )
+    if '/opt/python/' in text or "No 'rosidl_typesupport_c' found" in text:
+        hints.append(
+            "the ROS wheels' CMake files are not set up for this machine: run "
+            '`robot-lab build --kit` once, then `source "$VIRTUAL_ENV/setup.bash"`'
+        )
     if 'No module named' in text or 'package directory' in text:
         hints.append(
             f'check that {pkg}/{pkg}/__init__.py exists and setup.py lists the package'
@@ -257,8 +262,10 @@ def build(
     started = time.monotonic()
     env = ros_environment()
     # colcon warns about every AMENT_PREFIX_PATH entry without colcon's setup files; the
-    # kit's own prefixes are such entries and nothing in a build needs them.
-    own = {str(p) for p in (kit_prefix(), Path(sys.prefix)) if p is not None}
+    # kit's editable prefix is one and no build needs it. The venv has them once the kit
+    # packages are built (kit_packages.install_underlay), and rosidl needs it there.
+    own = {str(p) for p in (kit_prefix(), Path(sys.prefix))
+           if p is not None and not (p / 'local_setup.sh').is_file()}
     env['AMENT_PREFIX_PATH'] = os.pathsep.join(
         p for p in env.get('AMENT_PREFIX_PATH', '').split(os.pathsep) if p and p not in own
     )

@@ -1,9 +1,10 @@
-"""`ros2 pkg create` for ament_python packages: the same files, the same printed lines.
+"""`ros2 pkg create`: the same files, the same printed lines.
 
-The kit is Python-only (no compiler, no CMake), so ament_cmake and cmake are refused.
-Two extras the labs need: `with_launch` and `with_config` add launch/ and config/ *and*
-the data_files entries that install them, the step students forget in Lab 1.3 Part 6.
-Creation is planned first (data), then written; the CLI prints each step as ros2 does.
+ament_python packages get the kit's two extras the labs need: `with_launch` and
+`with_config` add launch/ and config/ *and* the data_files entries that install them, the
+step students forget in Lab 1.3 Part 6. ament_cmake packages get Jazzy's template (an
+interface package is one; the kit's venv has CMake and the rosidl generators). Creation is
+planned first (data), then written; the CLI prints each step as ros2 does.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ _TEMPLATES = Path(__file__).with_name('templates') / 'ament_python'
 DEFAULT_DESCRIPTION = 'TODO: Package description'
 DEFAULT_LICENSE = 'TODO: License declaration'
 TEST_DEPENDENCIES = ('ament_copyright', 'ament_flake8', 'ament_pep257', 'python3-pytest')
+CMAKE_TEST_DEPENDENCIES = ('ament_lint_auto', 'ament_lint_common')
 
 # The license identifiers ament_copyright knows (ros2 pkg create lists them); the kit
 # ships the text of the short ones only.
@@ -41,7 +43,7 @@ AMENT_LICENSES = (
     'Apache-2.0', 'BSL-1.0', 'BSD-2.0', 'BSD-2-Clause', 'BSD-3-Clause',
     'GPL-3.0-only', 'LGPL-3.0-only', 'MIT', 'MIT-0',
 )
-_LICENSE_TEXTS = {'MIT': 'LICENSE.MIT.tmpl'}
+_LICENSE_TEXTS = {'MIT': 'LICENSE.MIT.tmpl', 'Apache-2.0': 'LICENSE.Apache-2.0.tmpl'}
 
 # REP 144: lowercase letter first, then lowercase letters, digits and single underscores.
 _REP144 = re.compile(r'^[a-z][a-z0-9]*(_[a-z0-9]+)*$')
@@ -119,7 +121,8 @@ class PackagePlan:
 
 
 def _render(template: str, **values: str) -> str:
-    text = (_TEMPLATES / template).read_text()
+    # 'x.tmpl': an ament_python template; 'ament_cmake/x.tmpl': another build type's.
+    text = (_TEMPLATES.parent / template if '/' in template else _TEMPLATES / template).read_text()
     for key, value in values.items():
         text = text.replace('{{' + key + '}}', value)
     return text
@@ -167,13 +170,47 @@ def _check_node_name(node_name: str) -> None:
         )
 
 
-def _depends_block(dependencies: Iterable[str]) -> str:
-    text = ''
+def _depends_block(dependencies: Iterable[str], cmake: bool = False) -> str:
+    text = '  <buildtool_depend>ament_cmake</buildtool_depend>\n\n' if cmake else ''
     deps = list(dependencies)
     if deps:
         text += ''.join(f'  <depend>{dep}</depend>\n' for dep in deps) + '\n'
-    text += ''.join(f'  <test_depend>{dep}</test_depend>\n' for dep in TEST_DEPENDENCIES) + '\n'
+    tests = CMAKE_TEST_DEPENDENCIES if cmake else TEST_DEPENDENCIES
+    text += ''.join(f'  <test_depend>{dep}</test_depend>\n' for dep in tests) + '\n'
     return text
+
+
+def _cmake_steps(plan: PackagePlan, package_path: str) -> None:
+    """Jazzy's ament_cmake template: src/, include/NAME/, CMakeLists.txt (+ a C++ node)."""
+    name, deps, node_name = plan.name, plan.dependencies, plan.node_name
+    if deps:
+        finds = ''.join(f'find_package({dep} REQUIRED)\n' for dep in deps)
+    else:
+        finds = ('# uncomment the following section in order to fill in\n'
+                 '# further dependencies manually.\n# find_package(<dependency> REQUIRED)\n')
+    node = ''
+    if node_name:
+        node = (
+            f'\nadd_executable({node_name} src/{node_name}.cpp)\n'
+            f'target_include_directories({node_name} PUBLIC\n'
+            '  $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>\n'
+            '  $<INSTALL_INTERFACE:include/${PROJECT_NAME}>)\n'
+            f'target_compile_features({node_name} PUBLIC c_std_99 cxx_std_17)'
+            '  # Require C99 and C++17\n'
+        )
+        if deps:
+            node += (f'ament_target_dependencies(\n  {node_name}\n'
+                     + ''.join(f'  "{dep}"\n' for dep in deps) + ')\n')
+        node += f'\ninstall(TARGETS {node_name}\n  DESTINATION lib/${{PROJECT_NAME}})\n'
+    plan.steps.append(Step('note', '', 'creating source and include folder'))
+    plan.steps.append(Step('folder', os.path.join(package_path, 'src')))
+    plan.steps.append(Step('folder', os.path.join(package_path, 'include', name)))
+    plan.steps.append(Step('file', os.path.join(package_path, 'CMakeLists.txt'), _render(
+        'ament_cmake/CMakeLists.txt.tmpl', name=name, find_dependencies=finds,
+        node=node)))
+    if node_name:
+        plan.steps.append(Step('file', os.path.join(package_path, 'src', node_name + '.cpp'),
+                               _render('ament_cmake/main.cpp.tmpl', name=name)))
 
 
 def _launch_file(name: str, node_name: str | None, with_config: bool) -> str:
@@ -206,23 +243,23 @@ def plan_package(
     with_config: bool = False,
 ) -> PackagePlan:
     """Check the request the way ros2 pkg create does and list what it would create."""
-    if build_type in ('ament_cmake', 'cmake'):
+    if build_type == 'cmake':
         raise PackageError(
-            f"build type '{build_type}' is not supported: robot_lab is a Python-only kit "
-            '(no C++ compiler or CMake; packages are ament_python)',
-            fix='use --build-type ament_python',
+            "build type 'cmake' (plain CMake, no ament) is not supported by robot_lab",
+            fix='use --build-type ament_cmake (interfaces) or ament_python (nodes)',
         )
-    if build_type != 'ament_python':
+    if build_type not in ('ament_python', 'ament_cmake'):
         raise PackageError(
-            f"unknown build type '{build_type}'", fix='use --build-type ament_python'
+            f"unknown build type '{build_type}'",
+            fix='use --build-type ament_python or ament_cmake',
         )
-    if name == 'test':
+    if name == 'test' and build_type == 'ament_python':
         raise PackageError(
             "Aborted since 'ament_python' packages can't be named 'test'.",
             fix='choose a different package name',
         )
     validate_package_name(name)
-    if node_name:
+    if node_name and build_type == 'ament_python':
         _check_node_name(node_name)
     dest = os.fspath(destination)
     package_path = os.path.join(dest, name)
@@ -250,10 +287,15 @@ def plan_package(
     console = f"            '{node_name} = {name}.{node_name}:main'\n" if node_name else ''
     steps = plan.steps
     steps.append(Step('folder', package_path))
+    cmake = build_type == 'ament_cmake'
     steps.append(Step('file', os.path.join(package_path, 'package.xml'), _render(
         'package.xml.tmpl', name=name, description=description, license=license,
-        depends=_depends_block(deps), **people,
+        depends=_depends_block(deps, cmake), build_type=build_type, **people,
     )))
+    if cmake:
+        _cmake_steps(plan, package_path)
+        _license_step(plan, package_path)
+        return plan
     steps.append(Step('note', '', 'creating source folder'))
     steps.append(Step('folder', src))
     steps.append(Step('file', os.path.join(package_path, 'setup.py'), _render(
@@ -281,10 +323,16 @@ def plan_package(
         steps.append(Step('folder', os.path.join(package_path, 'config')))
         steps.append(Step('file', os.path.join(package_path, 'config', 'params.yaml'),
                           _render('params.yaml.tmpl', name=name)))
+    _license_step(plan, package_path)
+    return plan
+
+
+def _license_step(plan: PackagePlan, package_path: str) -> None:
+    license = plan.license
     if license in _LICENSE_TEXTS:
         # ros2 pkg create writes LICENSE silently (no `creating` line).
-        steps.append(Step('license', os.path.join(package_path, 'LICENSE'),
-                          _render(_LICENSE_TEXTS[license])))
+        plan.steps.append(Step('license', os.path.join(package_path, 'LICENSE'),
+                               _render(_LICENSE_TEXTS[license])))
     elif license in AMENT_LICENSES:
         plan.warning = (
             f"\n[WARNING]: robot_lab has no text for license '{license}'.  It has been set in "
@@ -297,7 +345,6 @@ def plan_package(
             'but no LICENSE file has been created.\nIt is recommended to use one of the ament '
             'license identifiers:\n' + '\n'.join(AMENT_LICENSES)
         )
-    return plan
 
 
 def create_package(
@@ -313,7 +360,7 @@ def create_package(
     with_launch: bool = False,
     with_config: bool = False,
 ) -> Path:
-    """Create an ament_python package as `ros2 pkg create` does; returns its directory."""
+    """Create a package as `ros2 pkg create` does; returns its directory."""
     plan = plan_package(
         name, destination, build_type, dependencies, node_name, maintainer_name,
         maintainer_email, license, description, with_launch, with_config,

@@ -9,11 +9,13 @@ holds the message packages that came as wheels.
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
 
 from robot_lab.ament_prefix import ament_prefixes, kit_prefix
 from robot_lab.errors import ExecutableNotFoundError, PackageNotFoundError
+from robot_lab.pkg.kit_packages import KIT_EXECUTABLES, ensure_kit_package, install_executables
 
 __all__ = [
     'ament_prefixes',
@@ -45,6 +47,10 @@ def package_prefix(name: str, env: Mapping[str, str] | None = None) -> Path:
     for prefix in prefixes:
         if (prefix / _MARKERS / name).is_file():
             return prefix
+    # The tutorials' interface packages and turtlesim: built from their definitions on
+    # first need when `./kit setup` has not built them.
+    if ensure_kit_package(name) and (Path(sys.prefix) / _MARKERS / name).is_file():
+        return Path(sys.prefix)
     searched = ', '.join(str(p) for p in prefixes) or '(none)'
     raise PackageNotFoundError(
         f"Package '{name}' not found (searched AMENT_PREFIX_PATH: {searched})",
@@ -74,6 +80,10 @@ def find_executable(package: str, executable: str, env: Mapping[str, str] | None
     path = libdir / executable
     if path.is_file() and os.access(path, os.X_OK):
         return path
+    if executable in KIT_EXECUTABLES.get(package, {}):
+        install_executables()
+        if path.is_file():
+            return path
     have = executables(package, env)
     listing = ', '.join(have) if have else 'none'
     raise ExecutableNotFoundError(

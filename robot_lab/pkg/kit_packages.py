@@ -1,0 +1,280 @@
+"""The ament packages the kit builds from their definitions, into its own venv.
+
+PyPI has the rosidl generators but not the tutorials' interface packages
+(`example_interfaces`, `action_tutorials_interfaces`, turtlesim's msg/srv/action), nor
+`ament_lint_auto`/`ament_lint_common`, which the `ros2 pkg create --build-type ament_cmake`
+template finds. Their sources live in `robot_lab/data/ament_packages/` (upstream's
+definitions, licence notes in NOTICE.md) and are built as colcon's ament_cmake task builds
+a package (CMake configure, build, install) with the venv as install prefix: the venv is
+already on every path that matters (site-packages, LD_LIBRARY_PATH through the wheels'
+bootstrapper, the ament index, CMake's PATH-based search), so `from example_interfaces.srv
+import AddTwoInts` works in any kernel or `ros2 run` process with nothing sourced.
+
+`./kit setup` builds them (`robot-lab build --kit`); a package looked up before that is
+built on first need. Programs a kit package provides (turtlesim's) are entries in
+`KIT_EXECUTABLES`, written to `<venv>/lib/<package>/<name>` where `ros2 run` finds them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import hashlib
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from robot_lab.env import ros_environment
+from robot_lab.errors import PackageError
+from robot_lab.pkg.wheel_cmake import build_tools, fix_wheel_cmake
+
+__all__ = [
+    'KIT_EXECUTABLES',
+    'KIT_PACKAGES',
+    'KitBuild',
+    'build_kit_packages',
+    'ensure_kit_package',
+    'install_executables',
+    'install_underlay',
+    'kit_package_sources',
+]
+
+SOURCES = Path(__file__).resolve().parents[1] / 'data' / 'ament_packages'
+
+# Build order: the lint packages first (the interface packages' CMakeLists may find them).
+KIT_PACKAGES: tuple[str, ...] = (
+    'ament_lint_auto',
+    'ament_lint_common',
+    'example_interfaces',
+    'action_tutorials_interfaces',
+    'turtlesim',
+)
+
+# The contract for programs a kit package provides: package -> {executable: 'module:func'}.
+# Each becomes <venv>/lib/<package>/<executable>, a script running `func()` of `module`
+# with the venv's Python, so `ros2 run <package> <executable>` and launch files find it.
+KIT_EXECUTABLES: dict[str, dict[str, str]] = {
+    'turtlesim': {},
+}
+
+_MARKERS = Path('share', 'ament_index', 'resource_index', 'packages')
+
+
+def kit_package_sources(name: str) -> Path:
+    """The source folder of kit package `name` (package.xml, CMakeLists.txt, msg/...)."""
+    source = SOURCES / name
+    if name not in KIT_PACKAGES or not (source / 'package.xml').is_file():
+        raise PackageError(f"'{name}' is not one of the kit's packages: "
+                           f"{', '.join(KIT_PACKAGES)}")
+    return source
+
+
+def _state_dir(prefix: Path) -> Path:
+    return prefix / 'var' / 'robot_lab' / 'kit_packages'
+
+
+def _source_hash(source: Path) -> str:
+    digest = hashlib.sha256()
+    for path in sorted(p for p in source.rglob('*') if p.is_file()):
+        digest.update(str(path.relative_to(source)).encode() + b'\0' + path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _is_current(name: str, prefix: Path) -> bool:
+    stamp = _state_dir(prefix) / f'{name}.stamp'
+    return (
+        (prefix / _MARKERS / name).is_file()
+        and stamp.is_file()
+        and stamp.read_text().strip() == _source_hash(kit_package_sources(name))
+    )
+
+
+def _write_if_changed(path: Path, text: str, mode: int) -> None:
+    if path.is_file() and path.read_text() == text and (path.stat().st_mode & 0o777) == mode:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f'.{path.name}.{os.getpid()}.tmp')
+    tmp.write_text(text)
+    tmp.chmod(mode)
+    tmp.replace(path)
+
+
+def install_executables(prefix: Path | None = None) -> list[Path]:
+    """Write every `KIT_EXECUTABLES` entry as a script under <prefix>/lib/<package>/."""
+    root = Path(sys.prefix) if prefix is None else prefix
+    written: list[Path] = []
+    for package, programs in KIT_EXECUTABLES.items():
+        for executable, target in sorted(programs.items()):
+            module, _, func = target.partition(':')
+            script = (
+                f'#!{sys.executable}\n'
+                f'"""{package} {executable}: robot_lab\'s {module}.{func or "main"}."""\n'
+                'import os\n'
+                "os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')\n"
+                f'from {module} import {func or "main"} as main\n'
+                "if __name__ == '__main__':\n"
+                '    main()\n'
+            )
+            path = root / 'lib' / package / executable
+            _write_if_changed(path, script, 0o755)
+            written.append(path)
+    return written
+
+
+_UNDERLAY = """\
+# robot_lab: the kit's venv as a ROS 2 underlay, as /opt/ros/jazzy/{name} is for a ROS
+# install: rosidl finds its type supports through AMENT_PREFIX_PATH, CMake the packages.
+_robot_lab_prefix='{prefix}'
+for _robot_lab_var in AMENT_PREFIX_PATH CMAKE_PREFIX_PATH; do
+  eval "_robot_lab_have=\\${{$_robot_lab_var:-}}"
+  case ":$_robot_lab_have:" in
+    *":$_robot_lab_prefix:"*) ;;
+    *) export "$_robot_lab_var=$_robot_lab_prefix${{_robot_lab_have:+:$_robot_lab_have}}" ;;
+  esac
+done
+case ":$PATH:" in
+  *":$_robot_lab_prefix/bin:"*) ;;
+  *) export PATH="$_robot_lab_prefix/bin:$PATH" ;;
+esac
+unset _robot_lab_prefix _robot_lab_var _robot_lab_have
+"""
+
+
+def install_underlay(prefix: Path | None = None) -> Path:
+    """Write <venv>/setup.bash (and local_setup.*, setup.sh): `source` it as a ROS setup.
+
+    colcon also looks for these: an AMENT_PREFIX_PATH entry without them draws a warning.
+    """
+    root = Path(sys.prefix) if prefix is None else prefix
+    for name in ('setup.sh', 'setup.bash', 'local_setup.sh', 'local_setup.bash'):
+        _write_if_changed(root / name, _UNDERLAY.format(name=name, prefix=root), 0o644)
+    return root / 'setup.bash'
+
+
+@dataclass
+class KitBuild:
+    """What `build_kit_packages` did: seconds per package built, those already current."""
+
+    prefix: Path
+    built: dict[str, float] = field(default_factory=dict)
+    current: list[str] = field(default_factory=list)
+    fixed_cmake_files: int = 0
+
+    @property
+    def seconds(self) -> float:
+        return sum(self.built.values())
+
+    def lines(self) -> list[str]:
+        out = [f'built {name} in {secs:.1f} s' for name, secs in self.built.items()]
+        if self.current:
+            out.append('up to date: ' + ', '.join(self.current))
+        if self.built:
+            out.append(f'kit packages built in {self.seconds:.1f} s into {self.prefix}')
+        return out
+
+
+@contextlib.contextmanager
+def _build_lock(prefix: Path) -> Iterator[None]:
+    """One builder at a time per venv (two kernels may need the same package at once)."""
+    state = _state_dir(prefix)
+    state.mkdir(parents=True, exist_ok=True)
+    with open(state / 'build.lock', 'w') as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+def _build_env(prefix: Path) -> dict[str, str]:
+    env = ros_environment()
+    env['PATH'] = os.pathsep.join([str(prefix / 'bin'), env.get('PATH', '')])
+    for var in ('AMENT_PREFIX_PATH', 'CMAKE_PREFIX_PATH'):
+        have = [p for p in env.get(var, '').split(os.pathsep) if p and p != str(prefix)]
+        env[var] = os.pathsep.join([str(prefix), *have])
+    return env
+
+
+def _run(cmd: Sequence[str], env: dict[str, str], log: Path, name: str) -> None:
+    with open(log, 'ab') as out:
+        out.write(('$ ' + ' '.join(cmd) + '\n').encode())
+        out.flush()
+        done = subprocess.run(cmd, env=env, stdout=out, stderr=subprocess.STDOUT, check=False)
+    if done.returncode != 0:
+        tail = log.read_text(errors='replace').splitlines()
+        errors = [line for line in tail if 'error' in line.lower()][-3:] or tail[-3:]
+        raise PackageError(
+            f'building the kit package {name} failed: ' + ' | '.join(e.strip() for e in errors),
+            file=log, fix='read the log; `robot-lab build --kit` retries',
+        )
+
+
+def _build_one(name: str, prefix: Path, env: dict[str, str]) -> float:
+    tools = build_tools()
+    source = kit_package_sources(name)
+    state = _state_dir(prefix)
+    build_dir = state / 'build' / name
+    log = state / f'{name}.log'
+    log.write_text('')
+    started = time.monotonic()
+    _run([str(tools.cmake), '-S', str(source), '-B', str(build_dir),
+          f'-DCMAKE_INSTALL_PREFIX={prefix}', '-DBUILD_TESTING=OFF',
+          '-DCMAKE_BUILD_TYPE=Release', f'-DPython3_EXECUTABLE={sys.executable}',
+          f'-DCMAKE_C_COMPILER={tools.c_compiler}',
+          f'-DCMAKE_CXX_COMPILER={tools.cxx_compiler}'], env, log, name)
+    _run([str(tools.cmake), '--build', str(build_dir), '--parallel', str(os.cpu_count() or 1)],
+         env, log, name)
+    _run([str(tools.cmake), '--install', str(build_dir)], env, log, name)
+    (state / f'{name}.stamp').write_text(_source_hash(source) + '\n')
+    return time.monotonic() - started
+
+
+def build_kit_packages(
+    names: Sequence[str] | None = None,
+    force: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> KitBuild:
+    """Build the kit's packages (all, or `names`) into the venv unless already current."""
+    prefix = Path(sys.prefix)
+    wanted = [n for n in KIT_PACKAGES if names is None or n in names]
+    unknown = sorted(set(names or ()) - set(KIT_PACKAGES))
+    if unknown:
+        raise PackageError(f"not kit packages: {', '.join(unknown)}",
+                           fix=f"choose from {', '.join(KIT_PACKAGES)}")
+    if not os.access(prefix, os.W_OK):
+        raise PackageError(
+            f'the kit packages {", ".join(wanted)} are not built and {prefix} is read-only',
+            fix='run `robot-lab build --kit` once as the user who installed the kit',
+        )
+    result = KitBuild(prefix=prefix)
+    with _build_lock(prefix):
+        result.fixed_cmake_files = len(fix_wheel_cmake(prefix))
+        env = _build_env(prefix)
+        todo = [n for n in wanted if force or not _is_current(n, prefix)]
+        result.current = [n for n in wanted if n not in todo]
+        for index, name in enumerate(todo, 1):
+            if progress is not None:
+                progress(f'building {name} ({index}/{len(todo)}) from its definitions ...')
+            result.built[name] = _build_one(name, prefix, env)
+        install_executables(prefix)
+        install_underlay(prefix)
+    return result
+
+
+def ensure_kit_package(name: str, progress: Callable[[str], None] | None = None) -> bool:
+    """Build kit package `name` on first need (False: `name` is not a kit package)."""
+    if name not in KIT_PACKAGES:
+        return False
+    prefix = Path(sys.prefix)
+    if _is_current(name, prefix):
+        install_executables(prefix)
+        return True
+    say = progress or (lambda line: print(f'[robot_lab] {line}', file=sys.stderr, flush=True))
+    build = build_kit_packages([name], progress=say)
+    for line in build.lines():
+        say(line)
+    return True
