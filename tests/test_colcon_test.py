@@ -112,3 +112,37 @@ def test_repository_root_needs_license_and_contributing(tmp_path: Path) -> None:
     (tmp_path / 'CONTRIBUTING.md').write_text('Contributions are Apache-2.0.\n')
     ok = copyright_cli('LICENSE', 'CONTRIBUTING.md', '--verbose', cwd=tmp_path)
     assert 'LICENSE: apache2' in ok.stdout, ok.stdout + ok.stderr  # ros2 pkg create's text
+
+
+def test_tests_pass_check_is_optional_and_judges_colcon_test(tmp_path: Path) -> None:
+    from robot_lab.grading.package.checks.tests_pass import tests_pass
+    from robot_lab.grading.package.rubric import RubricCheck, load_rubric, rubric_path
+    from robot_lab.grading.package.state import JobState
+
+    shipped = rubric_path('ch6-lab1')
+    assert 'tests_pass' not in load_rubric(shipped).ids  # off by default
+    text = shipped.read_text().replace('  # - id: tests_pass', '  - id: tests_pass')
+    for key in ('name', 'points', 'timeout_seconds'):
+        text = text.replace(f'  #   {key}:', f'    {key}:')
+    (tmp_path / 'on.yaml').write_text(text)
+    rubric = load_rubric(tmp_path / 'on.yaml')
+    assert rubric.check('tests_pass') is not None
+
+    ws = tmp_path / 'ws'
+    (ws / 'src').mkdir(parents=True)
+    made = terminal('ros2 pkg create --build-type ament_python --node-name my_node my_package '
+                    '--destination-directory src && colcon build', ws)
+    assert made.returncode == 0, made.stdout + made.stderr
+    state = JobState(rubric, package=ws / 'src' / 'my_package', package_name='my_package',
+                     built=True)
+    check = RubricCheck('tests_pass', 'tests', 1.0, {'timeout_seconds': 180})
+    verdict = tests_pass(state, check)
+    assert verdict.earned is True, verdict
+    assert verdict.observed == '3 tests, 0 errors, 0 failures, 1 skipped'
+
+    node = ws / 'src' / 'my_package' / 'my_package' / 'my_node.py'
+    node.write_text(node.read_text().replace('def main():', 'def main( ):'))  # E201
+    verdict = tests_pass(state, check)
+    assert verdict.earned is False
+    assert '1 failure,' in verdict.observed and 'test_flake8' in verdict.observed
+    assert 'colcon test-result --verbose' in verdict.fix
