@@ -60,6 +60,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     lms.add_argument('--due', metavar="'YYYY-MM-DD HH:MM'",
                      help="The deadline; late hand-ins lose --late-penalty per day (the "
                      "LMS's submission time: Moodle's worksheet, Canvas's LATE mark)")
+    lms.add_argument('--ascii-names', action='store_true',
+                     help='Feedback file names transliterated to ASCII (Jose_Nunez_1234567) '
+                     'instead of the student id as the LMS spells it')
     lms.add_argument('--late-penalty', type=float, default=10.0, metavar='PCT',
                      help='Percent of the maximum taken off per day late (default: 10)')
     parser.add_argument('--gradescope-autograder', metavar='ZIP',
@@ -120,6 +123,7 @@ def _packages(args: argparse.Namespace) -> int:
         return 2
     run = grade_class(args.submissions, rubric, args.out, jobs=args.jobs, only=only,
                       late=late, roster=args.roster, roster_column=args.roster_column,
+                      ascii_names=args.ascii_names,
                       progress=(not args.json and sys.stderr.isatty()) or bool(args.out))
     reports = run.reports
     if args.json:

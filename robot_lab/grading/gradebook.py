@@ -73,7 +73,8 @@ def score_changes(before: Sequence[StudentReport],
 def write_class(out: Path, graded: Sequence[StudentReport], columns: Sequence[str], *,
                 only: Collection[str] | None = None, sources: Mapping[str, str] | None = None,
                 late: LatePolicy | None = None, roster: str | Path | None = None,
-                roster_column: str | None = None, title: str = '') -> ClassOutputs:
+                roster_column: str | None = None, title: str = '',
+                ascii_names: bool = False) -> ClassOutputs:
     """Merge this run's reports into OUT and write the class's files.
 
     `only`: this run regraded these students; everyone else keeps their row and feedback.
@@ -97,7 +98,7 @@ def write_class(out: Path, graded: Sequence[StudentReport], columns: Sequence[st
         sources = {**known, **sources}
     everyone.sort(key=lambda r: r.student)
     result = ClassOutputs(everyone, score_changes(previous, everyone), previous=len(previous))
-    write_outputs(out, everyone, columns=columns,
+    write_outputs(out, everyone, columns=columns, ascii_names=ascii_names,
                   only=None if only is None else {r.student for r in graded})
     for r in everyone:
         r.images = []  # copied into feedback/ already; the record keeps no temp paths

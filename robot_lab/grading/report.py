@@ -170,13 +170,13 @@ def ascii_name(student: str) -> str:
     return safe_name(student)  # a script with no ASCII spelling: keep the id as it is
 
 
-def _file_names(reports: Sequence[StudentReport]) -> dict[int, str]:
+def _file_names(reports: Sequence[StudentReport], ascii_names: bool = False) -> dict[int, str]:
     """A distinct file name per report (two ids reduced to the same name get `-2`, ...)."""
     names: dict[int, str] = {}
     taken: set[str] = set()
     for i in sorted(range(len(reports)), key=lambda i: reports[i].student):
         r = reports[i]
-        base = name = safe_name(r.student)
+        base = name = (ascii_name if ascii_names else safe_name)(r.student)
         n = 1
         while name.casefold() in taken:
             n += 1
@@ -249,18 +249,19 @@ def write_gradebook(path: Path, reports: Sequence[StudentReport],
 
 def write_outputs(out_dir: str | Path, reports: Sequence[StudentReport],
                   columns: Sequence[str] | None = None,
-                  only: Collection[str] | None = None) -> Path:
+                  only: Collection[str] | None = None, ascii_names: bool = False) -> Path:
     """Write grades.csv, feedback/<student>.md+.html and results/<student>.json; return OUT.
 
     `columns` fixes the check-id columns (e.g. the rubric's order); by default every id seen.
     `only`: write feedback and results for these students alone (grades.csv has everyone).
+    `ascii_names`: file names transliterated (`José Núñez_12` -> `Jose_Nunez_12`).
     Images are embedded in the pages and copied next to them as `<student>.<name>`.
     """
     out = Path(out_dir)
     (out / 'feedback').mkdir(parents=True, exist_ok=True)
     (out / 'results').mkdir(parents=True, exist_ok=True)
     write_gradebook(out / 'grades.csv', reports, columns)
-    names = _file_names(reports)
+    names = _file_names(reports, ascii_names)
     for i, r in enumerate(reports):
         if only is not None and r.student not in only:
             continue

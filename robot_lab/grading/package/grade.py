@@ -153,6 +153,7 @@ def grade_class(
     late: LatePolicy | None = None,
     roster: str | Path | None = None,
     roster_column: str | None = None,
+    ascii_names: bool = False,
 ) -> ClassRun:
     """Grade a class (or, `only`, some of its students) and merge the results into OUT."""
     if isinstance(submissions, str | Path):
@@ -215,7 +216,7 @@ def grade_class(
     if out is not None:
         run.outputs = write_class(
             out, reports, rubric.ids, only=only, late=late, roster=roster,
-            roster_column=roster_column, title=rubric.lab,
+            roster_column=roster_column, title=rubric.lab, ascii_names=ascii_names,
             sources={e.student: e.source.name for e in entries})
         if keep is not None:
             shutil.rmtree(keep, ignore_errors=True)
