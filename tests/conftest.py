@@ -41,25 +41,19 @@ os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
 # Where each run's domains go (offsets from the base; `./kit test` uses base 0). Modules run
 # two at a time (`./kit test` runs pytest-xdist workers), so every module has a domain of its
 # own for the whole run, and so has everything else that runs ROS beside them:
-#   1-50, 60, 71-79, 89-92   test modules, in sorted order
-#   51-59   extra domains for one module's concurrent jobs (extra_domain(k))
-#   61-69   nbval's notebooks (lesson n: 60 + n, robot_lab/grading/course.py)
+#   1-50, 53-60, 71-79, 91-92   test modules, in sorted order
+#   51-52   nbval's notebooks 09 and 10 (robot_lab/grading/course.py)
+#   61-69   nbval's notebooks 00-08 (lesson n: 61 + n, robot_lab/grading/course.py)
 #   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
-#   80-88   the browser tests' JupyterLab kernels (80 + lesson)
+#   80-90   the browser tests' JupyterLab kernels (80 + lesson)
 #   93-101  the Unix users of tests/test_domains.py (their registry's pool)
-_MODULE_SLOTS = [*range(1, 51), 60, *range(71, 80), *range(89, 93)]
+_MODULE_SLOTS = [*range(1, 51), *range(53, 61), *range(71, 80), *range(91, 93)]
 _modules: dict[str, int] = {}
 
 
 def domain_at(offset: int) -> int:
     """The domain at `offset` of this run's layout (above), wrapped into 1-101."""
     return (_BASE + offset - 1) % 101 + 1
-
-
-def extra_domain(k: int) -> int:
-    """The k-th (0-8) domain reserved for one module's jobs beside its own (test_grading)."""
-    assert 0 <= k < 9, 'extra domains are 51-59: take a module slot instead'
-    return domain_at(51 + k)
 
 
 # Groups that take longest go to the workers first (the scheduler below hands groups out in
