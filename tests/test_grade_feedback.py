@@ -15,7 +15,6 @@ import os
 import re
 import shutil
 import signal
-import socket
 import subprocess
 import time
 import urllib.request
@@ -24,6 +23,7 @@ from pathlib import Path
 import nbformat
 import pytest
 from conftest import BIN, REPO, run_cli
+from lab_chromium import free_port, headless_chromium
 
 DATA = REPO / 'tests' / 'data' / 'class_ch6'
 CONFIG = REPO / 'config' / 'jupyter' / 'jupyter_server_config.py'
@@ -68,24 +68,10 @@ def test_feedback_embeds_the_graph(graded: tuple[subprocess.CompletedProcess[str
     assert f'src="{found.group(1)}"' in (out / 'feedback' / 'alice.html').read_text()
 
 
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return int(sock.getsockname()[1])
-
-
 def _shown_pictures(notebook: Path, shots: Path) -> list[int]:
     """JupyterLab (the kit's config) opens `notebook` in Chromium: the natural width of each
     picture in its Markdown outputs (0: the browser could not load it)."""
-    chromium = next((c for c in (os.environ.get('ROBOT_LAB_CHROMIUM'), '/usr/bin/chromium')
-                     if c and os.access(c, os.X_OK)), None)
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:  # pragma: no cover - the test extra installs it
-        sync_playwright = None
-    if chromium is None or sync_playwright is None:
-        pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)')
-    port, token = _free_port(), os.urandom(8).hex()
+    port, token = free_port(), os.urandom(8).hex()
     home = notebook.parent
     env = {**os.environ, 'JUPYTER_RUNTIME_DIR': str(home / 'runtime'),
            'JUPYTER_CONFIG_DIR': str(home / 'config'), 'JUPYTER_DATA_DIR': str(home / 'data'),
@@ -107,23 +93,18 @@ def _shown_pictures(notebook: Path, shots: Path) -> list[int]:
                 assert lab.poll() is None and time.monotonic() < deadline, \
                     (home / 'lab.log').read_text()[-3000:]
                 time.sleep(0.2)  # polling the server's own readiness answer
-        with sync_playwright() as pw:
-            browser = pw.chromium.launch(executable_path=chromium,
-                                         args=['--no-sandbox', '--disable-gpu'])
-            try:
-                page = browser.new_page()
-                page.goto(f'{base}/lab/tree/{notebook.name}?token={token}')
-                pictures = page.locator('.jp-OutputArea-output img')
-                pictures.first.wait_for(state='attached', timeout=120_000)
-                # Until every picture has either loaded or failed (img.complete).
-                page.wait_for_function(
-                    'n => { const all = document.querySelectorAll(".jp-OutputArea-output img");'
-                    ' return all.length === n && [...all].every(i => i.complete); }',
-                    arg=2, timeout=60_000)
-                widths = pictures.evaluate_all('all => all.map(i => i.naturalWidth)')
-                page.screenshot(path=str(shots), full_page=True)
-            finally:
-                browser.close()
+        with headless_chromium() as browser:
+            page = browser.new_page()
+            page.goto(f'{base}/lab/tree/{notebook.name}?token={token}')
+            pictures = page.locator('.jp-OutputArea-output img')
+            pictures.first.wait_for(state='attached', timeout=120_000)
+            # Until every picture has either loaded or failed (img.complete).
+            page.wait_for_function(
+                'n => { const all = document.querySelectorAll(".jp-OutputArea-output img");'
+                ' return all.length === n && [...all].every(i => i.complete); }',
+                arg=2, timeout=60_000)
+            widths = pictures.evaluate_all('all => all.map(i => i.naturalWidth)')
+            page.screenshot(path=str(shots), full_page=True)
     finally:
         os.killpg(lab.pid, signal.SIGTERM)
         try:

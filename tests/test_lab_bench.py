@@ -23,6 +23,7 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from lab_chromium import headless_chromium
 
 from robot_lab.process import spawn, stop
 
@@ -234,29 +235,16 @@ def _status(url: str) -> int:
 
 def _lab_page(base: str, token: str, shots: Path) -> tuple[list[str], list[str]]:
     """The menus and side-panel tabs a real Chromium shows on the Lab page."""
-    chromium = next((c for c in (os.environ.get('ROBOT_LAB_CHROMIUM'), '/usr/bin/chromium')
-                     if c and os.access(c, os.X_OK)), None)
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:  # pragma: no cover - the test extra installs it
-        sync_playwright = None
-    if chromium is None or sync_playwright is None:
-        pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)')
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=chromium,
-                                     args=['--no-sandbox', '--disable-gpu'])
-        try:
-            page = browser.new_page()
-            page.goto(f'{base}/lab?token={token}')
-            # The status bar comes up once every plugin has been activated (or refused).
-            page.wait_for_selector('#jp-main-statusbar .jp-StatusBar-Item', timeout=120_000)
-            page.wait_for_selector('.lm-MenuBar-itemLabel', timeout=120_000)
-            menus = page.locator('.lm-MenuBar-itemLabel').all_inner_texts()
-            tabs = page.locator('.lm-TabBar-tab').evaluate_all(
-                'tabs => tabs.map(t => t.getAttribute("title") || t.innerText)')
-            page.screenshot(path=str(shots))
-        finally:
-            browser.close()
+    with headless_chromium() as browser:
+        page = browser.new_page()
+        page.goto(f'{base}/lab?token={token}')
+        # The status bar comes up once every plugin has been activated (or refused).
+        page.wait_for_selector('#jp-main-statusbar .jp-StatusBar-Item', timeout=120_000)
+        page.wait_for_selector('.lm-MenuBar-itemLabel', timeout=120_000)
+        menus = page.locator('.lm-MenuBar-itemLabel').all_inner_texts()
+        tabs = page.locator('.lm-TabBar-tab').evaluate_all(
+            'tabs => tabs.map(t => t.getAttribute("title") || t.innerText)')
+        page.screenshot(path=str(shots))
     return [str(m) for m in menus], [str(t) for t in tabs]
 
 
