@@ -9,7 +9,6 @@ graph already shows, so a listener that is running does not miss the first messa
 
 from __future__ import annotations
 
-import contextlib
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
@@ -36,6 +35,15 @@ __all__ = ['Player', 'play']
 NODE_NAME = 'rosbag2_player'
 DISCOVERY_WINDOW = 0.6  # one lease announcement of the kit's Fast DDS profile, and a bit
 MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
+# KEEP_ALL publishers: how many messages may wait for acknowledgement at once.
+ACK_WINDOW = 100
+# Reliable volatile topics: publisher history up to this deep (a subscriber may fall this
+# far behind before the player waits for it). Waiting for acknowledgements alone costs up
+# to a heartbeat period per wait: bench_bag measured the split test bag under load taking
+# more than 300 s with depth 10.
+DEEP_HISTORY = 1000
+ACK_POLL = 0.1  # s between looks at `stop()` while a subscriber catches up
+FLUSH_TIMEOUT = 30.0  # longest wait at the end for subscribers to acknowledge the rest
 
 
 class Player:
@@ -112,6 +120,7 @@ class Player:
             else dict(qos_overrides or {})
         )
         self.qos: dict[str, Any] = {}  # topic -> the QoSProfile its publisher offers
+        self._unacked: dict[str, int] = {}  # reliable topic -> sent since all were acked
         self.delay = float(delay)  # seconds before play, each loop (rosbag2's --delay)
         self.domain_id = domain_id
         self.node_name = node_name
@@ -231,8 +240,10 @@ class Player:
                     self.qos_overrides, self.log,
                 )
                 self.qos[conn.topic] = qos
+                history = qos if conn.topic in self.qos_overrides else self._history_for(
+                    qos, sum(int(c.msgcount) for c in wanted if c.topic == conn.topic))
                 self._publishers[conn.topic] = self._node.create_publisher(
-                    cls, conn.topic, qos
+                    cls, conn.topic, history
                 )
                 self.counts[conn.topic] = 0
             self._connections.append(conn)
@@ -463,6 +474,8 @@ class Player:
                     self._clock.before_message(conn.topic, stamp)
                 sender = self._senders.get(conn.topic)
                 if sender is None:
+                    if not self._room_in_history(conn.topic):
+                        return False  # stopped while a subscriber caught up
                     self._publishers[conn.topic].publish(bytes(data))
                 elif not sender.send(bytes(data)):
                     self._position_ns = stamp  # a response, or a request it could not send
@@ -481,13 +494,69 @@ class Player:
         self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
 
-    def _flush_publishers(self) -> None:
-        """Reliable subscribers get the last messages before the publishers go away."""
-        from rclpy.duration import Duration
+    def _history_for(self, offered: Any, messages: int) -> Any:
+        """The publisher's profile: what the recorded QoS offers, with a history deep
+        enough (≤ DEEP_HISTORY) that a reliable subscriber falling behind does not lose
+        messages to overwriting. The depth is no part of QoS matching; a transient-local
+        topic keeps its depth, since late joiners get the whole history (and so does an
+        override: the user chose that depth)."""
+        import copy
 
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
+
+        if offered.reliability != ReliabilityPolicy.RELIABLE:
+            return offered
+        profile = offered
+        if (offered.history == HistoryPolicy.KEEP_LAST
+                and offered.durability == DurabilityPolicy.VOLATILE):
+            profile = copy.copy(offered)
+            profile.depth = max(offered.depth, min(messages, DEEP_HISTORY))
+        return profile
+
+    def _room_in_history(self, topic: str) -> bool:
+        """Before a reliable volatile topic's next message: once its history holds `depth`
+        messages not yet all acknowledged (the next would overwrite one a subscriber has
+        not got), wait until its reliable subscribers have acknowledged them. A subscriber
+        that falls behind makes the player fall behind the bag's clock instead of losing
+        messages, as the recorded reliable QoS promises. (A transient-local topic keeps
+        its recorded depth and is not paced: it promises late joiners the last `depth`.)
+        False if stopped meanwhile."""
+        from rclpy.duration import Duration
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
+
+        publisher = self._publishers[topic]
+        qos = publisher.qos_profile
+        if (qos.reliability != ReliabilityPolicy.RELIABLE
+                or qos.durability != DurabilityPolicy.VOLATILE):
+            return True
+        window = max(1, qos.depth if qos.history == HistoryPolicy.KEEP_LAST else ACK_WINDOW)
+        sent = self._unacked.get(topic, 0)
+        # Past half the window, look (without waiting) whether everything has been
+        # acknowledged: the blocking wait below can take a writer heartbeat period.
+        if sent >= window // 2 and publisher.wait_for_all_acked(Duration(seconds=0)):
+            sent = 0
+        if sent >= window:
+            # A subscriber that is gone stops counting at its lease's end (2 s).
+            while not publisher.wait_for_all_acked(Duration(seconds=ACK_POLL)):
+                if self._stop:
+                    return False
+            sent = 0
+        self._unacked[topic] = sent + 1
+        return True
+
+    def _flush_publishers(self) -> None:
+        """Reliable subscribers get the last messages before the publishers go away (a
+        subscriber that falls behind on a loaded host needs more than a moment)."""
+        from rclpy.duration import Duration
+        from rclpy.qos import ReliabilityPolicy
+
+        deadline = time.monotonic() + FLUSH_TIMEOUT
         for pub in self._publishers.values():
-            with contextlib.suppress(Exception):  # best-effort publishers have no acks
-                pub.wait_for_all_acked(Duration(seconds=1))
+            if pub.qos_profile.reliability != ReliabilityPolicy.RELIABLE:
+                continue  # best effort: nothing is acknowledged
+            while (not pub.wait_for_all_acked(Duration(seconds=ACK_POLL))
+                   and not self._stop and time.monotonic() < deadline):
+                pass
 
 
 def play(bag: str | Path, **options: Any) -> Player:
