@@ -22,7 +22,7 @@ FIBONACCI = '/fibonacci [test_msgs/action/Fibonacci]\n'
 
 @pytest.fixture(scope='module')
 def busy_host() -> Iterator[None]:
-    """An action server and a service server up, then one busy loop per core and one more."""
+    """An action server and a service server up, then one busy loop per core."""
     run = [os.path.join(BIN, 'robot-lab'), 'run', 'robot_lab']
     servers = [Proc([*run, 'fibonacci_node']), Proc([*run, 'switch_node'])]
     busy: list[subprocess.Popen[bytes]] = []
@@ -31,7 +31,7 @@ def busy_host() -> Iterator[None]:
         servers[1].wait_for('Switch node started', timeout=60)
         robot_lab.wait_for_nodes(['/fibonacci_action_server', '/switch'], timeout=30)
         busy = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-                for _ in range((os.cpu_count() or 2) + 1)]
+                for _ in range(os.cpu_count() or 2)]
         yield
     finally:
         for proc in busy:
