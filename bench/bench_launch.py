@@ -52,6 +52,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import psutil
+from memory import private_mb
 
 from robot_lab.env import ros_environment
 from robot_lab.nodes import NODE_EXECUTABLES
@@ -139,9 +140,11 @@ def watcher(name: str, wanted: list[str],
     return proc, Lines(proc)
 
 
-def bare_trio(env: dict[str, str], cpu: list[float] | None = None) -> float:
+def bare_trio(env: dict[str, str], cpu: list[float] | None = None,
+              uss: list[float] | None = None) -> float:
     """Seconds from starting three bare rclpy processes until all three saw each other
-    (and, into `cpu`, the CPU seconds the three had used by then)."""
+    (and, into `cpu`, the CPU seconds the three had used by then; into `uss`, their
+    private memory in MB: the floor for three nodes)."""
     names = ['bare_a', 'bare_b', 'bare_c']
     began = time.time()
     started = [watcher(n, [f'/{o}' for o in names if o != n], env) for n in names]
@@ -149,6 +152,8 @@ def bare_trio(env: dict[str, str], cpu: list[float] | None = None) -> float:
         seen = max(float(lines.until('seen')[1].split()[1]) for _, lines in started) - began
         if cpu is not None:
             cpu.append(sum(cpu_seconds(proc.pid) for proc, _ in started))
+        if uss is not None:
+            uss.append(sum(private_mb(proc.pid) for proc, _ in started))
         return seen
     finally:
         for proc, _ in started:
@@ -214,8 +219,10 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
                 status_cpu = cpu_seconds(launcher.pid)
         first_start = min(spawned.values())
         all_seen = float(seen.until('seen')[1].split()[1])
-        system = [psutil.Process(launcher.pid), *psutil.Process(launcher.pid).children(True)]
-        rss = sum(p.memory_info().rss for p in system) / 2**20
+        everything = [psutil.Process(launcher.pid), *psutil.Process(launcher.pid).children(True)]
+        daemons = [p for p in everything if '--robot-lab-graph-daemon' in p.cmdline()]
+        system = [p for p in everything if p not in daemons]  # launcher + 3 nodes
+        rss = sum(p.memory_info().rss for p in everything) / 2**20
         return {
             'status': status - began,
             'seen_from_launch': all_seen - began,
@@ -223,6 +230,9 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
             'seen_from_last_up': all_seen - max(up.values()),
             'rss': rss,
             'launcher_rss': system[0].memory_info().rss / 2**20,
+            'uss': sum(private_mb(p.pid) for p in system),
+            'launcher_uss': private_mb(launcher.pid),
+            'daemon_uss': sum(private_mb(p.pid) for p in daemons),
             'launcher_to_first_spawn': first_start - began,
             'status_cpu': status_cpu,
             'launcher_cpu_to_spawn': launcher_cpu,
@@ -286,6 +296,7 @@ def main() -> None:
         env_off = dict(env, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
         bare, launched, bare_off, launched_off = [], [], [], []
         bare_cpu: list[float] = []
+        bare_uss: list[float] = []
         alone: dict[str, list[tuple[float, float]]] = {n: [] for n in NODE_EXECUTABLES}
         interpreter: dict[str, list[float]] = {'pass': [], 'import rclpy': []}
         with crowd(env, args.idle) as crowded:
@@ -295,7 +306,7 @@ def main() -> None:
                 if args.compare_source:
                     bare_src.append(bare_trio(env_source))
                     launched_src.append(launch_run(env_source))
-                bare.append(bare_trio(env, bare_cpu))
+                bare.append(bare_trio(env, bare_cpu, bare_uss))
                 launched.append(launch_run(env))
                 if args.quick:
                     continue
@@ -325,6 +336,11 @@ def main() -> None:
          f'{median(launched, "seen_from_last_up"):.2f} s', ''),
         ('RSS launcher + 3 nodes', f'{median(launched, "rss"):.0f} MB', '<= 230 MB'),
         ('  of which the launcher', f'{median(launched, "launcher_rss"):.0f} MB', ''),
+        ('private (USS) launcher + 3 nodes', f'{median(launched, "uss"):.0f} MB',
+         f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
+        ('  of which the launcher', f'{median(launched, "launcher_uss"):.0f} MB', ''),
+        ('  graph daemon beside them (not counted above)',
+         f'{median(launched, "daemon_uss"):.0f} MB', ''),
         ('launch -> first process started', f'{median(launched, "launcher_to_first_spawn"):.2f} s',
          ''),
         ('first Status: after controller and robot are both up',

@@ -37,9 +37,9 @@ from pathlib import Path
 from tempfile import TemporaryDirectory
 from typing import IO
 
-import psutil
 import yaml
 from bench_launch import Lines
+from memory import tree_memory
 
 from robot_lab.env import ros_environment
 from robot_lab.process import spawn, stop
@@ -114,17 +114,6 @@ def spawn_fed(code: str, args: list[str], env: dict[str, str]) -> tuple[
     return proc, os.fdopen(write_end, 'wb', buffering=0)
 
 
-def tree_rss(pid: int) -> tuple[float, list[tuple[str, float]]]:
-    """RSS in MB of a process and its descendants, and (name, MB) of each."""
-    rows = []
-    root = psutil.Process(pid)
-    for proc in [root, *root.children(recursive=True)]:
-        with contextlib.suppress(psutil.NoSuchProcess):
-            cmd = ' '.join(proc.cmdline()[1:3])
-            rows.append((cmd, proc.memory_info().rss / 2**20))
-    return sum(mb for _, mb in rows), rows
-
-
 def node_list(env: dict[str, str]) -> list[str]:
     result = subprocess.run([str(BIN / 'robot-lab'), 'node', 'list'], env=env,
                             capture_output=True, text=True, timeout=60)
@@ -164,8 +153,9 @@ def fleet(env: dict[str, str], robots: int, window: float) -> None:
         ask.write(b'report\n')
         arrivals: dict[str, list[float]] = json.loads(seen.until('report', 60)[1].split(' ', 1)[1])
         rates = {t: (len(a) - 1) / (a[-1] - a[0]) for t, a in arrivals.items() if len(a) > 1}
-        total, rows = tree_rss(launcher.pid)
-        node_mb = [mb for cmd, mb in rows if '_node' in cmd]
+        total, private, rows = tree_memory(launcher.pid)
+        node_mb = [mb for cmd, mb, _ in rows if '_node' in cmd]
+        node_uss = [uss for cmd, _, uss in rows if '_node' in cmd]
     finally:
         stop(launcher, 10, 10)
         ask.close()
@@ -188,6 +178,8 @@ def fleet(env: dict[str, str], robots: int, window: float) -> None:
           f'  ({len(rates)}/{robots} sensors heard)')
     print(f'  RSS launcher + nodes + daemon: {total:.0f} MB; per node median '
           f'{statistics.median(node_mb):.0f} MB, max {max(node_mb):.0f} MB')
+    print(f'  private (USS) launcher + nodes + daemon: {private:.0f} MB; per node median '
+          f'{statistics.median(node_uss):.0f} MB')
 
 
 def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) -> None:
@@ -209,7 +201,9 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
                     _, seconds, value = out.until('answer', 120)[1].split()
                     mine.append(float(seconds))
                     wrong += value != '10'
-            total = sum(tree_rss(p.pid)[0] for p in procs)
+            measured = [tree_memory(p.pid) for p in procs]
+            total = sum(m[0] for m in measured)
+            private = sum(m[1] for m in measured)
         finally:
             for ask in asks:
                 with contextlib.suppress(OSError):
@@ -229,6 +223,8 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
           f'{sum(w <= within for w in worst)}/{count}; wrong answers: {wrong}')
     print(f'  RSS of all kernels + their nodes and daemons: {total:.0f} MB '
           f'({total / count:.0f} MB per student)')
+    print(f'  private (USS) of the same: {private:.0f} MB ({private / count:.0f} MB per '
+          'student, what one more student adds)   goal <= 200 MB')
 
 
 def main() -> None:
