@@ -92,6 +92,8 @@ _API: dict[str, str] = {
     'robot_view': 'robot_lab.widgets.robot_view',
     'close_widgets': 'robot_lab.widgets.output',
     'RobotView': 'robot_lab.widgets.robot_view',
+    'turtlesim_view': 'robot_lab.widgets.turtlesim_view',
+    'TurtlesimView': 'robot_lab.widgets.turtlesim_view',
 }
 
 __all__ = sorted(_API)

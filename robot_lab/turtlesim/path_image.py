@@ -8,12 +8,11 @@ drawn as Qt draws them with antialiasing off: square caps, `width` pixels across
 
 from __future__ import annotations
 
-import base64
 import math
 import struct
 import zlib
 
-__all__ = ['PathImage', 'png_base64']
+__all__ = ['PathImage']
 
 SIZE = 500
 METER = 45  # pixels per metre: the height of turtlesim's turtle images
@@ -63,10 +62,6 @@ class PathImage:
         header = struct.pack('>IIBBBBB', self.size, self.size, 8, 6, 0, 0, 0)
         return (b'\x89PNG\r\n\x1a\n' + _chunk(b'IHDR', header) +
                 _chunk(b'IDAT', zlib.compress(raw, 6)) + _chunk(b'IEND', b''))
-
-
-def png_base64(image: PathImage) -> str:
-    return base64.b64encode(image.png()).decode('ascii')
 
 
 def _chunk(kind: bytes, data: bytes) -> bytes:

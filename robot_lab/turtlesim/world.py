@@ -110,6 +110,16 @@ class World:
         with self._lock:
             return self.turtles.get(name)
 
+    def scene(self) -> list[tuple[str, float, float, float, int]]:
+        """Every turtle's name, x, y, theta and picture, as a window would draw them."""
+        with self._lock:
+            return [(t.name, t.x, t.y, t.theta, t.image) for t in self.turtles.values()]
+
+    def picture(self) -> bytes:
+        """The trails so far, as a PNG."""
+        with self._lock:
+            return self.image.png()
+
     def step(self, now: float, dt: float = FRAME_PERIOD) -> tuple[list[TurtleState],
                                                                   list[Segment]]:
         """One frame: every turtle moves; returns their states and the new pen strokes."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ['console', 'launch_panel', 'plot', 'robot_view', 'sliders']
+__all__ = ['console', 'launch_panel', 'plot', 'robot_view', 'sliders', 'turtlesim_view']
 
 _HOMES = {
     'plot': 'robot_lab.widgets.plot',
@@ -18,6 +18,7 @@ _HOMES = {
     'console': 'robot_lab.widgets.console',
     'launch_panel': 'robot_lab.widgets.launch_panel',
     'robot_view': 'robot_lab.widgets.robot_view',
+    'turtlesim_view': 'robot_lab.widgets.turtlesim_view',
 }
 
 

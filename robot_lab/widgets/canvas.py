@@ -18,7 +18,7 @@ from typing import Any
 import anywidget
 import traitlets
 
-__all__ = ['Chart', 'Feed', 'PoseCanvas', 'StyleBeacon', 'kit_box']
+__all__ = ['SHARED_SCRIPT', 'Chart', 'Feed', 'PoseCanvas', 'StyleBeacon', 'kit_box']
 
 # Shared by every robot_lab widget: a disconnected widget (kernel restarted or gone) is
 # greyed out and says so, instead of a tiny chain icon on controls that look usable.
@@ -107,6 +107,8 @@ function animate(root, fps, frame) {
   return () => cancelAnimationFrame(handle);
 }
 """
+
+SHARED_SCRIPT = _STYLE  # mount, sizeCanvas, animate…: for the other modules' canvas scripts
 
 _CHART_ESM = _STYLE + r"""
 function autoscale(values) {
