@@ -1,9 +1,10 @@
 """The command lines of the official ROS 2 Jazzy beginner CLI tutorials, replayed on a kit
 system, print what ros2cli prints (format, not timing).
 
-turtlesim is C++ and not on PyPI, so its roles go to the kit's nodes: /sensor, /controller
-and /robot for the topics and parameters, /switch (std_srvs SetBool/Trigger) for the
-services, /fibonacci_action_server (test_msgs Fibonacci) for the actions. The expected texts
+Most commands run on the kit's own nodes as stand-ins (/sensor, /controller and /robot for
+the topics and parameters, /switch for services, /fibonacci_action_server for actions);
+the last tests run the services, parameters and actions tutorials on the kit's turtlesim,
+exactly as the pages write them. The expected texts
 are ros2cli's (ros2topic, ros2service, ros2action, ros2param, ros2node, ros2interface,
 ros2doctor on the jazzy branch) and rosbag2's. One system serves every test; commands that
 only wait for discovery run in parallel.
@@ -335,3 +336,129 @@ def test_launch_doctor_pkg_tutorials(out: dict[str, str], tmp_path: Path) -> Non
     assert created.returncode == 0, created.stderr
     assert (tmp_path / 'my_package' / 'my_package' / 'my_node.py').is_file()
     assert '<license>Apache-2.0</license>' in (tmp_path / 'my_package' / 'package.xml').read_text()
+
+
+# ----------------------------------------------------------------------------- turtlesim
+# The same tutorials on the kit's turtlesim, as they are written: these tests come last in
+# the module, so the stand-ins' exact lists above never see turtlesim's nodes.
+
+@pytest.fixture(scope='module')
+def turtlesim(system: dict[str, Proc]) -> Iterator[Proc]:
+    """`ros2 run turtlesim turtlesim_node` and `ros2 run turtlesim turtle_teleop_key` (the
+    teleop in a terminal of its own: a pty)."""
+    import pty
+
+    from robot_lab.process import spawn
+
+    sim = Proc([str(BIN / 'ros2'), 'run', 'turtlesim', 'turtlesim_node'])
+    main, child = pty.openpty()
+    teleop = spawn([str(BIN / 'ros2'), 'run', 'turtlesim', 'turtle_teleop_key'],
+                   stdin=child, stdout=child, stderr=child)
+    os.close(child)
+    try:
+        sim.wait_for(r'Spawning turtle \[turtle1\]', timeout=60)
+        robot_lab.wait_for_nodes(['/turtlesim', '/teleop_turtle'], timeout=60)
+        yield sim
+    finally:
+        os.write(main, b'q')
+        try:
+            teleop.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            teleop.kill()
+            teleop.wait()
+        os.close(main)
+        sim.stop()
+
+
+def test_turtlesim_services_tutorial(turtlesim: Proc) -> None:
+    kind, found, info, spawn_type, listed = ok_all(
+        ('service', 'type', '/clear'), ('service', 'find', 'std_srvs/srv/Empty'),
+        ('service', 'info', '/clear'), ('interface', 'show', 'turtlesim/srv/Spawn'),
+        ('service', 'list', '-t'))
+    assert kind == 'std_srvs/srv/Empty\n'
+    assert found == '/clear\n/reset\n'
+    assert info == 'Type: std_srvs/srv/Empty\nClients count: 0\nServices count: 1\n'
+    assert spawn_type == (
+        'float32 x\nfloat32 y\nfloat32 theta\n'
+        'string name # Optional.  A unique name will be created and returned if this is empty\n'
+        '---\nstring name\n')
+    for line in ('/clear [std_srvs/srv/Empty]', '/kill [turtlesim/srv/Kill]',
+                 '/reset [std_srvs/srv/Empty]', '/spawn [turtlesim/srv/Spawn]',
+                 '/turtle1/set_pen [turtlesim/srv/SetPen]',
+                 '/turtle1/teleport_absolute [turtlesim/srv/TeleportAbsolute]',
+                 '/turtle1/teleport_relative [turtlesim/srv/TeleportRelative]',
+                 '/teleop_turtle/set_parameters [rcl_interfaces/srv/SetParameters]'):
+        assert line in listed.splitlines(), listed
+    assert ok('interface', 'show', 'std_srvs/srv/Empty') == '---\n'
+    cleared = ok('service', 'call', '/clear', 'std_srvs/srv/Empty')
+    assert cleared.removeprefix('waiting for service to become available...\n') == (
+        'requester: making request: std_srvs.srv.Empty_Request()\n\n'
+        'response:\nstd_srvs.srv.Empty_Response()\n\n')
+    spawned = ok('service', 'call', '/spawn', 'turtlesim/srv/Spawn',
+                 "{x: 2, y: 2, theta: 0.2, name: ''}")
+    assert spawned.removeprefix('waiting for service to become available...\n') == (
+        "requester: making request: turtlesim.srv.Spawn_Request(x=2.0, y=2.0, theta=0.2, "
+        "name='')\n\nresponse:\nturtlesim.srv.Spawn_Response(name='turtle2')\n\n")
+
+
+def test_turtlesim_parameters_tutorial(turtlesim: Proc, tmp_path: Path) -> None:
+    listed, got = ok_all(('param', 'list', '/turtlesim'),
+                         ('param', 'get', '/turtlesim', 'background_g'))
+    assert listed.splitlines() == [
+        '  background_b', '  background_g', '  background_r', '  holonomic',
+        '  qos_overrides./parameter_events.publisher.depth',
+        '  qos_overrides./parameter_events.publisher.durability',
+        '  qos_overrides./parameter_events.publisher.history',
+        '  qos_overrides./parameter_events.publisher.reliability',
+        '  start_type_description_service', '  use_sim_time']
+    assert got == 'Integer value is: 86\n'
+    assert ok('param', 'set', '/turtlesim', 'background_r', '150') == \
+        'Set parameter successful\n'
+    dumped = ros2('param', 'dump', '/turtlesim')
+    (tmp_path / 'turtlesim.yaml').write_text(dumped.stdout)  # `> turtlesim.yaml`
+    assert dumped.stdout.startswith('/turtlesim:\n  ros__parameters:\n    background_b: 255\n'
+                                    '    background_g: 86\n    background_r: 150\n')
+    assert ('    qos_overrides:\n      /parameter_events:\n        publisher:\n'
+            '          depth: 1000\n          durability: volatile\n'
+            '          history: keep_last\n          reliability: reliable\n'
+            ) in dumped.stdout
+    loaded = ros2('param', 'load', '/turtlesim', 'turtlesim.yaml', cwd=tmp_path)
+    assert 'Set parameter background_r successful\n' in loaded.stdout
+    assert ("Set parameter qos_overrides./parameter_events.publisher.depth failed: parameter "
+            "'qos_overrides./parameter_events.publisher.depth' cannot be set because it is "
+            "read-only\n") in loaded.stderr
+    ok('param', 'set', '/turtlesim', 'background_r', '69')
+
+
+def test_turtlesim_actions_tutorial(turtlesim: Proc) -> None:
+    sim_info, teleop_info, typed, kind, info, shown = ok_all(
+        ('node', 'info', '/turtlesim'), ('node', 'info', '/teleop_turtle'),
+        ('action', 'list', '-t'), ('action', 'type', '/turtle1/rotate_absolute'),
+        ('action', 'info', '/turtle1/rotate_absolute'),
+        ('interface', 'show', 'turtlesim/action/RotateAbsolute'))
+    assert sim_info.endswith('  Action Servers:\n'
+                             '    /turtle1/rotate_absolute: turtlesim/action/RotateAbsolute\n'
+                             '  Action Clients:\n\n'), sim_info
+    assert teleop_info.endswith(
+        '  Action Clients:\n    /turtle1/rotate_absolute: turtlesim/action/RotateAbsolute\n')
+    assert '/turtle1/rotate_absolute [turtlesim/action/RotateAbsolute]' in typed.splitlines()
+    assert kind == 'turtlesim/action/RotateAbsolute\n'
+    assert info == ('Action: /turtle1/rotate_absolute\nAction clients: 1\n    /teleop_turtle\n'
+                    'Action servers: 1\n    /turtlesim\n')
+    assert shown == ('# The desired heading in radians\nfloat32 theta\n---\n'
+                     '# The angular displacement in radians to the starting position\n'
+                     'float32 delta\n---\n# The remaining rotation in radians\n'
+                     'float32 remaining\n')
+    goal = ok('action', 'send_goal', '/turtle1/rotate_absolute',
+              'turtlesim/action/RotateAbsolute', '{theta: 1.57}')
+    assert re.fullmatch(
+        r'Waiting for an action server to become available\.\.\.\nSending goal:\n'
+        r'     theta: 1\.57\n\nGoal accepted with ID: [0-9a-f]{32}\n\n'
+        r'Result:\n    delta: -1\.5\d*\n\nGoal finished with status: SUCCEEDED\n', goal), goal
+    turtlesim.wait_for(r'\[turtlesim\]: Rotation goal completed successfully')
+    feedback = ok('action', 'send_goal', '/turtle1/rotate_absolute',
+                  'turtlesim/action/RotateAbsolute', '{theta: -1.57}', '--feedback')
+    assert re.search(r'Goal accepted with ID: [0-9a-f]{32}\n\n'
+                     r'(Feedback:\n    remaining: -?[\d.]+(e-\d+)?\n\n)+'
+                     r'Result:\n    delta: [\d.]+\n\n'
+                     r'Goal finished with status: SUCCEEDED\n$', feedback), feedback

@@ -89,8 +89,8 @@ class _RawTerminal:
         termios.tcsetattr(self.fd, termios.TCSANOW, self.cooked)
 
 
-def main(args: Sequence[str] | None = None) -> int:
-    """The `turtle_teleop_key` executable."""
+def main(args: Sequence[str] | None = None) -> None:
+    """The `turtle_teleop_key` executable (exit status 1 without a terminal)."""
     import rclpy
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.signals import SignalHandlerOptions
@@ -101,7 +101,7 @@ def main(args: Sequence[str] | None = None) -> int:
         print('turtle_teleop_key reads keys from a terminal: run it in a terminal '
               '(JupyterLab: File > New > Terminal), not from a notebook cell or a pipe',
               file=sys.stderr)
-        return 1
+        raise SystemExit(1) from None
     running = threading.Event()
     running.set()
     signal.signal(signal.SIGINT, lambda *_: running.clear())
@@ -128,7 +128,6 @@ def main(args: Sequence[str] | None = None) -> int:
         executor.shutdown()
         node.destroy_node()
         rclpy.utilities.try_shutdown()
-    return 0
 
 
 def _spin(executor: Any, running: threading.Event) -> None:
@@ -137,4 +136,4 @@ def _spin(executor: Any, running: threading.Event) -> None:
 
 
 if __name__ == '__main__':
-    sys.exit(main())
+    main()
