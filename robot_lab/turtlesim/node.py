@@ -22,8 +22,8 @@ from typing import Any
 from geometry_msgs.msg import Twist
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor, ParameterEvent
 from rclpy.action.server import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
 from std_msgs.msg import String
 from std_srvs.srv import Empty, Trigger
 from turtlesim.action import RotateAbsolute
@@ -63,12 +63,13 @@ class _TurtleEndpoints:
             node.create_service(TeleportAbsolute, f'{name}/teleport_absolute',
                                 lambda req, res: _teleport_absolute(turtle, req, res)),
         ]
+        async def execute(handle: Any) -> RotateAbsolute.Result:  # a coroutine for rclpy
+            return await node.execute_rotation(turtle, handle)
+
         self.rotate = ActionServer(
-            node, RotateAbsolute, f'{name}/rotate_absolute',
-            lambda handle: node.execute_rotation(turtle, handle),
+            node, RotateAbsolute, f'{name}/rotate_absolute', execute,
             goal_callback=lambda _goal: GoalResponse.ACCEPT,
-            cancel_callback=lambda _handle: CancelResponse.ACCEPT,
-            callback_group=node.actions)
+            cancel_callback=lambda _handle: CancelResponse.ACCEPT)
 
     def destroy(self) -> None:
         node = self.node
@@ -108,7 +109,6 @@ class TurtlesimNode(CppNode):
                 integer_range=[channel]))
         self.declare_parameter('holonomic', False, ParameterDescriptor(
             description='If true, then turtles will be holonomic'))
-        self.actions = ReentrantCallbackGroup()
         self._endpoints: dict[str, _TurtleEndpoints] = {}
         self._strokes: list[Segment] = []
         self._generation = 0
@@ -127,8 +127,7 @@ class TurtlesimNode(CppNode):
         self.get_logger().info(
             f'Starting turtlesim with node name {self.get_fully_qualified_name()}')
         self.world.start(self._now())
-        self.create_timer(FRAME_PERIOD, self._frame,
-                          callback_group=MutuallyExclusiveCallbackGroup())
+        self.create_timer(FRAME_PERIOD, self._frame)
 
     def _now(self) -> float:
         return float(self.get_clock().now().nanoseconds) * 1e-9
@@ -147,18 +146,19 @@ class TurtlesimNode(CppNode):
         holonomic = bool(self.get_parameter('holonomic').value)
         turtle.command(msg.linear.x, msg.linear.y, msg.angular.z, self._now(), holonomic)
 
-    def execute_rotation(self, turtle: Turtle, handle: Any) -> RotateAbsolute.Result:
-        """Runs until the frame loop finishes the goal (reached, canceled or aborted)."""
+    async def execute_rotation(self, turtle: Turtle, handle: Any) -> RotateAbsolute.Result:
+        """Waits (without a thread) until the frame ends the goal: reached, canceled or
+        aborted. Everything runs on the node's one executor thread, as turtlesim's Qt loop
+        does, so a goal, a command and a frame never interleave."""
         def feedback(remaining: float) -> None:
             handle.publish_feedback(RotateAbsolute.Feedback(remaining=remaining))
 
+        finished = Future()
         goal = RotateGoal(handle.request.theta, 0.0,
                           is_canceling=lambda: bool(handle.is_cancel_requested),
-                          on_feedback=feedback)
+                          on_feedback=feedback, on_finish=finished.set_result)
         turtle.rotate(goal)
-        while not goal.done.wait(0.1):
-            if not self.context.ok():
-                goal.finish('aborted')
+        await finished
         result = RotateAbsolute.Result(delta=goal.delta)
         if goal.outcome == 'succeeded':
             handle.succeed()
@@ -229,7 +229,7 @@ class TurtlesimNode(CppNode):
 
 def main(args: Sequence[str] | None = None) -> None:
     """The `turtlesim_node` executable."""
-    run_node(TurtlesimNode, args, threads=4)
+    run_node(TurtlesimNode, args)
 
 
 if __name__ == '__main__':

@@ -76,6 +76,7 @@ class RotateGoal:
     start: float
     is_canceling: Callable[[], bool] = lambda: False
     on_feedback: Callable[[float], None] = lambda remaining: None
+    on_finish: Callable[[str], None] = lambda outcome: None
     outcome: str | None = None  # 'succeeded' | 'canceled' | 'aborted'
     delta: float = 0.0
     done: threading.Event = field(default_factory=threading.Event)
@@ -83,6 +84,7 @@ class RotateGoal:
     def finish(self, outcome: str) -> None:
         self.outcome = outcome
         self.done.set()
+        self.on_finish(outcome)
 
 
 @dataclass

@@ -261,6 +261,7 @@ class TurtlesimView:
                     linewidth=w * 0.6)
         for _name, x, y, theta, image in turtles:
             ax.plot([x], [y], marker=(3, 0, math.degrees(theta) - 90), markersize=14,
+                    markeredgecolor='black',
                     color=SHELLS[int(image) % len(SHELLS)])
         ax.set_xlim(0, CANVAS)
         ax.set_ylim(0, CANVAS)
