@@ -103,8 +103,9 @@ def test_services_spawn_kill_pen_teleport_clear(sim: Proc) -> None:
     assert again.name == ''
     sim.wait_for(r'\[ERROR\] .*A turtle named \[turtle2\] already exists')
     assert round(pose('turtle2').x, 3) == 2.0
+    # quoted: YAML 1.1 reads a bare `off` as false, on a real install too
     robot_lab.call_service('/turtle2/set_pen', 'turtlesim/srv/SetPen',
-                           "{r: 255, g: 0, b: 0, width: 5, 'off': 0}")  # YAML 1.1 reads a bare off as false
+                           "{r: 255, g: 0, b: 0, width: 5, 'off': 0}")
     robot_lab.call_service('/turtle2/teleport_absolute', 'turtlesim/srv/TeleportAbsolute',
                            '{x: 4.0, y: 2.0, theta: 0.0}')
     moved = until(lambda: round(pose('turtle2').x, 3) == 4.0, 'teleported')
