@@ -21,7 +21,7 @@ _PARAMETER_EVENTS_QOS = {'depth': 1000, 'durability': 'volatile', 'history': 'ke
                          'reliability': 'reliable'}
 
 
-class CppNode(Node):  # type: ignore[misc]
+class CppNode(Node):
     """An rclpy Node whose parameters look and refuse as an rclcpp node's do."""
 
     def __init__(self, name: str, **kwargs: Any) -> None:

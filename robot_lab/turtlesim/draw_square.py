@@ -24,7 +24,7 @@ __all__ = ['DrawSquare', 'main']
 PI = 3.141592  # upstream's own
 
 
-class DrawSquare(Node):  # type: ignore[misc]
+class DrawSquare(Node):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__('draw_square', **kwargs)
         self.twist = self.create_publisher(Twist, 'turtle1/cmd_vel', topic_qos())

@@ -20,7 +20,7 @@ from robot_lab.turtlesim.node import topic_qos
 __all__ = ['MimicNode', 'main']
 
 
-class MimicNode(Node):  # type: ignore[misc]
+class MimicNode(Node):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__('turtle_mimic', **kwargs)
         self.twist = self.create_publisher(Twist, 'output/cmd_vel', topic_qos())

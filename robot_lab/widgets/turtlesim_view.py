@@ -105,7 +105,7 @@ export default { render };
 """.replace('SHELLS', json.dumps(SHELLS)).replace('CANVAS', repr(CANVAS))
 
 
-class TurtleCanvas(anywidget.AnyWidget):  # type: ignore[misc]
+class TurtleCanvas(anywidget.AnyWidget):
     """What the browser draws for a TurtlesimView."""
 
     _esm = _ESM
