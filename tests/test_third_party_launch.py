@@ -121,14 +121,15 @@ def test_print_leaves_an_include_that_needs_its_context(tmp_path: Path) -> None:
 
 
 def test_missing_package_is_one_line_and_nothing_starts(ros_domain: int) -> None:
-    """Running a tutorial file whose package is C++ (turtlesim): one line at the <node>."""
-    result = subprocess.run([str(BIN / 'robot-lab'), 'launch', 'docs__turtlesim_mimic_launch.xml'],
+    """Running a tutorial file whose package is C++ (demo_nodes_cpp): one line at the
+    <node>. (turtlesim was this example until the kit had one.)"""
+    result = subprocess.run([str(BIN / 'robot-lab'), 'launch', 'docs__my_script_launch.xml'],
                             cwd=DATA, capture_output=True, text=True, timeout=60, check=False)
     assert result.returncode == 1
     assert result.stdout == ''
     assert result.stderr.splitlines() == [
-        f"{DATA / 'docs__turtlesim_mimic_launch.xml'}:2: Package 'turtlesim' not found "
-        + result.stderr.split("Package 'turtlesim' not found ", 1)[1].rstrip('\n')]
+        f"{DATA / 'docs__my_script_launch.xml'}:2: Package 'demo_nodes_cpp' not found "
+        + result.stderr.split("Package 'demo_nodes_cpp' not found ", 1)[1].rstrip('\n')]
 
 
 def test_launch_counters_example_runs_with_its_io_handler(ros_domain: int) -> None:

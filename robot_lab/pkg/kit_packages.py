@@ -58,7 +58,12 @@ KIT_PACKAGES: tuple[str, ...] = (
 # Each becomes <venv>/lib/<package>/<executable>, a script running `func()` of `module`
 # with the venv's Python, so `ros2 run <package> <executable>` and launch files find it.
 KIT_EXECUTABLES: dict[str, dict[str, str]] = {
-    'turtlesim': {},
+    'turtlesim': {
+        'turtlesim_node': 'robot_lab.turtlesim.node:main',
+        'turtle_teleop_key': 'robot_lab.turtlesim.teleop:main',
+        'draw_square': 'robot_lab.turtlesim.draw_square:main',
+        'mimic': 'robot_lab.turtlesim.mimic:main',
+    },
 }
 
 _MARKERS = Path('share', 'ament_index', 'resource_index', 'packages')
