@@ -6,12 +6,16 @@ messages 0, 1, 2, …, so a gap or a duplicate in the bag is visible.
 
 from __future__ import annotations
 
+import shutil
 import signal
 import sys
+import time
 from pathlib import Path
 
 import pytest
 from conftest import run_cli
+
+from robot_lab.errors import BagError
 
 # Publishes N std_msgs/Int32 (data = 0..N-1) on /burst at RATE Hz, reliably, once the
 # recorder's subscription matched; prints progress; waits until all are acknowledged.
@@ -49,6 +53,20 @@ def _numbers(bag: Path) -> list[int]:
     with Reader(bag) as reader:
         return [store.deserialize_cdr(data, conn.msgtype).data
                 for conn, _, data in reader.messages()]
+
+
+def _flushed(bag: Path, probe: Path) -> int:
+    """Messages a running recording has on disk: a copy of its folder, reindexed."""
+    from robot_lab.bag import reindex
+
+    shutil.rmtree(probe, ignore_errors=True)
+    if not bag.is_dir():
+        return 0
+    shutil.copytree(bag, probe)
+    try:
+        return reindex(probe).message_count
+    except BagError:  # nothing readable yet
+        return 0
 
 
 def test_1khz_reliable_publisher_is_recorded_completely(start, tmp_path: Path) -> None:
@@ -89,6 +107,11 @@ def test_kill_9_then_info_explains_and_reindex_recovers(
     publisher = start(sys.executable, '-c', PUBLISHER, '3000', '1000')
     recorder.wait_for(r"Subscribed to topic '/burst'")
     publisher.wait_for(r'sent 1500', timeout=30)
+    # Kill once 500 messages are on disk (a copy of the bag reindexes to them): on a loaded
+    # host the recorder can lag the publisher by more than its 0.5 s flush.
+    deadline = time.monotonic() + 60
+    while _flushed(bag, tmp_path / 'probe') < 500:
+        assert time.monotonic() < deadline, 'the recorder flushed < 500 messages in 60 s'
     recorder.popen.kill()
     recorder.popen.wait(10)
 
