@@ -292,3 +292,18 @@ def test_launch_two_turtlesims_with_mimic(ros_domain: int) -> None:
         assert math.dist((pose(ns='/turtlesim2').x, 0), (start.x, 0)) > 0.3
     finally:
         launch.stop()
+
+
+def test_launching_nodes_tutorial_multisim(ros_domain: int) -> None:
+    """`ros2 launch turtlesim multisim.launch.py`, then drive turtlesim1 only."""
+    launch = Proc([str(BIN / 'ros2'), 'launch', 'turtlesim', 'multisim.launch.py'])
+    try:
+        launch.wait_for(r'\[turtlesim_node-1\].*Starting turtlesim with node name '
+                        r'/turtlesim1/turtlesim', timeout=60)
+        launch.wait_for(r'\[turtlesim_node-2\].*Starting turtlesim with node name '
+                        r'/turtlesim2/turtlesim', timeout=60)
+        robot_lab.publish('/turtlesim1/turtle1/cmd_vel', 'geometry_msgs/msg/Twist', TWIST)
+        until(lambda: pose(ns='/turtlesim1').linear_velocity == 2.0, 'turtlesim1 drives')
+        assert pose(ns='/turtlesim2').linear_velocity == 0.0  # the other one stays
+    finally:
+        launch.stop()
