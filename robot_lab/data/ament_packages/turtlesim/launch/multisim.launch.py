@@ -1,8 +1,9 @@
 """Two turtlesims side by side, /turtlesim1 and /turtlesim2 (the *Launching nodes* tutorial:
 `ros2 launch turtlesim multisim.launch.py`), as turtlesim's own launch file starts them."""
 
-from launch import LaunchDescription
 from launch_ros.actions import Node
+
+from launch import LaunchDescription
 
 
 def generate_launch_description():
