@@ -142,6 +142,7 @@ def test_the_worksheet_is_written_back_ready_to_import(moodle_class: dict[str, o
     assert by_id['Participant 1002'][4] == '80.00'  # 10.4/13 after the late penalty
     assert by_id['Participant 1003'][4] == '69.23'
     assert by_id['Participant 1004'][4] == '0.00'
+    assert by_id['Participant 1004'][9].startswith('0/13. No check met')
     assert by_id['Participant 1005'][4] == ''  # no hand-in: left for the instructor
     assert by_id['Participant 1003'][9].startswith(
         '9/13. Not met: controller_commands, actuator_logs.')

@@ -117,3 +117,13 @@ def test_unclear_inputs_are_one_line_errors(tmp_path: Path) -> None:
         read_roster(tmp_path / 'other.csv')
     with pytest.raises(RobotLabError, match='--only: no hand-in for zed'):
         select([Submission('ann', tmp_path)], ['ann', 'zed'])
+
+
+def test_the_lms_comment_is_short_and_says_what_to_read() -> None:
+    from robot_lab.grading.roster import comment
+
+    missed = _report('wei', 0.0)
+    assert comment(missed) == '1/3. Not met: builds. Details in the feedback file.'
+    nothing = _report('gus', 0.0)
+    nothing.checks[1].score = 0.0
+    assert comment(nothing).startswith('0/3. No check met (nothing could be graded')

@@ -221,7 +221,12 @@ def comment(report: StudentReport) -> str:
     """A short feedback comment for the LMS: the score and what to look at."""
     missed = [c.id for c in report.checks if not c.passed]
     parts = [f'{number(report.score)}/{number(report.max_score)}.']
-    parts.append('All checks passed.' if not missed else f'Not met: {", ".join(missed)}.')
+    if not missed:
+        parts.append('All checks passed.')
+    elif len(missed) == len(report.checks) and report.score == 0:
+        parts.append('No check met (nothing could be graded: the feedback file says why).')
+    else:
+        parts.append(f'Not met: {", ".join(missed)}.')
     if report.late_days:
         parts.append(f'Late {report.late_days} day(s): -{number(report.penalty)}.')
     if report.status != 'graded':
