@@ -171,11 +171,27 @@ class Session:
         return node
 
     def remove_node(self, node: Any) -> None:
+        """Stop spinning `node`; on return its executor no longer holds it.
+
+        An executor keeps the handles of its last wait set in use until that wait ends, and
+        rclpy defers `destroy_node()` of a handle in use: a node destroyed at once would
+        keep its publishers alive a moment longer, long enough for a new node's publisher
+        of another type on the same topic to fail (`incompatible type`). A task queued
+        after the removal runs once the executor has left that wait.
+        """
         with self._nodes_lock:
             if self._nodes_executor is not None and node in self._nodes_executor.get_nodes():
-                self._nodes_executor.remove_node(node)
-                return
-        self.executor.remove_node(node)
+                executor, thread = self._nodes_executor, self._nodes_thread
+            else:
+                executor, thread = self.executor, self._thread
+        if node not in executor.get_nodes():
+            return
+        executor.remove_node(node)
+        if thread is None or not thread.is_alive() or threading.current_thread() is thread:
+            return  # nobody spins it (or this is its callback): nothing holds it after this
+        left_wait = threading.Event()
+        executor.create_task(left_wait.set)
+        left_wait.wait(2.0)
 
     def wait_future(self, future: Any, timeout: float, what: str) -> Any:
         """Wait for an rclpy future spun by the background executor; never hangs."""

@@ -122,10 +122,10 @@ BROKEN = {
     'no_controller': ({'with_controller': False}, r'missing /controller'),
     # a wrong rate in the parameter file: the rate check says how fast it really is
     'slow_sensor': ({'sensor': '<param name="sensor_rate" value="3"/>'},
-                    r'/sensor/temperature at 8–12 Hz; it runs at 3\.\d, 3\.\d Hz'),
+                    r'/sensor/temperature at 8–12 Hz; observed it runs at 3\.\d, 3\.\d Hz'),
     # a controller that is always HIGH: the status check shows what it saw instead
     'hot_controller': ({'controller': '<param name="temp_threshold" value="20.0"/>'},
-                       r"with status OK; within 5 s the last one was \{'data': 'HIGH"),
+                       r"with status OK; observed within 5 s the last one was \{'data': 'HIGH"),
 }
 
 

@@ -332,7 +332,7 @@ def _echo(args: argparse.Namespace) -> int:
 
     from robot_lab.errors import GraphError
     from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
-    from robot_lab.graph.topics import echo_stream
+    from robot_lab.graph.topics import echo_stream, unknown_topic_fix
     from robot_lab.messages import field_value
 
     topic = absolute_name(args.topic_name)
@@ -349,8 +349,7 @@ def _echo(args: argparse.Namespace) -> int:
             print(f'WARNING: topic [{topic}] does not appear to be published yet')
             raise GraphError(
                 'Could not determine the type for the passed topic',
-                fix=f'check the name with `robot-lab topic list`, or give the type: '
-                f'`robot-lab topic echo {topic} std_msgs/msg/String`',
+                fix=unknown_topic_fix(topic, sess.node.get_topic_names_and_types()),
             )
     stream = echo_stream(topic, args.message_type, timeout=args.timeout, session=sess,
                          raw=args.raw, with_info=args.include_message_info,

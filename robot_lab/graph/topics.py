@@ -9,7 +9,7 @@ import threading
 import time
 import weakref
 from collections import deque
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -48,6 +48,7 @@ __all__ = [
     'topic_info',
     'topic_list',
     'topic_type',
+    'unknown_topic_fix',
     'wait_for_subscribers',
     'wait_for_topic',
 ]
@@ -80,6 +81,20 @@ def topic_find(msg_type: str, include_hidden: bool = False, *, settle: bool = Tr
     `std_msgs/msg/String`, as the graph spells it)."""
     return [name for name, types in topic_list(include_hidden, settle=settle, session=session)
             if msg_type in types]
+
+
+def unknown_topic_fix(topic: str, known: Iterable[tuple[str, list[str]]]) -> str:
+    """The fix for a topic nobody publishes: the existing name it is closest to (a typo?),
+    with that topic's real type; never a guessed type."""
+    import difflib
+
+    types = {name: kinds for name, kinds in known if name != topic}
+    near = difflib.get_close_matches(topic, list(types), n=1, cutoff=0.75)
+    if near:
+        return (f'did you mean {near[0]} ({", ".join(types[near[0]])})? Names must match '
+                'exactly: `robot-lab topic list` shows them')
+    return ('check the name with `robot-lab topic list`, or give the type: '
+            f'`robot-lab topic echo {topic} <package>/msg/<Type>`')
 
 
 def _types_of(sess: Session, topic: str) -> list[str] | None:
@@ -222,8 +237,7 @@ def _resolve_type(sess: Session, topic: str, msg_type: str | None, timeout: floa
         raise GraphError(
             f'topic [{topic}] does not appear to be published yet: '
             'Could not determine the type for the passed topic',
-            fix=f'check the name with `robot-lab topic list`, or pass the type '
-            f'(e.g. `robot-lab topic echo {topic} std_msgs/msg/String`)',
+            fix=unknown_topic_fix(topic, sess.node.get_topic_names_and_types()),
         )
     if len(types) > 1:
         raise GraphError(

@@ -19,7 +19,9 @@ import weakref
 from collections import deque
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import IO, Any, ParamSpec, Protocol, TypeVar
+from typing import IO, Any, ParamSpec, TypeVar
+
+from robot_lab.notebook_cell import Closable, cell_owns, current_cell
 
 __all__ = ['WidgetLog', 'close_widgets', 'current_cell', 'in_ci', 'is_headless', 'owned_by_cell',
            'routed_to', 'scroll_box']
@@ -57,31 +59,6 @@ def is_headless() -> bool:
     return shell is None or not hasattr(shell, 'kernel')
 
 
-def current_cell() -> tuple[str, str] | None:
-    """(cell id, id of this run) of the notebook cell executing now; None outside a frontend.
-
-    JupyterLab names the cell in each execute request's metadata (`cellId`); the request's
-    own message id tells one run of that cell from the next.
-    """
-    try:
-        from IPython import get_ipython
-    except ImportError:
-        return None
-    kernel = getattr(get_ipython(), 'kernel', None)
-    if kernel is None:
-        return None
-    parent = kernel.get_parent() or {}
-    cell = (parent.get('metadata') or {}).get('cellId')
-    run = (parent.get('header') or {}).get('msg_id')
-    return (str(cell), str(run)) if cell and run else None
-
-
-class Closable(Protocol):
-    def close(self) -> None: ...
-
-
-_CELL_RUNS: dict[str, tuple[str, list[Closable]]] = {}
-_CELL_LOCK = threading.Lock()
 _OPEN: weakref.WeakSet[Any] = weakref.WeakSet()
 
 
@@ -106,21 +83,11 @@ def owned_by_cell(widget: Closable) -> None:
 
     Otherwise each re-run of `live = robot_lab.plot(...)` would leave the old plot drawing
     20 frames a second, and subscribed, for the rest of the kernel's life (its view is gone
-    from the page, so nobody could press a button to stop it).
+    from the page, so nobody could press a button to stop it). A cell that fails closes
+    what it made (robot_lab.notebook_cell).
     """
     _OPEN.add(widget)
-    where = current_cell()
-    if where is None:
-        return
-    cell, run = where
-    with _CELL_LOCK:
-        last_run, owned = _CELL_RUNS.get(cell, ('', []))
-        if last_run == run:
-            owned.append(widget)
-            return
-        _CELL_RUNS[cell] = (run, [widget])
-    for old in owned:
-        old.close()
+    cell_owns(widget)
 
 
 class _ThreadRouter:

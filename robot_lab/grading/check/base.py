@@ -1,27 +1,92 @@
-"""What every check shares: the error a failing check raises, its ✓ line, a bounded wait."""
+"""What every check shares: the error a failing check raises, its ✓ line, a bounded wait.
+
+A failing check is one `✗ expected …; observed …` line and one `Try: …` line: CheckError
+renders itself that way in IPython (`_render_traceback_`), without the kit's frames, and
+the cell still ends in an error, so nbval, nbgrader's validate and autograde see it fail.
+When the student's own code raised, the student's frames follow, and only those.
+
+Every check first closes what earlier runs of its cell started (robot_lab.notebook_cell),
+so a re-run judges the current answer alone.
+"""
 
 from __future__ import annotations
 
+import functools
 import math
 import time
+import traceback
 from collections.abc import Callable
-from typing import Any
+from pathlib import Path
+from typing import Any, ParamSpec, TypeVar
+
+from robot_lab.notebook_cell import new_run
 
 __all__ = [
     'CheckError',
     'eventually',
+    'judged',
+    'outside_the_kit',
     'passed',
     'same_value',
+    'student_frames',
     'wait_until',
 ]
 
+P = ParamSpec('P')
+R = TypeVar('R')
+
+_RED, _BOLD, _RESET = '\x1b[31m', '\x1b[1m', '\x1b[0m'
+
 
 class CheckError(AssertionError):
-    """A check cell's expectation did not hold; the message says what to try."""
+    """A check cell's expectation did not hold; the message says what to try.
 
-    def __init__(self, expected: str, seen: str, hint: str) -> None:
+    `details` (the student's frames, the last log lines) are shown under the two lines,
+    after `title`; the message itself (what graders record) stays one line.
+    """
+
+    def __init__(self, expected: str, seen: str, hint: str, details: list[str] | None = None,
+                 title: str = 'Where in your code (most recent call last):') -> None:
         self.expected, self.seen, self.hint = expected, seen, hint
-        super().__init__(f'✗ expected {expected}; {seen}. Try: {hint}')
+        self.details, self.title = list(details or []), title
+        super().__init__(f'✗ expected {expected}; observed {seen}. Try: {hint}')
+
+    def _render_traceback_(self) -> list[str]:
+        """What IPython shows for this error: two lines, then the details (no kit frames)."""
+        shown = [f'{_RED}✗ expected {self.expected}; observed {self.seen}{_RESET}',
+                 f'{_BOLD}Try:{_RESET} {self.hint}']
+        if self.details:
+            shown += ['', self.title, *self.details]
+        return shown
+
+
+def student_frames(err: BaseException, mine: Callable[[str], bool]) -> list[str]:
+    """The frames of `err`'s traceback in files `mine` accepts, formatted (source lines too)."""
+    frames = [f for f in traceback.extract_tb(err.__traceback__) if mine(f.filename)]
+    lines = [f'  {Path(f.filename).name}, line {f.lineno}, in {f.name}'
+             + (f'\n    {f.line.strip()}' if f.line else '') for f in frames]
+    text = f'{type(err).__name__}' + (f': {err}' if str(err) else '')
+    return [*lines, text] if lines else []
+
+
+def outside_the_kit(filename: str) -> bool:
+    """A frame of the student's: not the kit's, Python's or an installed library's."""
+    import sys
+
+    kit = str(Path(__file__).resolve().parents[2])
+    libraries = {sys.prefix, sys.base_prefix, sys.exec_prefix}
+    return not filename.startswith((kit, '<frozen', *libraries))
+
+
+def judged(check: Callable[P, R]) -> Callable[P, R]:
+    """A check: it first closes what earlier runs of the executing cell started."""
+
+    @functools.wraps(check)
+    def run(*args: P.args, **kwargs: P.kwargs) -> R:
+        new_run()
+        return check(*args, **kwargs)
+
+    return run
 
 
 def passed(text: str) -> None:
@@ -49,10 +114,17 @@ def same_value(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
+@judged
 def eventually(condition: Callable[[], Any], what: str, timeout: float = 5.0,
-               hint: str = 'run the cells above again, in order') -> None:
-    """`condition()` becomes truthy within `timeout` s."""
+               hint: str = 'run the cells above again, in order', seen: str | None = None
+               ) -> None:
+    """`condition()` becomes truthy within `timeout` s (0: holds now).
+
+    `seen` says what is there instead; without it the failure says only that it is not so.
+    """
     value = wait_until(condition, timeout)
     if not value:
-        raise CheckError(what, f'still not true after {timeout:g} s', hint)
+        if seen is None:
+            seen = 'it is not so' if timeout <= 0 else f'still not so after {timeout:g} s'
+        raise CheckError(what, seen, hint)
     passed(what)

@@ -6,7 +6,14 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.check.base import CheckError, passed, wait_until
+from robot_lab.grading.check.base import (
+    CheckError,
+    judged,
+    outside_the_kit,
+    passed,
+    student_frames,
+    wait_until,
+)
 
 __all__ = [
     'graph_matches',
@@ -33,6 +40,7 @@ def _deaths(launch: Any) -> list[str]:
     return notes
 
 
+@judged
 def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = None) -> None:
     """These nodes are in the graph (`ros2 node list` shows them).
 
@@ -58,6 +66,7 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = Non
     passed(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
 
 
+@judged
 def topics_exist(names: Iterable[str], timeout: float = 10.0) -> None:
     """These topics are in the graph (`ros2 topic list` shows them)."""
     from robot_lab.graph.api import topic_list
@@ -76,12 +85,38 @@ def topics_exist(names: Iterable[str], timeout: float = 10.0) -> None:
     passed(f'topics exist: {", ".join(wanted)}')
 
 
+def _type_hint(name: str, msg_type: str) -> str:
+    package, _, kind = msg_type.partition('/msg/')
+    return (f'publish {kind} on {name}: `from {package}.msg import {kind}`, '
+            f'create_publisher({kind}, …) and a {kind}() message')
+
+
+def _nobody_publishes(name: str) -> tuple[str, str]:
+    """What a check says when no message comes because no one publishes `name`: a topic
+    with a name close to it is the likely typo."""
+    import difflib
+
+    from robot_lab.graph.api import topic_list
+
+    topics = {t: kinds for t, kinds in topic_list(settle=False)}
+    near = [t for t in difflib.get_close_matches(name, list(topics), n=3, cutoff=0.6)
+            if t != name]
+    if near:
+        return (f'nothing is published on {name}; there is {near[0]} '
+                f'({", ".join(topics[near[0]])})',
+                f'is {near[0]} a typo? Topic names must match exactly: {name}')
+    return (f'no one publishes on {name}',
+            f'is the publisher running, on that topic? `robot-lab topic info -v {name}`')
+
+
+@judged
 def topic_publishes(topic: str, msg_type: str | None = None,
                     where: Callable[[Any], bool] | None = None, timeout: float = 5.0,
-                    description: str | None = None) -> Any:
+                    description: str | None = None, hint: str | None = None) -> Any:
     """A message arrives on `topic` (of `msg_type`; satisfying `where`) within `timeout` s.
 
-    Returns the first message that matched.
+    `hint` is what to try when messages come but none is as described.
+
     """
     from robot_lab.graph.topics import echo_stream
     from robot_lab.messages import message_to_dict, type_name
@@ -90,23 +125,38 @@ def topic_publishes(topic: str, msg_type: str | None = None,
     what = f'a message on {name}' + (f' {description}' if description else '')
     last: Any = None
     try:
-        for msg in echo_stream(name, None, timeout=timeout):
-            last = msg
-            if msg_type is not None and type_name(msg) != msg_type:
-                raise CheckError(what, f'{name} carries {type_name(msg)}, not {msg_type}',
-                                  'check the publisher’s message type')
-            if where is None or where(msg):
-                passed(f'{name} publishes {type_name(msg)}' +
-                    (f' {description}' if description else ''))
-                return
-    except RobotLabError as err:
-        raise CheckError(what, f'none came: {err.message}',
-                          f'is the publisher running? `robot-lab topic info -v {name}`') from None
-    seen = 'nothing arrived' if last is None else f'the last one was {message_to_dict(last)}'
-    raise CheckError(what, f'within {timeout:g} s {seen}',
-                      'look at the node’s parameters and log output')
+        stream = echo_stream(name, None, timeout=timeout)
+        try:
+            for msg in stream:
+                last = msg
+                if msg_type is not None and type_name(msg) != msg_type:
+                    raise CheckError(what, f'{name} carries {type_name(msg)}, not {msg_type}',
+                                     _type_hint(name, msg_type))
+                if where is None or where(msg):
+                    passed(f'{name} publishes {type_name(msg)}' +
+                           (f' {description}' if description else ''))
+                    return
+        finally:
+            getattr(stream, 'close', lambda: None)()  # its subscription goes now, not at GC
+    except RobotLabError:
+        seen, try_ = _nobody_publishes(name)
+        raise CheckError(what, seen, try_) from None
+    if last is None:
+        from robot_lab.graph.api import topic_info
+
+        writers = sorted({e.node_name for e in topic_info(name).publishers})
+        if writers:
+            raise CheckError(what, f'{name} has a publisher ({", ".join(writers)}), but '
+                             f'nothing arrived within {timeout:g} s',
+                             'does your code call publish() (from a timer or a callback that '
+                             'runs)?')
+        seen, try_ = _nobody_publishes(name)
+        raise CheckError(what, f'within {timeout:g} s nothing arrived: {seen}', try_)
+    raise CheckError(what, f'within {timeout:g} s the last one was {message_to_dict(last)}',
+                     hint or 'look at the node’s parameters and log output')
 
 
+@judged
 def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
                attempts: int = 2) -> None:
     """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average).
@@ -136,11 +186,17 @@ def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
     passed(f'{name} publishes at {low:g}–{high:g} Hz')
 
 
+@judged
 def graph_matches(nodes: Iterable[str], topics: Mapping[str, str], timeout: float = 5.0) -> None:
     """The running graph has exactly these nodes, and each topic carries its stated type."""
     from robot_lab.graph.api import node_list, topic_list
 
     wanted = sorted(nodes)
+    if not wanted or not topics:
+        empty = 'expected_nodes' if not wanted else 'expected_topics'
+        raise CheckError(f'your {empty} filled in', f'{empty} is empty',
+                         'write the full node names (a leading /) and, for each topic, its '
+                         'type as package/msg/Type, from what your code creates')
     if not wait_until(lambda: sorted(node_list(settle=False)) == wanted, timeout):
         seen = sorted(node_list(settle=False))
         raise CheckError(f'the nodes {", ".join(wanted)}', f'the graph has {", ".join(seen)}',
@@ -155,6 +211,11 @@ def graph_matches(nodes: Iterable[str], topics: Mapping[str, str], timeout: floa
     passed(f'{len(wanted)} nodes and {len(topics)} topics as you expected')
 
 
+def _raised(err: BaseException) -> str:
+    return type(err).__name__ + (f': {err}' if str(err) else '')
+
+
+@judged
 def wiring_is(wiring: Callable[[str], Any], topic: str, publishers: list[str],
               subscribers: list[str]) -> None:
     """The student's `wiring(topic)` returns (publishers, subscribers) as the graph has them."""
@@ -165,14 +226,18 @@ def wiring_is(wiring: Callable[[str], Any], topic: str, publishers: list[str],
         got = wiring(topic)
     except Exception as err:
         raise CheckError(f'wiring({topic!r}) to return {want}',
-                         f'it raised {type(err).__name__}: {err}',
-                         'run it in the answer cell and read the error line') from None
+                         f'it raised {_raised(err)}',
+                         'replace the placeholder in your answer cell with your code'
+                         if isinstance(err, NotImplementedError) else
+                         'run it in the answer cell and read the error line',
+                         student_frames(err, outside_the_kit)) from None
     if got is None or tuple(got) != want:
         raise CheckError(f'wiring({topic!r}) to return {want}', f'it returned {got!r}',
                          'full names: namespace + "/" + name; sorted lists; publishers first')
     passed(f'{topic}: {", ".join(want[0])} → {", ".join(want[1])}')
 
 
+@judged
 def responds(in_topic: str, msg_type: str, values: Mapping[str, Any], out_topic: str,
              where: Callable[[Any], bool], description: str, timeout: float = 5.0) -> None:
     """While `values` are published on `in_topic` (10 Hz), `out_topic` carries a match."""

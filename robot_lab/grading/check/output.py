@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.check.base import CheckError, passed, wait_until
+from robot_lab.grading.check.base import CheckError, judged, passed, wait_until
 
 __all__ = [
     'bag_contains',
@@ -30,7 +30,10 @@ def _shown(pattern: str) -> str:
     return f"'{pattern}'"
 
 
-def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
+@judged
+def logs_contain(source: Any, pattern: str, timeout: float = 10.0,
+                 hint: str = 'read the output above for errors (a process that died says why)'
+                 ) -> None:
     """A log line matching `pattern` (regex) shows up in a launch's output or a console."""
     regex = re.compile(pattern)
 
@@ -44,13 +47,15 @@ def logs_contain(source: Any, pattern: str, timeout: float = 10.0) -> None:
     found = wait_until(lambda: next((line for line in _lines() if regex.search(line)), None),
                   timeout)
     if not found:
-        tail = '\n'.join(_lines()[-8:])
+        tail = _lines()[-8:]
         raise CheckError(f'a log line matching {_shown(pattern)}',
-                          f'within {timeout:g} s the last lines were:\n{tail}\n',
-                          'read the output above for errors (a process that died says why)')
+                         f'no such line within {timeout:g} s' + (
+                             ', the last lines are below' if tail else ', and no lines at all'),
+                         hint, tail, 'The last log lines:')
     passed(f'the log shows {_shown(pattern)}')
 
 
+@judged
 def no_errors(launch: Any) -> None:
     """A launch's processes are all running and none logged at ERROR or FATAL."""
     errors = launch.logs(level='ERROR')
@@ -63,6 +68,7 @@ def no_errors(launch: Any) -> None:
     passed(f'{len(launch.processes)} processes running, no error messages')
 
 
+@judged
 def command_prints(command: str, pattern: str, seconds: float = 5.0,
                    cwd: str | Path | None = None) -> None:
     """`command` (bash, as typed in a terminal) prints a line matching `pattern` within
@@ -87,12 +93,14 @@ def command_prints(command: str, pattern: str, seconds: float = 5.0,
             out, _ = proc.communicate()
     lines = out.splitlines()
     if not any(re.search(pattern, line) for line in lines):
-        tail = '\n'.join(lines[-4:]) or '(no output)'
-        raise CheckError(f'`{command}` to print {_shown(pattern)}', f'it printed:\n{tail}\n',
-                         'read the last line: it names what is missing and how to fix it')
+        raise CheckError(f'`{command}` to print {_shown(pattern)}',
+                         f'it printed {lines[-1].strip()!r}' if lines else 'it printed nothing',
+                         'read the last line: it names what is missing and how to fix it',
+                         lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
     passed(f'`{command}` prints {_shown(pattern)}')
 
 
+@judged
 def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description: str,
                timeout: float = 5.0, last: float = 1.0) -> None:
     """The plotted values of `path` in its `last` seconds all satisfy `where` (waits)."""
@@ -111,6 +119,7 @@ def plot_shows(plot: Any, path: str, where: Callable[[float], bool], description
     passed(f'{path} {description}')
 
 
+@judged
 def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> None:
     """The bag holds at least `counts[topic]` messages of each topic (`ros2 bag info`)."""
     from robot_lab.bag.info import bag_info
@@ -118,18 +127,22 @@ def bag_contains(bag: str | Path, counts: Mapping[str, int]) -> None:
     try:
         info = bag_info(bag)
     except RobotLabError as err:
-        raise CheckError(f'a bag at {bag}', err.message, 'record it first (the cell above)') \
+        raise CheckError(f'a bag at {bag}', err.message,
+                         'record it first: run your `ros2 bag record … -o …` cell above') \
             from None
     have = {t.name: t.count for t in info.topics}
     short = {t: have.get(t, 0) for t, n in counts.items() if have.get(t, 0) < n}
     if short:
+        absent = [t for t in short if t not in have]
         raise CheckError(
             ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()),
             'the bag has ' + ', '.join(f'{c} on {t}' for t, c in short.items()),
-            'record while the nodes run, for a few seconds')
+            f'is {", ".join(absent)} in your `ros2 bag record` line? Name every topic, '
+            'separated by spaces' if absent else 'record while the nodes run, for a few seconds')
     passed('the bag holds ' + ', '.join(f'≥ {n} messages on {t}' for t, n in counts.items()))
 
 
+@judged
 def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float], bool],
                answer: Any) -> None:
     """`answer` is the bag time (s) of the first `topic` message whose `field` satisfies
@@ -143,11 +156,21 @@ def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float],
                          f'none of its {len(columns)} messages does',
                          'record again: the parameter change must fall inside the recording')
     if not isinstance(answer, int | float) or not math.isclose(answer, times[0], abs_tol=1e-6):
-        raise CheckError(f'{times[0]:.2f} s (the first match)', f'your answer is {answer!r}',
-                         'take the time of the first matching message, not the last or a count')
+        what = f'the bag time of the first {topic} message whose {field} matches'
+        if not isinstance(answer, int | float) or isinstance(answer, bool):
+            seen = f'your answer is {answer!r}, not a time in seconds'
+        elif math.isclose(answer, times[-1], abs_tol=1e-6) and len(times) > 1:
+            seen = f'{answer:.2f} s is the time of the last match'
+        elif answer == len(times) or answer == len(columns):
+            seen = f'{answer!r} is a count of messages'
+        else:
+            seen = f'{answer:.2f} s is not the time of the first match'
+        raise CheckError(what, seen, 'take the time (`.t`) of the first message that matches, '
+                                     'not the last or a count')
     passed(f'that is the time of the first {topic} message whose {field} matches')
 
 
+@judged
 def full_marks(report: str | Path) -> None:
     """`robot-lab grade -o REPORT` gave every submission in it full marks."""
     import csv

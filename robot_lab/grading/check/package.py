@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
+import traceback
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from robot_lab.grading.check.base import CheckError, passed
+from robot_lab.grading.check.base import CheckError, judged, passed, student_frames
 
 __all__ = [
     'answered',
@@ -20,8 +22,12 @@ __all__ = [
 ]
 
 
-def files_exist(root: str | Path, paths: Iterable[str]) -> None:
-    """Each of `paths` exists under `root` (a folder path ends with '/')."""
+@judged
+def files_exist(root: str | Path, paths: Iterable[str], hint: str | None = None) -> None:
+    """Each of `paths` exists under `root` (a folder path ends with '/').
+
+    `hint` says how the student makes them; by default, how a missing folder is made.
+    """
     base = Path(root)
     wanted = list(paths)
     missing = []
@@ -31,11 +37,15 @@ def files_exist(root: str | Path, paths: Iterable[str]) -> None:
         if not ok:
             missing.append(rel)
     if missing:
+        default = ('make the missing folders (`mkdir -p`) in your answer cell, run it, then '
+                   'this check again' if any(m.endswith('/') for m in missing) else
+                   'run the cell above that writes them, then this check again')
         raise CheckError(f'{", ".join(wanted)} in {base.name}/', f'missing {", ".join(missing)}',
-                          'run the cells that create them, in order')
+                         hint or default)
     passed(f'{base.name}/ has {", ".join(wanted)}')
 
 
+@judged
 def package_built(workspace: str | Path, package: str,
                   executables: Iterable[str] = ()) -> None:
     """colcon installed `package` (ament index marker, package.xml, its executables)."""
@@ -45,9 +55,12 @@ def package_built(workspace: str | Path, package: str,
             *(Path('lib') / package / exe for exe in executables)]
     missing = [str(p) for p in need if not (prefix / p).exists()]
     if missing:
+        only_executables = all(m.startswith('lib/') for m in missing)
         raise CheckError(f'{package} built and installed in install/{package}',
-                          f'missing {", ".join(missing)}',
-                          'read the build output above; fix the first error and build again')
+                         f'missing {", ".join(missing)}',
+                         'a new console script needs a build: run the colcon build cell again '
+                         '(and read its output)' if only_executables else
+                         'read the build output above; fix the first error and build again')
     exes = list(executables)
     passed(f'{package} is installed' + (f' with {", ".join(exes)}' if exes else ''))
 
@@ -56,6 +69,7 @@ def package_built(workspace: str | Path, package: str,
 _PLACEHOLDERS = ('YOUR CODE HERE', 'raise NotImplementedError')
 
 
+@judged
 def answered(path: str | Path, what: str,
              hint: str = 'replace the placeholder lines of your answer cell with your code, '
                          'then run that cell again') -> None:
@@ -71,19 +85,50 @@ def answered(path: str | Path, what: str,
     passed(f'{file.name} holds {what}')
 
 
+class _InKernel:
+    """A node node_starts spins in the kernel, owned by the check cell's run."""
+
+    def __init__(self, node: Any) -> None:
+        self.node = node
+
+    def close(self) -> None:
+        stop_node(self.node)
+
+    def __repr__(self) -> str:
+        return f'<node {self.node.get_name()} started by a check>'
+
+
+def _destroy_half_built(err: BaseException) -> None:
+    """A constructor that raised after `super().__init__` leaves a node with publishers in
+    this kernel's context; destroy it, or its topics keep their (maybe wrong) types."""
+    from rclpy.node import Node
+
+    tb = err.__traceback__
+    while tb is not None:
+        candidate = tb.tb_frame.f_locals.get('self')
+        if isinstance(candidate, Node):
+            with contextlib.suppress(Exception):  # half-built indeed: nothing more to free
+                candidate.destroy_node()
+            return
+        tb = tb.tb_next
+
+
+@judged
 def node_starts(module: str, cls: str, package: str = 'my_robot_system',
                 hint: str = 'read the line named above in your answer cell, fix it, run the '
                             'cell and then this check again') -> Any:
     """The student's node class imports afresh, constructs, and spins in the kernel's session.
 
     The module is reloaded, so an edited and re-run `%%writefile` cell counts without a
-    kernel restart. Returns the node (stop it with `session.remove_node` + `destroy_node`).
+    kernel restart. The node belongs to this run of the check cell: the cell's next run, or
+    its failure, stops it (robot_lab.notebook_cell). Returns the node (`stop_node` stops it
+    sooner).
     """
     import importlib
     import sys
-    import traceback
 
     from robot_lab.context import session
+    from robot_lab.notebook_cell import cell_owns
 
     name = f'{package}.{module}'
     what = f'{cls}() from {module}.py to start'
@@ -94,20 +139,31 @@ def node_starts(module: str, cls: str, package: str = 'my_robot_system',
             else importlib.import_module(name)
         node = getattr(loaded, cls)()
     except Exception as err:
+        _destroy_half_built(err)
         frames = traceback.extract_tb(err.__traceback__)
         where = next((f'{Path(f.filename).name} line {f.lineno}' for f in reversed(frames)
                       if f.filename.endswith(f'{module}.py')), name)
+        if isinstance(err, SyntaxError) and err.filename:
+            where = f'{Path(err.filename).name} line {err.lineno}'
+            err = SyntaxError(err.msg)  # the place is said once, in `where`
         text = f'{type(err).__name__}' + (f': {err}' if str(err) else '')
         if isinstance(err, NotImplementedError):
             text += ' (the placeholder is still there)'
-        raise CheckError(what, f'{text} at {where}', hint) from None
+        elif isinstance(err, ModuleNotFoundError) and err.name in (package, name):
+            text += f' (is {package} built, and this kernel told: robot_lab.use_workspace(ws))'
+        raise CheckError(what, f'{text} at {where}', hint, student_frames(
+            err, lambda f: f.endswith(f'{module}.py'))) from None
     session().add_node(node)
+    cell_owns(_InKernel(node))
     passed(f'{cls} runs as node /{node.get_name()}')
     return node
 
 
 def stop_node(node: Any) -> None:
-    """Take a node `node_starts` returned out of the kernel's session and destroy it."""
+    """Take a node `node_starts` returned out of the kernel's session and destroy it.
+
+    Stopping a node that is stopped already does nothing.
+    """
     from robot_lab.context import session
 
     session().remove_node(node)
@@ -129,6 +185,29 @@ def _console_scripts(setup_py: Path) -> list[str]:
     return found
 
 
+def _console_scripts_differ(missing: list[str], declared: list[str],
+                            want: list[str]) -> tuple[str, str]:
+    """What is wrong with the declared console scripts: a misspelt entry, or a missing one."""
+    import difflib
+
+    extra = [d for d in declared if d not in want]
+    for wanted in missing:
+        near = difflib.get_close_matches(wanted, extra, n=1, cutoff=0.6)
+        if near:
+            return (f'setup.py declares {near[0]!r}, not {wanted!r}',
+                    'fix that string: it is `executable = package.module:function`, the module '
+                    'named as its file (without .py) and the function `main`')
+    if not declared:
+        return ('setup.py declares no console_scripts',
+                "add one 'name = package.module:main' string per node to "
+                "entry_points={'console_scripts': [...]}")
+    return (f'setup.py declares {", ".join(repr(d) for d in declared)}; '
+            f'{", ".join(repr(m) for m in missing)} is missing',
+            "add the missing 'name = package.module:main' string to "
+            "entry_points={'console_scripts': [...]}")
+
+
+@judged
 def setup_py(pkg: str | Path, executables: Mapping[str, str],
              installs: Mapping[str, str] | None = None) -> None:
     """setup.py declares `executables` (name -> 'module:function') and installs `installs`.
@@ -157,9 +236,7 @@ def setup_py(pkg: str | Path, executables: Mapping[str, str],
     missing = [w for w in want if w not in declared]
     if missing:
         raise CheckError(f'console_scripts {", ".join(repr(w) for w in want)}',
-                         f'setup.py declares {", ".join(repr(d) for d in declared) or "none"}',
-                         "add one 'name = my_robot_system.module:main' string per node to "
-                         "entry_points={'console_scripts': [...]}")
+                         *_console_scripts_differ(missing, declared, want))
     with tempfile.TemporaryDirectory() as tmp:
         probe = Path(tmp) / folder.resolve().name
         probe.mkdir()
@@ -182,6 +259,7 @@ def setup_py(pkg: str | Path, executables: Mapping[str, str],
            + (f' and installs {where}' if where else ''))
 
 
+@judged
 def launch_file_nodes(path: str | Path, nodes: Mapping[str, str]) -> None:
     """The XML launch file starts each node name with its executable and a parameter file."""
     import xml.etree.ElementTree as ElementTree
@@ -200,7 +278,9 @@ def launch_file_nodes(path: str | Path, nodes: Mapping[str, str]) -> None:
             seen = ', '.join(f'{n or "(no name)"} runs {e.get("exec")}' for n, e in found.items())
             raise CheckError(f'<node exec="{exe}" name="{name}"> in {file.name}',
                              f'it has {seen or "no <node> elements"}',
-                             'one <node pkg="…" exec="…" name="…"> per node')
+                             'one <node pkg="…" exec="…" name="…"> per node: exec= is the '
+                             'executable (console_scripts), name= the node name (the one your '
+                             'parameter file uses)')
         if not any(p.get('from') for p in el.iter('param')):
             raise CheckError(f'node {name} to load the parameter file',
                              'it has no <param from="…"/>',
@@ -208,6 +288,7 @@ def launch_file_nodes(path: str | Path, nodes: Mapping[str, str]) -> None:
     passed(f'{file.name} starts {", ".join(nodes)}, each with a parameter file')
 
 
+@judged
 def readme_explains(path: str | Path, commands: Iterable[str]) -> None:
     """The README exists and shows these commands (build, launch …)."""
     file = Path(path)

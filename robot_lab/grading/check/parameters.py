@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.check.base import CheckError, passed, same_value, wait_until
+from robot_lab.grading.check.base import CheckError, judged, passed, same_value, wait_until
 from robot_lab.grading.check.graph import topic_publishes
 
 __all__ = [
@@ -20,6 +20,7 @@ __all__ = [
 ]
 
 
+@judged
 def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> None:
     """`ros2 param get <node> <name>` gives `value` (floats compared with tolerance)."""
     from robot_lab.graph.api import param_get
@@ -55,6 +56,7 @@ def param_equals(node: str, name: str, value: Any, timeout: float = 5.0) -> None
     passed(f'{full} {name} = {value!r}')
 
 
+@judged
 def param_file_accepted(path: str | Path) -> None:
     """rcl's rules accept the parameter file (what a node given `--params-file` reads)."""
     from robot_lab.params import load_param_file
@@ -73,6 +75,7 @@ def param_file_accepted(path: str | Path) -> None:
     passed(f'rcl accepts {Path(path).name}: {summary}')
 
 
+@judged
 def param_count(path: str | Path, at_least: int) -> None:
     """The parameter file sets at least `at_least` parameters (all node sections together)."""
     from robot_lab.params import load_param_file
@@ -86,6 +89,7 @@ def param_count(path: str | Path, at_least: int) -> None:
     passed(f'{Path(path).name} sets {len(names)} parameters')
 
 
+@judged
 def param_described(node: str, name: str, low: float | None = None,
                     high: float | None = None) -> None:
     """`ros2 param describe` shows a description and, given `low`/`high`, that range."""
@@ -107,6 +111,7 @@ def param_described(node: str, name: str, low: float | None = None,
     passed(want)
 
 
+@judged
 def param_refused(node: str, name: str, value: Any, reason: str = '') -> None:
     """Setting `name` to `value` is refused (with a reason naming `reason`), value kept."""
     from robot_lab.graph.api import param_get
@@ -130,6 +135,7 @@ def param_refused(node: str, name: str, value: Any, reason: str = '') -> None:
     passed(f'{full} refuses {name} = {value!r}: {result.reason}')
 
 
+@judged
 def param_applied(node: str, name: str, value: Any, topic: str,
                   where: Callable[[Any], bool], description: str,
                   timeout: float = 5.0) -> None:

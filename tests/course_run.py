@@ -1,0 +1,125 @@
+"""Run the course notebooks in real kernels (nbclient), the way a student runs them.
+
+Shared by the mistake-path tests: a course workspace and ROS domain for the run, one kernel
+per notebook, the cells a student's copy starts from, and a probe of what a kernel still
+runs at the end (its child processes, the nodes spinning in it).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import nbformat
+from nbclient import NotebookClient
+from nbformat import NotebookNode
+
+REPO = Path(__file__).resolve().parents[1]
+NOTEBOOKS = REPO / 'notebooks'
+COURSE = ['00_welcome', '01_create_package', '02_write_nodes', '03_launch_files',
+          '04_parameters', '05_inspect_and_verify', '06_ros_bags', '07_capstone',
+          '08_debugging']
+
+# A cell that takes longer than this hangs (no cell of the course needs a minute).
+CELL_TIMEOUT = 90
+
+PROBE = """
+import json as _j, psutil as _p
+from robot_lab import context as _c
+_kids = [' '.join(k.cmdline()[:4]) for k in _p.Process().children(recursive=True)
+         if k.is_running() and k.status() != _p.STATUS_ZOMBIE]
+_nodes = [n.get_name() for s in _c._SESSIONS.values() if s._nodes_executor is not None
+          for n in s._nodes_executor.get_nodes()]
+print('PROBE ' + _j.dumps({'children': _kids, 'nodes': _nodes}))
+"""
+
+
+def source(name: str) -> NotebookNode:
+    return nbformat.read(NOTEBOOKS / f'{name}.ipynb', as_version=4)
+
+
+def student_cells(name: str) -> dict[str, NotebookNode]:
+    """The student's copy of each cell (answers replaced by nbgrader's placeholder), by id."""
+    from robot_lab.grading.exercises import student_notebook
+
+    return {c.get('id', ''): c for c in student_notebook(NOTEBOOKS / f'{name}.ipynb').cells}
+
+
+def text(cell: NotebookNode) -> str:
+    """What a cell showed: its streams and its error (as IPython rendered it)."""
+    out = []
+    for o in cell.get('outputs', []):
+        if o.output_type == 'stream':
+            out.append(o.text)
+        elif o.output_type == 'error':
+            out.append('\n'.join(o.traceback))
+    return ''.join(out)
+
+
+def error(cell: NotebookNode) -> NotebookNode | None:
+    return next((o for o in cell.get('outputs', []) if o.output_type == 'error'), None)
+
+
+def fresh(cell: NotebookNode, source_text: str | None = None) -> NotebookNode:
+    """A copy of `cell` to run again (optionally with other source)."""
+    made = copy.deepcopy(cell)
+    if made.cell_type == 'code':
+        made.outputs, made.execution_count = [], None
+    if source_text is not None:
+        made.source = source_text
+    return made
+
+
+@dataclass
+class Course:
+    """One run's workspace and domain; each notebook gets a kernel of its own."""
+
+    workspace: Path
+    domain: int
+
+    @contextmanager
+    def environment(self, name: str) -> Iterator[None]:
+        number = int(name[:2])
+        saved = {k: os.environ.get(k) for k in
+                 ('ROBOT_LAB_WORKSPACE', 'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', 'ROBOT_LAB_HEADLESS')}
+        os.environ.update({'ROBOT_LAB_WORKSPACE': str(self.workspace),
+                           # setup() picks base + lesson number: this run's domain for all
+                           'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE': str(self.domain - number),
+                           'ROBOT_LAB_HEADLESS': '1'})
+        try:
+            yield
+        finally:
+            for key, value in saved.items():
+                if value is None:
+                    os.environ.pop(key, None)
+                else:
+                    os.environ[key] = value
+
+    def run(self, name: str, cells: Sequence[NotebookNode],
+            on_cell: Callable[[int, NotebookNode], None] | None = None) -> dict[str, Any]:
+        """Execute `cells` in one new kernel (errors do not stop it); what is left running.
+
+        A cell that hangs fails the run (nbclient's CellTimeoutError names it).
+        """
+        nb = nbformat.v4.new_notebook(cells=[fresh(c) for c in cells],
+                                      metadata=source(name).metadata)
+        nb.cells.append(nbformat.v4.new_code_cell(PROBE))
+        self.workspace.mkdir(parents=True, exist_ok=True)
+        client = NotebookClient(nb, timeout=CELL_TIMEOUT, allow_errors=True,
+                                interrupt_on_timeout=False, kernel_name='robot_lab',
+                                resources={'metadata': {'path': str(self.workspace)}})
+        with self.environment(name), client.setup_kernel():
+            for index, cell in enumerate(nb.cells):
+                client.execute_cell(cell, index)
+                if on_cell is not None and index < len(nb.cells) - 1:
+                    on_cell(index, cell)
+        self.cells = nb.cells
+        last = text(nb.cells[-1])
+        found: dict[str, Any] = json.loads(last.split('PROBE ', 1)[1])
+        return found
