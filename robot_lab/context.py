@@ -14,6 +14,7 @@ import re
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -92,6 +93,8 @@ class Session:
         self._nodes_lock = threading.Lock()
         self._nodes_executor: Any = None
         self._nodes_thread: threading.Thread | None = None
+        # Exceptions raised by the callbacks of the nodes added with add_node, latest last.
+        self.callback_errors: deque[BaseException | None] = deque(maxlen=10)
         self._thread = self._start_spinning(self.executor, 'executor')
 
     def _new_executor(self) -> Any:
@@ -148,8 +151,25 @@ class Session:
                 # wait set (rclpy then meets the destroyed guard condition as None): that
                 # is the end of spinning, not an error worth a traceback at exit.
                 if self.context.ok() and not self._closing:
+                    if executor is self._nodes_executor:
+                        self._callback_failed(sys.exc_info()[1])
+                        return
                     raise
                 return
+
+    def _callback_failed(self, err: BaseException | None) -> None:
+        """A callback of a user's node raised: the thread ends, as `rclpy.spin(node)` would.
+
+        Kept for the checks (they name the line), and printed trimmed to the user's frames:
+        rclpy's executor frames say nothing about the mistake.
+        """
+        from robot_lab.notebook_cell import their_traceback
+
+        self.callback_errors.append(err)
+        shown = their_traceback(err) if err is not None else []
+        if shown:
+            print('A callback of your node raised (it stops spinning until a node is added '
+                  'again):', *shown, sep='\n', file=sys.stderr)
 
     @property
     def ok(self) -> bool:

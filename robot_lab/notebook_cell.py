@@ -18,7 +18,7 @@ import sys
 import threading
 from typing import Any, Protocol
 
-__all__ = ['Closable', 'cell_owns', 'current_cell', 'new_run']
+__all__ = ['Closable', 'cell_owns', 'current_cell', 'new_run', 'outside_the_kit', 'their_traceback']
 
 
 class Closable(Protocol):
@@ -28,6 +28,27 @@ class Closable(Protocol):
 _CELL_RUNS: dict[str, tuple[str, list[Closable]]] = {}
 _CELL_LOCK = threading.Lock()
 _HOOKED: set[int] = set()
+
+
+def outside_the_kit(filename: str) -> bool:
+    """A frame of the student's code: not the kit's, Python's or an installed library's."""
+    from pathlib import Path
+
+    kit = str(Path(__file__).resolve().parent)
+    libraries = {sys.prefix, sys.base_prefix, sys.exec_prefix}
+    return not filename.startswith((kit, '<frozen', *libraries))
+
+
+def their_traceback(err: BaseException) -> list[str]:
+    """`err`'s traceback cut to the student's frames (and the error line); [] if none."""
+    import traceback
+
+    frames = [f for f in traceback.extract_tb(err.__traceback__) if outside_the_kit(f.filename)]
+    if not frames:
+        return []
+    lines = [f'  File "{f.filename}", line {f.lineno}, in {f.name}'
+             + (f'\n    {f.line.strip()}' if f.line else '') for f in frames]
+    return [*lines, type(err).__name__ + (f': {err}' if str(err) else '')]
 
 
 def _kernel_request() -> dict[str, Any] | None:

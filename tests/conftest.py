@@ -58,15 +58,17 @@ def domain_at(offset: int) -> int:
 
 # Groups that take longest go to the workers first (the scheduler below hands groups out in
 # collection order), so the run does not end waiting on one of them.
-_SLOW_FIRST = ('notebooks', 'tests/browser/test_browser_course.py',
+_SLOW_FIRST = ('notebooks', 'browser', 'tests/test_rerun_course.py', 'tests/test_mistake_path.py',
                'tests/test_grade_package.py', 'tests/test_grading.py', 'tests/test_cli_inspect.py',
                'tests/test_graph_api.py', 'tests/test_nbgrader.py', 'tests/test_capstone.py')
 
 
 def _group(nodeid: str) -> str:
-    """The unit of work a worker gets: a test module, or all notebooks (nbval runs them in
-    order, in one workspace: 02 builds on the package 01 created)."""
+    """The unit of work a worker gets: a test module, all notebooks (nbval runs them in
+    order, in one workspace: 02 builds on the package 01 created), or the browser tests."""
     path = nodeid.split('::', 1)[0]
+    if path.startswith('tests/browser/'):
+        return 'browser'  # one set of lesson domains (80-88): the browser tests take turns
     return 'notebooks' if path.startswith('notebooks/') else path
 
 

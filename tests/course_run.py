@@ -109,6 +109,8 @@ class Course:
         """
         nb = nbformat.v4.new_notebook(cells=[fresh(c) for c in cells],
                                       metadata=source(name).metadata)
+        for n, cell in enumerate(nb.cells):
+            cell.id = f'{n}-{cell.get("id", "")}'[:64]  # copies of a cell need ids of their own
         nb.cells.append(nbformat.v4.new_code_cell(PROBE))
         self.workspace.mkdir(parents=True, exist_ok=True)
         client = NotebookClient(nb, timeout=CELL_TIMEOUT, allow_errors=True,

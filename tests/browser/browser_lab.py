@@ -35,6 +35,14 @@ LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'fa
 ERROR_MIME = 'application/vnd.jupyter.error'
 
 
+def domain_base() -> int:
+    """The browser tests' lesson domains: base + lesson number (tests/conftest.py's 80-88)."""
+    base = os.environ.get('ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', '').strip()
+    if base:
+        return int(base)
+    return (int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '0') or 0) + 80) % 92
+
+
 def chromium() -> str | None:
     """Debian's chromium, or $ROBOT_LAB_CHROMIUM; None when neither is installed."""
     for candidate in (os.environ.get('ROBOT_LAB_CHROMIUM'), shutil.which('chromium'),

@@ -49,14 +49,7 @@ WIDGET_MIME = 'application/vnd.jupyter.widget-view+json'
 SHOWS_WIDGETS = re.compile(r'robot_lab\.(plot|sliders|robot_view|graph_view|console)\(')
 
 
-def _domain_base() -> int:
-    base = os.environ.get('ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', '').strip()
-    if base:
-        return int(base)
-    return (int(os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '0') or 0) + 80) % 92
-
-
-DOMAIN_BASE = _domain_base()
+DOMAIN_BASE = browser_lab.domain_base()
 
 
 def lesson_domain(name: str) -> int:

@@ -19,10 +19,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, ParamSpec, TypeVar
 
-from robot_lab.notebook_cell import new_run
+from robot_lab.notebook_cell import new_run, outside_the_kit
 
 __all__ = [
     'CheckError',
+    'callback_failed',
     'eventually',
     'judged',
     'outside_the_kit',
@@ -69,13 +70,24 @@ def student_frames(err: BaseException, mine: Callable[[str], bool]) -> list[str]
     return [*lines, text] if lines else []
 
 
-def outside_the_kit(filename: str) -> bool:
-    """A frame of the student's: not the kit's, Python's or an installed library's."""
-    import sys
+def callback_failed(what: str) -> None:
+    """Raise CheckError if a node started in this kernel raised in a callback (a timer's, a
+    subscription's): that exception, at the student's line, is why nothing came."""
+    from robot_lab.context import session
 
-    kit = str(Path(__file__).resolve().parents[2])
-    libraries = {sys.prefix, sys.base_prefix, sys.exec_prefix}
-    return not filename.startswith((kit, '<frozen', *libraries))
+    errors = session().callback_errors
+    while errors:
+        err = errors.pop()
+        if err is None:
+            continue
+        mine = [f for f in traceback.extract_tb(err.__traceback__) if outside_the_kit(f.filename)]
+        if mine:
+            errors.clear()
+            text = type(err).__name__ + (f': {err}' if str(err) else '')
+            raise CheckError(what, f'your node stopped: its callback {mine[-1].name}() raised '
+                             f'{text} at {Path(mine[-1].filename).name} line {mine[-1].lineno}',
+                             'fix that line in your answer cell, run the cell, then this check '
+                             'again', student_frames(err, outside_the_kit))
 
 
 def judged(check: Callable[P, R]) -> Callable[P, R]:

@@ -8,6 +8,7 @@ from typing import Any
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.check.base import (
     CheckError,
+    callback_failed,
     judged,
     outside_the_kit,
     passed,
@@ -139,8 +140,10 @@ def topic_publishes(topic: str, msg_type: str | None = None,
         finally:
             getattr(stream, 'close', lambda: None)()  # its subscription goes now, not at GC
     except RobotLabError:
+        callback_failed(what)
         seen, try_ = _nobody_publishes(name)
         raise CheckError(what, seen, try_) from None
+    callback_failed(what)
     if last is None:
         from robot_lab.graph.api import topic_info
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.check.base import CheckError, judged, passed, wait_until
+from robot_lab.grading.check.base import CheckError, callback_failed, judged, passed, wait_until
 
 __all__ = [
     'bag_contains',
@@ -47,6 +47,7 @@ def logs_contain(source: Any, pattern: str, timeout: float = 10.0,
     found = wait_until(lambda: next((line for line in _lines() if regex.search(line)), None),
                   timeout)
     if not found:
+        callback_failed(f'a log line matching {_shown(pattern)}')
         tail = _lines()[-8:]
         raise CheckError(f'a log line matching {_shown(pattern)}',
                          f'no such line within {timeout:g} s' + (

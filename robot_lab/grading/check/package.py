@@ -153,6 +153,7 @@ def node_starts(module: str, cls: str, package: str = 'my_robot_system',
             text += f' (is {package} built, and this kernel told: robot_lab.use_workspace(ws))'
         raise CheckError(what, f'{text} at {where}', hint, student_frames(
             err, lambda f: f.endswith(f'{module}.py'))) from None
+    session().callback_errors.clear()  # what failed before belongs to nodes now gone
     session().add_node(node)
     cell_owns(_InKernel(node))
     passed(f'{cls} runs as node /{node.get_name()}')

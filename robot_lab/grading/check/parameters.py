@@ -104,6 +104,15 @@ def param_described(node: str, name: str, low: float | None = None,
         raise CheckError(want, err.message, 'declare it with declare_parameter(name, default, '
                                             'ParameterDescriptor(...))') from None
     rng = 'no range' if d.min_value is None else f'the range {d.min_value:g} … {d.max_value:g}'
+    if d.min_value is not None:
+        as_int = isinstance(d.min_value, int)
+        if (d.type == 'double' and as_int) or (d.type == 'integer' and not as_int):
+            given, needed = (('integer_range', 'floating_point_range=[FloatingPointRange(…)]')
+                             if as_int else
+                             ('floating_point_range', 'integer_range=[IntegerRange(…, step=1)]'))
+            raise CheckError(want, f'{name} is of type {d.type}, but its range is given as '
+                             f'{given}', f'a {d.type} takes {needed}: rclpy checks a range '
+                             'only against a value of its own type')
     if not d.description or (low is not None and (d.min_value, d.max_value) != (low, high)):
         raise CheckError(want, f'its description is {d.description!r} with {rng}',
                          'pass ParameterDescriptor(description=..., integer_range=[...] or '

@@ -1,0 +1,246 @@
+"""The course's table of mistakes and messages: for every answer cell of 01–08, what its
+check says to the released copy (unanswered) and to each plausible wrong answer.
+
+Walked in real kernels by tests/test_mistake_path.py and, for 01–03, in a real browser by
+tests/browser/test_browser_mistakes.py. Each regex is matched against the failing check's
+two lines (and the details under them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+__all__ = ['LADDERS', 'Ladder', 'Wrong']
+
+
+@dataclass(frozen=True)
+class Wrong:
+    """A plausible wrong answer: what the student did, and what the check must say."""
+
+    mistake: str
+    edit: Callable[[str], str]
+    says: str  # a regex the failing check's message must match
+    rerun: list[str] | None = None  # the cells run before its check, if not the ladder's
+
+
+def swap(*pairs: str) -> Callable[[str], str]:
+    """Replace `old` by `new` for each (old, new) pair; each old must be in the answer."""
+    def edit(text_: str) -> str:
+        for old, new in zip(pairs[::2], pairs[1::2], strict=True):
+            assert old in text_, f'{old!r} is not in the answer'
+            text_ = text_.replace(old, new)
+        return text_
+    return edit
+
+
+def keep(text_: str) -> str:
+    return text_
+
+
+@dataclass(frozen=True)
+class Ladder:
+    unanswered: str  # what the check says to the released copy
+    wrong: list[Wrong]
+    rerun: list[str] | None = None  # cells run between answer and check (default: all)
+
+
+PLACEHOLDER = r'still holds the placeholder `# YOUR CODE HERE`'
+
+# The course's table of mistakes and messages: answer cell -> what its check says to the
+# released copy and to each wrong answer. The last step of every ladder is the right answer.
+LADDERS: dict[str, Ladder] = {
+    'nb01_folders': Ladder(r'missing launch/, config/.*Try: make the missing folders', [
+        Wrong('the folders made in the workspace, not the package',
+              swap('src/my_robot_system/launch src/my_robot_system/config', 'launch config'),
+              r'observed missing launch/, config/'),
+        Wrong('only the launch folder',
+              swap('src/my_robot_system/launch src/my_robot_system/config',
+                   'src/my_robot_system/launch'),
+              r'observed missing config/.*mkdir -p'),
+    ]),
+    'nb01_build_type': Ladder(PLACEHOLDER, [
+        Wrong('no <export> around the build type',
+              swap('  <export>\n    <build_type>ament_python</build_type>\n  </export>',
+                   '  <build_type>ament_python</build_type>'),
+              r'ros2 doctor says: .*build_type'),
+        Wrong('the build type of a C++ package', swap('>ament_python</build_type>',
+                                                      '>ament_cmake</build_type>'),
+              r'ros2 doctor says: .*ament_cmake'),
+    ]),
+    'nb01_setup_py': Ladder(PLACEHOLDER, [
+        Wrong('a typo in a console_scripts entry',
+              swap("'sensor_node = my_robot_system.sensor_node:main'",
+                   "'sensor_node = my_robot_system.sensor_nod:main'"),
+              r"declares 'sensor_node = my_robot_system\.sensor_nod:main', not "
+              r"'sensor_node = my_robot_system\.sensor_node:main'.*Try: fix that string"),
+        Wrong('a missing console_scripts entry',
+              swap("            'robot_node = my_robot_system.robot_node:main',\n", ''),
+              r"'robot_node = my_robot_system\.robot_node:main' is missing"),
+        Wrong('config files not installed',
+              swap("        ('share/' + package_name + '/config', glob('config/*')),\n", ''),
+              r'expected setup\.py to install launch/\*, config/\*; observed .*config'),
+    ]),
+    'nb02_sensor': Ladder(PLACEHOLDER, rerun=['nb02-11'], wrong=[
+        Wrong('publishes String instead of Float32',
+              swap('from std_msgs.msg import Float32', 'from std_msgs.msg import Float32, String',
+                   "create_publisher(Float32, '/sensor/temperature'",
+                   "create_publisher(String, '/sensor/temperature'",
+                   'msg = Float32()\n        msg.data = value',
+                   "msg = String()\n        msg.data = f'{value:.2f}'"),
+              r'/sensor/temperature carries std_msgs/msg/String, not std_msgs/msg/Float32'
+              r'.*Try: publish Float32'),
+        Wrong('a typo in the topic name', swap("'/sensor/temperature'", "'/sensor/temprature'"),
+              r'nothing is published on /sensor/temperature; there is /sensor/temprature '
+              r'\(std_msgs/msg/Float32\).*Try: is /sensor/temprature a typo'),
+        Wrong('publishes the number, not a message',
+              swap('self.pub.publish(msg)', 'self.pub.publish(value)'),
+              r'your node stopped: its callback publish_sensor\(\) raised TypeError.* at '
+              r'sensor_node\.py line \d+.*Where in your code.*self\.pub\.publish\(value\)'),
+        Wrong('a misspelt message class',
+              swap('create_publisher(Float32,', 'create_publisher(Flaot32,'),
+              r"NameError: name 'Flaot32' is not defined at sensor_node\.py line \d+"
+              r'.*Where in your code.*sensor_node\.py, line \d+, in __init__'),
+    ]),
+    'nb02_controller': Ladder(PLACEHOLDER, [
+        Wrong('never publishes the command', swap('        self.cmd_pub.publish(cmd)\n', ''),
+              r'/cmd_vel has a publisher \(controller_node\), but nothing arrived'
+              r'.*Try: does your code call publish\(\)'),
+        Wrong('drives while HIGH, stops while OK',
+              swap('cmd.linear.x = 0.0 if high else self.max_speed',
+                   'cmd.linear.x = self.max_speed if high else 0.0'),
+              r"the last one was \{'linear': \{'x': 0\.0.*Try: cmd\.linear\.x = max_speed "
+              r'while the status is OK'),
+    ]),
+    'nb02_robot': Ladder(PLACEHOLDER, [
+        Wrong('subscribes to a misspelt topic', swap("'/robot/status'", "'/robot/stauts'"),
+              r"a log line matching 'Status: OK'; observed no such line within 10 s"
+              r".*Try: subscribe to '/robot/status'"),
+    ]),
+    'nb03_launch_xml': Ladder(PLACEHOLDER, [
+        Wrong('the node named after its executable',
+              swap('name="robot" output', 'name="robot_node" output'),
+              r"observed it starts \[.*\('robot_node', 'robot_node'\)\] as \(exec, name\)"),
+        Wrong('the robot without its launch argument',
+              swap('    <param name="robot_name" value="$(var robot_name)"/>\n', ''),
+              r'the robot gets robot_name from the launch argument; observed its parameters '
+              r'are none'),
+    ]),
+    'nb03_params_yaml': Ladder(PLACEHOLDER, [
+        Wrong('no ros__parameters level', swap('  ros__parameters:\n', ''),
+              r'robot_params\.yaml accepted by rcl; observed it is refused: .*ros__parameters'),
+    ]),
+    'nb03_sim_launch': Ladder(PLACEHOLDER, []),
+    'nb04_sensor_parameters': Ladder(PLACEHOLDER, [
+        Wrong('parameters declared without descriptors',
+              swap("self.declare_parameter('sensor_rate', 10, ParameterDescriptor(",
+                   "self.declare_parameter('sensor_rate', 10)\n        (ParameterDescriptor("),
+              r"/sensor_node sensor_rate described with the range 1 … 50; observed its "
+              r"description is '' with no range.*Try: pass ParameterDescriptor"),
+        Wrong('a parameter used but never declared',
+              swap("self.declare_parameter('noise_level', 0.1, ParameterDescriptor(",
+                   '_unused = (ParameterDescriptor('),
+              r'ParameterNotDeclaredException.*noise_level.* at sensor_node\.py line \d+'),
+        Wrong('an integer range on a double parameter',
+              swap('floating_point_range=[FloatingPointRange(from_value=0.0, to_value=5.0)]',
+                   'integer_range=[IntegerRange(from_value=0, to_value=5, step=1)]'),
+              r'noise_level is of type double, but its range is given as integer_range.*'
+              r'Try: a double takes floating_point_range'),
+    ]),
+    'nb04_controller_parameters': Ladder(PLACEHOLDER, [
+        Wrong('a callback that refuses nothing',
+              swap('if threshold > 30.0 and speed > 1.0:', 'if False:'),
+              r'/controller_node to refuse temp_threshold = 35\.0 with a reason about '
+              r'max_speed; observed it accepted it'),
+    ]),
+    'nb05_expected': Ladder(r'your expected_nodes filled in; observed expected_nodes is empty', [
+        Wrong('executable names instead of node names',
+              swap("['/sensor', '/controller', '/robot']",
+                   "['/sensor_node', '/controller_node', '/robot_node']"),
+              r'observed the graph has /controller, /robot, /sensor.*Try: node names are the '
+              r'launch file'),
+        Wrong('a type without /msg/', swap("'std_msgs/msg/Float32'", "'std_msgs/Float32'"),
+              r'/sensor/temperature of type std_msgs/Float32; observed /sensor/temperature is '
+              r'std_msgs/msg/Float32'),
+    ]),
+    'nb05_wiring': Ladder(r'it raised NotImplementedError.*Where in your code', [
+        Wrong('names without their namespace',
+              swap("return endpoint.node_namespace.rstrip('/') + '/' + endpoint.node_name",
+                   'return endpoint.node_name'),
+              r"it returned \(\['sensor'\], \['controller'\]\).*Try: full names"),
+    ]),
+    'nb06_record': Ladder(r'expected a bag at .*Try: record it first', [
+        Wrong('a topic left out of the recording', swap(' /robot/status /cmd_vel', ' /cmd_vel'),
+              r'the bag has 0 on /robot/status.*Try: is /robot/status in your `ros2 bag '
+              r'record` line'),
+    ]),
+    'nb06_stopped_at': Ladder(r'your answer is None, not a time in seconds', [
+        Wrong('the last stop, not the first',
+              swap('stopped_at = next(t for t, v in', 'stopped_at = [t for t, v in',
+                   'if v == 0.0)', 'if v == 0.0][-1]'),
+              r'observed \d+\.\d\d s is the time of the last match.*Try: take the time'),
+    ]),
+    'nb07_sensor': Ladder(PLACEHOLDER, [
+        Wrong('the wrong topic name', swap("'obstacle_distance'", "'distance'"),
+              r'nothing is published on /obstacle_distance; there is /distance'),
+    ]),
+    'nb07_controller': Ladder(PLACEHOLDER, [
+        Wrong('the speed not clamped to max_speed',
+              swap('min(max(margin, 0.0), 1.0)', 'max(margin, 0.0)'),
+              r'/cmd_vel at 0\.5 m/s for an obstacle at 3\.0 m .*observed within 5 s the last '
+              r"one was \{'linear': \{'x': 1\.25"),
+    ]),
+    'nb07_actuator': Ladder(PLACEHOLDER, [
+        Wrong('one decimal instead of two', swap('{msg.linear.x:.2f}', '{msg.linear.x:.1f}'),
+              r'a log line matching .*Command: linear.*observed no such line.*Try: log every '
+              r'command at INFO'),
+    ]),
+    'nb07_params': Ladder(PLACEHOLDER, [
+        Wrong('a flat file, as Chapter 6 writes it',
+              lambda s: '\n'.join(line.strip() for line in s.splitlines()
+                                   if 'ros__parameters' not in line and not line.endswith(
+                                       ('sensor:', 'controller:', 'actuator:'))) + '\n',
+              r'params\.yaml accepted by rcl; observed it is refused'),
+    ]),
+    'nb07_launch': Ladder(PLACEHOLDER, [
+        Wrong('the sensor named after its executable',
+              swap('exec="sensor_node" name="sensor"', 'exec="sensor_node" name="sensor_node"'),
+              r'<node exec="sensor_node" name="sensor"> in robot\.launch\.xml; observed it has '
+              r'sensor_node runs sensor_node.*name= the node name'),
+    ]),
+    'nb07_setup_py': Ladder(PLACEHOLDER, [
+        Wrong('a typo in a console_scripts entry',
+              swap("'actuator_node = multi_node_robot.actuator_node:main'",
+                   "'actuator_node = multi_node_robot.actuator:main'"),
+              r"declares 'actuator_node = multi_node_robot\.actuator:main', not"),
+    ]),
+    'nb07_readme': Ladder(r'observed it lacks colcon build, ros2 launch multi_node_robot', [
+        Wrong('no launch command', swap('ros2 launch multi_node_robot robot.launch.xml', ''),
+              r'observed it lacks ros2 launch multi_node_robot'),
+    ]),
+    'nb08_package_xml': Ladder(r'broken_robot built and installed.*Try: read the build output', [
+        Wrong('the build type of a C++ package', swap('>ament_python</build_type>',
+                                                      '>ament_cmake</build_type>'),
+              r'broken_robot built and installed.*Try: read the build output'),
+    ]),
+    'nb08_source': Ladder(r'observed the command is empty', [
+        Wrong('the forgotten source', swap('source install/setup.bash && ', ''),
+              r"it printed .*Package 'broken_robot' not found"),
+    ]),
+    'nb08_setup_py': Ladder(PLACEHOLDER, [
+        Wrong('the forgotten rebuild', keep,
+              r'missing lib/broken_robot/robot_node.*Try: a new console script needs a build',
+              rerun=[]),
+        Wrong('a typo in the new console_scripts entry',
+              swap("'robot_node = broken_robot.robot_node:main'",
+                   "'robot_node = broken_robot.robot:main'"),
+              r"declares 'robot_node = broken_robot\.robot:main', not"),
+    ]),
+    'nb08_params': Ladder(PLACEHOLDER, [
+        Wrong('values under the node, without ros__parameters', swap('  ros__parameters:\n', ''),
+              r'robot_params\.yaml accepted by rcl; observed it is refused'),
+    ]),
+    'nb08_topic': Ladder(r"a log line matching '\[robot\]: Status: OK'; observed no such line", [
+        Wrong('the fix without a restart', keep, r'observed no such line within', rerun=[]),
+    ]),
+}
