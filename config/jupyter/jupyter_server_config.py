@@ -24,6 +24,11 @@ _here = os.path.dirname(os.path.abspath(__file__))
 # The venv whose jupyter runs this server is the kit's: terminals activate it.
 os.environ.setdefault('ROBOT_LAB_VENV', sys.prefix)
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+# nbgrader's Validate handler reads the Jupyter config path at each request: this folder's
+# nbgrader_config.py makes a cell that times out fail Validate (it said "Success!").
+os.environ['JUPYTER_CONFIG_PATH'] = os.pathsep.join(
+    [_here, *(p for p in os.environ.get('JUPYTER_CONFIG_PATH', '').split(os.pathsep)
+              if p and p != _here)])
 
 c.ServerApp.ip = '127.0.0.1'
 c.ServerApp.terminado_settings = {
