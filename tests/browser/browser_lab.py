@@ -52,6 +52,21 @@ def chromium() -> str | None:
     return None
 
 
+def browser_or_skip() -> tuple[str, Any]:
+    """Debian's chromium and Playwright's sync_playwright; a test module without them skips."""
+    import pytest
+
+    found = chromium()
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:  # pragma: no cover - the test extra installs it
+        sync_playwright = None
+    if found is None or sync_playwright is None:
+        pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)',
+                    allow_module_level=True)
+    return found, sync_playwright
+
+
 def free_port() -> int:
     with socket.socket() as sock:
         sock.bind(('127.0.0.1', 0))

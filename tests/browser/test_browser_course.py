@@ -33,15 +33,7 @@ from browser_lab import REPO, VENV_BIN, Lab, Notebook, wait_until
 # A test runs the notebooks before its own first (course order): more than one's timeout.
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(900)]
 
-CHROMIUM = browser_lab.chromium()
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:  # pragma: no cover - the test extra installs it
-    sync_playwright = None
-
-if CHROMIUM is None or sync_playwright is None:
-    pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)',
-                allow_module_level=True)
+CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
 
 NOTEBOOKS = sorted(p.name for p in (REPO / 'notebooks').glob('[0-9]*.ipynb'))
 WIDGET_MIME = 'application/vnd.jupyter.widget-view+json'
