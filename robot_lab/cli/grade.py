@@ -76,7 +76,7 @@ def _list(paths: list[str]) -> int:
     from pathlib import Path
 
     from robot_lab.errors import RobotLabError
-    from robot_lab.grading.package.submission import copy_submission, find_package, find_submissions
+    from robot_lab.grading.package.submission import find_submissions, unpack
 
     entries = [e for path in paths for e in find_submissions(path)]
     width = max([len(e.student) for e in entries] + [7])
@@ -84,13 +84,12 @@ def _list(paths: list[str]) -> int:
     for entry in entries:
         with tempfile.TemporaryDirectory() as tmp:
             try:
-                unpacked = copy_submission(entry, Path(tmp))
-                package = find_package(unpacked)
-                rel = package.relative_to(unpacked)
+                package = unpack(entry, Path(tmp))
+                rel = package.relative_to(Path(tmp))
                 where = 'its top' if rel == Path('.') else f'{rel}/'
                 found = f'{entry.source.name}: package.xml at {where}'
             except RobotLabError as err:
-                found = f'{entry.source.name}: {err}'
+                found = f'{entry.source.name}: NOT GRADABLE: {err.message}'
         print(f'{entry.student:<{width}}  {found}')
     print(f'{len(entries)} student(s)')
     return 0

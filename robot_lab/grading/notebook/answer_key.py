@@ -79,10 +79,10 @@ def student_of(path: str | Path, exercise: str) -> str:
     and Moodle's `Jane Doe_123_assignsubmission_file_/ex04_parameters.ipynb` all work.
     """
     # The LMS download layouts are recognised where package submissions are.
-    from robot_lab.grading.package.submission import _student_of
+    from robot_lab.grading.package.submission import student_of as entry_student
 
     def student_name(name: str) -> str:
-        return _student_of(Path(name))
+        return entry_student(Path(name))
 
     file = Path(path)
     stem = file.stem

@@ -27,10 +27,11 @@ from robot_lab.grading.gradebook import ClassOutputs, write_class
 from robot_lab.grading.late import LatePolicy
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
 from robot_lab.grading.package.sandbox import job_domains, run_job, stop_jobs
-from robot_lab.grading.package.submission import Submission, find_submissions
+from robot_lab.grading.package.submission import Submission, find_submissions, unpack
 from robot_lab.grading.report import CheckOutcome, StudentReport
 
-__all__ = ['ClassRun', 'grade_class', 'grade_package', 'grade_packages', 'resolve_rubric']
+__all__ = ['ClassRun', 'grade_class', 'grade_package', 'grade_packages', 'not_graded',
+           'resolve_rubric']
 
 
 def resolve_rubric(lab: str | None, rubric: str | Path | None) -> Rubric:
@@ -53,6 +54,10 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
     assert rubric.source is not None
     job_dir = Path(tempfile.mkdtemp(prefix='robot_lab_grade_', dir=work))
     try:
+        try:  # unpacked here, so the job never reads the class's folder
+            unpack(submission, job_dir / 'submission')
+        except RobotLabError as err:
+            return not_graded(submission.student, rubric, err)
         (job_dir / 'job.json').write_text(json.dumps({
             'student': submission.student, 'source': str(submission.source.resolve()),
             'rubric': str(rubric.source.resolve())}))
@@ -83,6 +88,15 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
         return report
     finally:
         shutil.rmtree(job_dir, ignore_errors=True)
+
+
+def not_graded(student: str, rubric: Rubric, err: RobotLabError) -> StudentReport:
+    """A row of zeros for an entry that holds no package, saying what to hand in."""
+    why = f'{err.message} — {err.fix}' if err.fix else err.message
+    checks = [CheckOutcome(c.id, c.name, 0.0, c.points,
+                           'Not graded: there is no package to grade (see the top).')
+              for c in rubric.checks]
+    return StudentReport(student, checks, 'not graded', why, title=rubric.lab)
 
 
 def _read_report(job_dir: Path, student: str, rubric: Rubric) -> StudentReport:

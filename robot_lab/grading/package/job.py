@@ -26,7 +26,7 @@ from robot_lab.errors import RobotLabError
 from robot_lab.grading.package.registry import Stage, registered_checks
 from robot_lab.grading.package.rubric import load_rubric
 from robot_lab.grading.package.state import JobState, Verdict
-from robot_lab.grading.package.submission import Submission, copy_submission, find_package
+from robot_lab.grading.package.submission import find_package
 from robot_lab.grading.report import CheckOutcome, StudentReport
 
 __all__ = ['launch_files_of', 'main', 'param_files_of', 'run_job', 'score_stage']
@@ -140,12 +140,13 @@ def run_job(job_dir: Path) -> int:
     state = JobState(rubric)
     started = time.monotonic()
     ws = job_dir / 'ws'
+    unpacked = job_dir / 'submission'  # the grader unpacked it (package.grade)
     try:
-        unpacked = copy_submission(Submission(student, Path(job['source'])), job_dir / 'submission')
-        package = find_package(unpacked)
+        package = find_package(unpacked, shown=Path(job['source']).name)
     except RobotLabError as err:
         for check in rubric.checks:
-            _outcome(state, check.id, Verdict(False, 'a ROS 2 package', str(err), err.fix or ''))
+            _outcome(state, check.id, Verdict(False, 'a ROS 2 package', err.message,
+                                              err.fix or ''))
         _write(job_dir, state, student, started=started)
         return 0
     target = _workspace(package, unpacked, ws)
