@@ -52,6 +52,45 @@ def _tree_rss(proc: psutil.Process) -> tuple[int, int]:
     return own, total
 
 
+def _without_namespaces(fn: object, runs: int) -> float:
+    from robot_lab.grading.package.sandbox import namespaces_available
+
+    os.environ['ROBOT_LAB_GRADE_NO_NAMESPACES'] = '1'
+    namespaces_available.cache_clear()
+    try:
+        return timed(fn, runs)[0]
+    finally:
+        del os.environ['ROBOT_LAB_GRADE_NO_NAMESPACES']
+        namespaces_available.cache_clear()
+
+
+def bench_sandbox_cost(args: argparse.Namespace, one: object, sandboxed: float) -> None:
+    """What the sandbox costs a student: a job that only enters it (namespaces, read-only
+    machine, private /tmp, uid drop) with and without, and a whole package."""
+    from robot_lab.grading.package.rubric import Limits
+    from robot_lab.grading.package.sandbox import namespaces_available, run_job
+
+    if not namespaces_available():
+        print('sandbox cost: no namespaces on this machine (jobs run without the sandbox)')
+        return
+    enter_only = ('import os\nfrom robot_lab.grading.package.rubric import Limits\n'
+                  'from robot_lab.grading.package.sandbox import enter\n'
+                  "enter(Limits(), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')))\n")
+
+    def empty_job() -> None:
+        with tempfile.TemporaryDirectory() as tmp:
+            run_job(Path(tmp), args.domain, Limits(), 'bench-sandbox',
+                    argv=['-c', enter_only])
+
+    with_sandbox = timed(empty_job, max(args.runs, 5))[0]
+    without = _without_namespaces(empty_job, max(args.runs, 5))
+    plain = _without_namespaces(one, args.runs)
+    print(f'sandbox cost: {with_sandbox - without:+.2f} s per job to set up '
+          f'({with_sandbox:.2f} s vs {without:.2f} s for a job that only enters it); '
+          f'a package {sandboxed:.2f} s sandboxed vs {plain:.2f} s without '
+          f'({sandboxed - plain:+.2f} s per student)')
+
+
 def bench_packages(args: argparse.Namespace) -> None:
     from robot_lab.grading.package.grade import grade_package, resolve_rubric
     from robot_lab.grading.package.submission import Submission
@@ -68,6 +107,7 @@ def bench_packages(args: argparse.Namespace) -> None:
     runs = ', '.join(f'{t:.1f}' for t in times)
     print(f'package submission, --jobs 1: median {median:.2f} s per submission '
           f'(runs {runs}; scores {", ".join(scores)})')
+    bench_sandbox_cost(args, one, median)
     with tempfile.TemporaryDirectory() as tmp:
         class_dir = Path(tmp) / 'class'
         for i in range(args.class_size):

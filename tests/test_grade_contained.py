@@ -5,19 +5,32 @@ student's launch file, a live graph); the archive rules are checked without ROS.
 
 from __future__ import annotations
 
+import contextlib
+import csv
+import hashlib
 import io
+import os
+import shutil
+import socket
 import tarfile
 import zipfile
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
+import psutil
 import pytest
 from conftest import REPO, run_cli
 
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.package.submission import find_submissions, unpack
+from robot_lab.grading.report import safe_name
 
 DATA = REPO / 'tests' / 'data' / 'class_ch6'
 PKG = 'robot_system'
+POINT_COLUMNS = ('builds', 'launch_file', 'sensor_publishes', 'controller_commands',
+                 'actuator_logs', 'params_file', 'params_used', 'readme')
+pytestmark = pytest.mark.timeout(1800)
 
 
 def _tar(path: Path, members: dict[str, bytes], links: dict[str, str] | None = None,
@@ -107,3 +120,253 @@ def test_entries_without_a_package_say_which_file_and_what_to_hand_in(tmp_path: 
     for student, words in expected.items():
         line = next(x for x in listed.stdout.splitlines() if x.startswith(student))
         assert 'NOT GRADABLE' in line and words in line, listed.stdout
+
+
+# ---------------------------------------------------------------------------------------
+# The class: graded for real, once, at --jobs 2.
+
+ALL_POINTS = 13
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    text = path.read_text()
+    assert old in text, f'{old!r} not in {path}'
+    path.write_text(text.replace(old, new))
+
+
+def _one_process(pkg: Path) -> None:
+    """All three nodes spun by one executable (a MultiThreadedExecutor)."""
+    (pkg / PKG / 'all_nodes.py').write_text(
+        'import rclpy\nfrom rclpy.executors import MultiThreadedExecutor\n'
+        'from robot_system.actuator_node import WheelActuator\n'
+        'from robot_system.controller_node import DistanceController\n'
+        'from robot_system.sensor_node import RangeSensor\n\n\n'
+        'def main(args=None):\n    rclpy.init(args=args)\n'
+        '    executor = MultiThreadedExecutor()\n'
+        '    for node in (RangeSensor(), DistanceController(), WheelActuator()):\n'
+        '        executor.add_node(node)\n'
+        '    try:\n        executor.spin()\n    except KeyboardInterrupt:\n        pass\n'
+        '    finally:\n        rclpy.try_shutdown()\n')
+    _edit(pkg / 'setup.py', "            'actuator_node = robot_system.actuator_node:main',\n",
+          "            'actuator_node = robot_system.actuator_node:main',\n"
+          "            'all_nodes = robot_system.all_nodes:main',\n")
+    (pkg / 'launch' / 'robot.launch.xml').write_text(
+        '<launch>\n  <node pkg="robot_system" exec="all_nodes" output="screen">\n'
+        '    <param from="$(find-pkg-share robot_system)/config/params.yaml"/>\n'
+        '  </node>\n</launch>\n')
+    (pkg / 'README.md').write_text('# robot_system\n\nBuild with colcon, then launch '
+                                   '`robot.launch.xml`: one process runs all three nodes.\n')
+
+
+def _ignores_input(pkg: Path) -> None:
+    _edit(pkg / PKG / 'controller_node.py',
+          'speed = max(-limit, min(limit, gain * (msg.data - target)))', 'speed = 0.5')
+
+
+def _saturated(pkg: Path) -> None:
+    _edit(pkg / 'config' / 'params.yaml', 'gain: 0.8', 'gain: 50.0')
+
+
+def _syntax_error(pkg: Path) -> None:
+    _edit(pkg / PKG / 'controller_node.py', 'def on_distance(self, msg):',
+          'def on_distance(self, msg)')
+
+
+def _missing_module(pkg: Path) -> None:
+    _edit(pkg / 'setup.py', "'controller_node = robot_system.controller_node:main'",
+          "'controller_node = robot_system.controler_node:main'")
+
+
+def _wrong_type(pkg: Path) -> None:
+    _edit(pkg / 'config' / 'params.yaml', 'gain: 0.8', "gain: '0.8'")
+
+
+HOSTILE = """
+import os, signal, socket, subprocess, sys, time
+
+
+def attempts(node_log):
+    def attempt(what, action):
+        try:
+            action()
+            node_log(f'{what}: done')
+        except Exception as err:
+            node_log(f'{what}: {type(err).__name__}: {err}')
+
+    attempt('write outside', lambda: open(@OUTSIDE@, 'w').write('pwned'))
+    attempt('write /tmp', lambda: open('/tmp/leo_was_here', 'w').write('pwned'))
+    attempt('tamper', lambda: open(@SIBLING@, 'a').write('pwned'))
+    attempt('read ssh', lambda: open(@SSH@).read())
+    attempt('signal parent', lambda: os.kill(os.getppid(), signal.SIGTERM))
+    attempt('signal grader', lambda: os.kill(@GRADER@, signal.SIGTERM))
+    attempt('connect', lambda: socket.create_connection(('127.0.0.1', @PORT@), 2))
+    job = os.path.dirname(os.environ['ROBOT_LAB_WORKSPACE'])  # full marks, forged
+    attempt('forge', lambda: open(os.path.join(job, 'report.json'), 'w').write(
+        '{"student": "hostile", "checks": [{"id": "builds", "name": "x", "score": 99, '
+        '"max_score": 2, "output": ""}]}'))
+    if os.fork() == 0:  # a daemon that outlives its node
+        os.setsid()
+        if os.fork() == 0:
+            os.execvp(sys.executable, [sys.executable, '-c',
+                      'import time; time.sleep(900)  # robot_lab_hostile_daemon'])
+        os._exit(0)
+"""
+
+
+def _hostile(pkg: Path, root: Path, port: int) -> None:
+    """A working system whose sensor tries everything a job must not do."""
+    code = HOSTILE
+    for key, value in (('@OUTSIDE@', repr(str(root.parent / 'pwned.txt'))),
+                       ('@SIBLING@', repr(str(root / 'alice' / 'README.md'))),
+                       ('@SSH@', repr(str(Path.home() / '.ssh' / 'id_rsa'))),
+                       ('@GRADER@', str(os.getpid())), ('@PORT@', str(port))):
+        code = code.replace(key, value)
+    (pkg / PKG / 'mischief.py').write_text(code)
+    _edit(pkg / PKG / 'sensor_node.py', "        self.get_logger().info(f'range sensor publishing "
+          "at {rate} Hz')\n", "        self.get_logger().info(f'range sensor publishing at "
+          "{rate} Hz')\n        from robot_system.mischief import attempts\n"
+          '        attempts(lambda text: print(text, flush=True))\n')
+
+
+VARIANTS: dict[str, Callable[[Path], None]] = {
+    'solo': _one_process, 'ignorer': _ignores_input, 'saturated': _saturated,
+    'syntax': _syntax_error, 'missing_module': _missing_module, 'wrong_type': _wrong_type,
+}
+
+
+def _tree_digest(root: Path) -> str:
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob('*')):
+        if path.is_file():
+            digest.update(str(path.relative_to(root)).encode() + path.read_bytes())
+    return digest.hexdigest()
+
+
+@pytest.fixture(scope='module')
+def graded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Any]]:
+    base = tmp_path_factory.mktemp('contained')
+    root = base / 'class'
+    shutil.copytree(DATA / 'reference', root / 'alice')
+    for name, change in VARIANTS.items():
+        shutil.copytree(DATA / 'reference', root / name)
+        change(root / name)
+    _package_tar(root / 'gus.tar.gz', 'w:gz')
+    odd = _odd_entries(root)
+    ssh = Path.home() / '.ssh'
+    ssh.mkdir(parents=True, exist_ok=True)
+    (ssh / 'id_rsa').write_text('PRIVATE KEY\n')
+    listener = socket.socket()
+    listener.bind(('127.0.0.1', 0))
+    listener.listen(8)
+    listener.setblocking(False)
+    shutil.copytree(DATA / 'reference', root / 'hostile')
+    _hostile(root / 'hostile', root, listener.getsockname()[1])
+    before = {name: _tree_digest(root / name) for name in ('alice', 'solo')}
+    out = base / 'out'
+    done = run_cli('grade', str(root), '--lab', 'ch6-lab1', '-o', str(out), '--jobs', '2',
+                   timeout=1500)
+    connections = 0
+    with contextlib.suppress(BlockingIOError):
+        while listener.accept():
+            connections += 1
+    listener.close()
+    daemons = [p for p in psutil.process_iter(['cmdline'])
+               if 'robot_lab_hostile_daemon' in ' '.join(p.info['cmdline'] or [])]
+    yield {'done': done, 'out': out, 'root': root, 'odd': odd, 'before': before,
+           'connections': connections, 'daemons': daemons, 'base': base}
+
+
+def _grades(out: Path) -> dict[str, dict[str, str]]:
+    with (out / 'grades.csv').open() as f:
+        return {row['student']: row for row in csv.DictReader(f)}
+
+
+def _feedback(graded: dict[str, Any], student: str) -> str:
+    return (graded['out'] / 'feedback' / f'{safe_name(student)}.md').read_text()
+
+
+def test_every_entry_has_a_row_and_the_run_exits_0(graded: dict[str, Any]) -> None:
+    done = graded['done']
+    assert done.returncode == 0, done.stdout + done.stderr
+    grades = _grades(graded['out'])
+    expected = {'alice', 'gus', 'hostile', *VARIANTS, *graded['odd']}
+    assert set(grades) == expected, done.stdout
+    for student, words in graded['odd'].items():
+        assert grades[student]['score'] == '0'
+        text = _feedback(graded, student)
+        assert words in text and '.zip or .tar.gz' in text
+        assert str(graded['base']) not in text and 'robot_lab_grade_' not in text
+
+
+@pytest.mark.parametrize('student', ['alice', 'gus', 'solo', 'saturated', 'hostile'])
+def test_correct_systems_get_full_marks(graded: dict[str, Any], student: str) -> None:
+    row = _grades(graded['out'])[student]
+    assert row['score'] == str(ALL_POINTS), (row, _feedback(graded, student))
+
+
+def test_one_process_with_three_nodes_is_a_launch_file_that_starts_all(
+        graded: dict[str, Any]) -> None:
+    text = _feedback(graded, 'solo')
+    assert 'started 1 process(es) with 3 node(s)' in text
+    assert 'relaunched' in text or 'remapped' in text  # the sensor could not be paused alone
+
+
+def test_an_input_ignoring_controller_loses_only_its_check(graded: dict[str, Any]) -> None:
+    row = _grades(graded['out'])['ignorer']
+    lost = [c for c in POINT_COLUMNS if row[c] == '0']
+    assert lost == ['controller_commands'], row
+    assert 'did not follow the input' in _feedback(graded, 'ignorer')
+    assert 'its commands follow the input' in _feedback(graded, 'saturated')
+
+
+def test_a_crash_is_told_from_the_students_own_source(graded: dict[str, Any]) -> None:
+    syntax = _feedback(graded, 'syntax')
+    assert '`robot_system/controller_node.py` line' in syntax
+    assert 'def on_distance(self, msg)' in syntax and 'SyntaxError' in syntax
+    missing = _feedback(graded, 'missing_module')
+    assert 'setup.py line' in missing and 'robot_system.controler_node' in missing
+    assert "subscribe to exactly the sensor's topic" not in missing
+    wrong = _feedback(graded, 'wrong_type')
+    assert 'config/params.yaml line' in wrong and "gain: '0.8'" in wrong
+    assert 'create a timer' not in wrong
+    assert _grades(graded['out'])['wrong_type']['params_used'] == '0'  # its node died
+    for student in (*VARIANTS, 'alice', 'hostile', 'gus'):
+        text = _feedback(graded, student)
+        assert 'site-packages' not in text and 'robot_lab_grade_' not in text, student
+        if student != 'hostile':  # its notes quote the paths it tried itself
+            assert str(graded['base']) not in text, student
+
+
+def test_the_hostile_student_is_contained_and_told(graded: dict[str, Any]) -> None:
+    root, base = graded['root'], graded['base']
+    assert not (base / 'pwned.txt').exists()
+    assert not Path('/tmp/leo_was_here').exists()
+    assert 'pwned' not in (root / 'alice' / 'README.md').read_text()
+    assert graded['before'] == {n: _tree_digest(root / n) for n in graded['before']}
+    assert graded['connections'] == 0
+    assert graded['daemons'] == []
+    text = _feedback(graded, 'hostile')
+    notes = [line for line in text.splitlines() if line.startswith('> **Sandbox:**')]
+    joined = '\n'.join(notes)
+    assert 'Read-only file system' in joined or 'does not exist in the sandbox' in joined
+    assert 'SIGTERM' in joined  # its parent, the grading job, ignored it
+    assert 'network connection was refused' in joined
+    assert 'outlived the launch' in joined
+    assert 'PRIVATE KEY' not in text
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason='the refusal is for a root grader')
+def test_root_without_namespaces_refuses_unless_told(tmp_path: Path) -> None:
+    """No isolation here (as if `unshare` could not make namespaces): a root grader says
+    why it will not run students' code, in one line; --no-sandbox grades anyway."""
+    _odd_entries(tmp_path / 'class')  # entries without a package: no job is started
+    env = {'ROBOT_LAB_GRADE_NO_NAMESPACES': '1'}
+    refused = run_cli('grade', str(tmp_path / 'class'), '--lab', 'ch6-lab1', '-o',
+                      str(tmp_path / 'out'), env=env)
+    assert refused.returncode != 0
+    assert 'refusing to grade as root' in refused.stderr and '--no-sandbox' in refused.stderr
+    assert len(refused.stderr.strip().splitlines()) == 1, refused.stderr
+    done = run_cli('grade', str(tmp_path / 'class'), '--lab', 'ch6-lab1', '-o',
+                   str(tmp_path / 'out'), '--no-sandbox', env=env)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / 'out' / 'grades.csv').read_text().count('\n') == 5

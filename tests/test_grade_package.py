@@ -110,14 +110,15 @@ FAULTS: dict[str, tuple[Callable[[Path], None], set[str]]] = {
     'no_param_load': (_no_param_load, {'params_used'}),
     'wrong_topic': (_wrong_topic, {'controller_commands', 'actuator_logs'}),
     'flat_params': (_flat_params, {'params_file', 'params_used'}),
-    'actuator_crash': (_actuator_crash, {'actuator_logs'}),
+    'actuator_crash': (_actuator_crash, {'actuator_logs', 'params_used'}),  # dead: unused
     'actuator_silent': (_actuator_silent, {'actuator_logs'}),
     'two_params': (_two_params, {'params_file'}),
     'no_launch': (_no_launch, {'launch_file', 'params_used'}),
     'no_readme': (_no_readme, {'readme'}),
     'setup_syntax': (_setup_syntax, {'builds', 'sensor_publishes', 'controller_commands',
                                      'actuator_logs', 'params_used'}),
-    'busy_controller': (_busy_controller, {'controller_commands', 'actuator_logs'}),
+    'busy_controller': (_busy_controller, {'controller_commands', 'actuator_logs',
+                                           'params_used'}),  # never up: unused
     'flood_sensor': (_flood_sensor, {'sensor_publishes'}),
 }
 CORRECT = ('alice', 'bob', 'carol', 'olivia', 'mallory')

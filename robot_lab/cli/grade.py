@@ -68,6 +68,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--gradescope-autograder', metavar='ZIP',
                         help='With --lab/--rubric: write a Gradescope autograder zip '
                         '(setup.sh, run_autograder) that grades with the same checks')
+    parser.add_argument('--no-sandbox', action='store_true',
+                        help="Packages: grade even as root on a machine that cannot make "
+                        "namespaces (students' code then runs with your privileges)")
 
 
 def _list(paths: list[str]) -> int:
@@ -98,6 +101,7 @@ def _list(paths: list[str]) -> int:
 def _packages(args: argparse.Namespace) -> int:
     from robot_lab.grading.late import LatePolicy, parse_due
     from robot_lab.grading.package.grade import grade_class, resolve_rubric
+    from robot_lab.grading.package.sandbox import check_can_contain
     from robot_lab.grading.report import StudentReport, number, run_summary
 
     if args.domain_id is not None:
@@ -105,6 +109,7 @@ def _packages(args: argparse.Namespace) -> int:
     rubric = resolve_rubric(args.lab, args.rubric)
     if args.list:
         return _list(args.submissions)
+    check_can_contain(args.no_sandbox)
 
     def table(report: StudentReport) -> str:
         width = max([len(c.id) for c in report.checks] + [5])

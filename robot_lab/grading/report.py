@@ -61,6 +61,7 @@ class StudentReport:
     submitted: str = ''  # when the LMS says it was handed in (ISO 8601), if known
     late_days: int = 0
     penalty: float = 0.0  # points taken off for lateness
+    notes: list[str] = field(default_factory=list)  # what the sandbox refused the code
 
     @property
     def earned(self) -> float:
@@ -127,6 +128,8 @@ class StudentReport:
             lines += [f'> Not graded: {self.error}', '']
         elif self.status != 'graded':
             lines += [f'> Grading ended early ({self.status}): {self.error}', '']
+        for note in self.notes:
+            lines += [f'> **Sandbox:** {note}', '']
         lines += ['| check | points | result |', '|---|---|---|']
         for c in self.checks:
             mark = 'passed' if c.passed else ('partly' if c.score > 0 else 'not met')

@@ -25,8 +25,9 @@ from typing import Any
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.gradebook import ClassOutputs, write_class
 from robot_lab.grading.late import LatePolicy
+from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
-from robot_lab.grading.package.sandbox import job_domains, run_job, stop_jobs
+from robot_lab.grading.package.sandbox import check_can_contain, job_domains, run_job, stop_jobs
 from robot_lab.grading.package.submission import Submission, find_submissions, unpack
 from robot_lab.grading.report import CheckOutcome, StudentReport
 
@@ -69,9 +70,14 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
                             'of it killed); checks not reached score 0')
         elif run.returncode != 0 or not (job_dir / 'report.json').is_file():
             report.status = 'error'
-            last = run.output.strip().splitlines()[-6:]
+            last = public_text(run.output, job_dir).strip().splitlines()[-6:]
             report.error = (f'the grading job ended with code {run.returncode}: '
                             + ' | '.join(last))
+            if run.returncode is not None and run.returncode >= 128 and run.isolated:
+                report.notes.append(
+                    f'the grading job was killed by signal {run.returncode - 128} from inside '
+                    'its sandbox (a process of the submission signalled it); no process '
+                    'outside the sandbox could be reached')
         report.elapsed = run.elapsed
         if keep is None:
             report.images = []  # they live in the job folder, removed below
@@ -169,7 +175,10 @@ def grade_class(
     roster_column: str | None = None,
     ascii_names: bool = False,
 ) -> ClassRun:
-    """Grade a class (or, `only`, some of its students) and merge the results into OUT."""
+    """Grade a class (or, `only`, some of its students) and merge the results into OUT.
+
+    A root grader on a machine without namespaces refuses (sandbox.check_can_contain)."""
+    check_can_contain()
     if isinstance(submissions, str | Path):
         entries = find_submissions(submissions)
     elif len(submissions) == 1:

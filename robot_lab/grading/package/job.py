@@ -23,8 +23,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 from robot_lab.errors import RobotLabError
+from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.registry import Stage, registered_checks
-from robot_lab.grading.package.rubric import load_rubric
+from robot_lab.grading.package.rubric import Rubric, load_rubric
 from robot_lab.grading.package.state import JobState, Verdict
 from robot_lab.grading.package.submission import find_package
 from robot_lab.grading.report import CheckOutcome, StudentReport
@@ -89,19 +90,28 @@ def launch_files_of(package: Path) -> list[Path]:
 
 def _write(job_dir: Path, state: JobState, student: str, status: str = 'graded',
            error: str = '', started: float = 0.0) -> None:
-    # Paths as the student knows them: src/<pkg>/..., install/<pkg>/..., not the job's.
-    prefix = f'{job_dir.resolve()}/ws/'
+    from robot_lab.grading.package.sandbox import BLOCKED, REPORT_FD_VAR
+
+    # Paths as the student knows them (<pkg>/node.py), never the job's or the kit's.
     for outcome in state.outcomes.values():
-        outcome.output = outcome.output.replace(prefix, '').replace(f'{job_dir}/ws/', '')
+        outcome.output = public_text(outcome.output, job_dir)
     checks = [state.outcomes.get(c.id) or CheckOutcome(
         c.id, c.name, 0.0, c.points, 'Not reached: the grading job ended before this check.')
         for c in state.rubric.checks]
     if state.grader_errors and status == 'graded':
         status, error = 'grader error', '; '.join(state.grader_errors)
     report = StudentReport(student, checks, status, error, list(state.images),
-                           state.rubric.lab, time.monotonic() - started)
+                           state.rubric.lab, time.monotonic() - started,
+                           notes=[public_text(n, job_dir) for n in [*state.blocked, *BLOCKED]])
+    data = json.dumps(report.to_dict())
+    fd = os.environ.get(REPORT_FD_VAR)
+    if fd:  # the grader's pipe: out of reach of the student's processes
+        view = memoryview((data + '\n').encode())
+        while view:
+            view = view[os.write(int(fd), view):]
+        return
     tmp = job_dir / 'report.json.tmp'
-    tmp.write_text(json.dumps(report.to_dict()))
+    tmp.write_text(data)
     tmp.replace(job_dir / 'report.json')
 
 
@@ -131,11 +141,12 @@ def _workspace(package: Path, unpacked: Path, ws: Path) -> Path:
     return target
 
 
-def run_job(job_dir: Path) -> int:
+def run_job(job_dir: Path, rubric: Rubric | None = None) -> int:
+    """Grade the job in `job_dir`; `rubric` read before the sandbox hid its file."""
     from robot_lab.grading.package import live
 
     job = json.loads((job_dir / 'job.json').read_text())
-    rubric = load_rubric(job['rubric'])
+    rubric = rubric or load_rubric(job['rubric'])
     student = str(job['student'])
     state = JobState(rubric)
     started = time.monotonic()
@@ -176,13 +187,16 @@ def _package_name(package: Path) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from robot_lab.grading.package.sandbox import enter
+    from robot_lab.grading.package.sandbox import REPORT_FD_VAR, enter
 
     args = sys.argv[1:] if argv is None else argv
     job_dir = Path(args[0])
     job = json.loads((job_dir / 'job.json').read_text())
-    enter(load_rubric(job['rubric']).limits, bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')))
-    return run_job(job_dir)
+    rubric = load_rubric(job['rubric'])
+    if os.environ.get(REPORT_FD_VAR):  # not for the student's processes
+        os.set_inheritable(int(os.environ[REPORT_FD_VAR]), False)
+    enter(rubric.limits, bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')), job_dir)
+    return run_job(job_dir, rubric)
 
 
 if __name__ == '__main__':

@@ -11,12 +11,17 @@ package without a launch file gets every executable started (so only `launch_fil
 from __future__ import annotations
 
 import contextlib
+import copy
+import os
+import signal
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import ParamFileError, RobotLabError
+from robot_lab.grading.package.perturb import drive_controller
 from robot_lab.grading.package.roles import infer_roles, observe
 from robot_lab.grading.package.state import JobState, ParamReading, code
 
@@ -149,8 +154,8 @@ def _read_params_back(state: JobState, plan: LaunchPlan, sess: Any,
                 live.readings.append(reading)
 
 
-def _last_logs(handle: Any, label: str) -> str:
-    lines = [line for line in handle.logs(label) if line.strip()][-8:]
+def _last_logs(output: list[str]) -> str:
+    lines = [line for line in output if line.strip()][-8:]
     return code(lines, 8) if lines else ' (no output)'
 
 
@@ -179,6 +184,7 @@ def run_system(job_dir: Path, ws: Path, state: JobState) -> None:
 
 def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
     from robot_lab.context import session
+    from robot_lab.graph.discovery import full_node_names
     from robot_lab.graph.view import graph_view
     from robot_lab.launch.api import LaunchHandle
 
@@ -191,21 +197,108 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         live.not_run = f'the launch did not start: {err}'
         live.fix = err.fix or 'run it yourself with `ros2 launch` and fix the error it prints'
         return
+    # One process may spin several nodes: wait for as many nodes as the lab asks for.
+    wanted = max(len(plan.processes()), int(state.option('launch_file', 'min_nodes', 3)))
     try:
-        obs = observe(sess, len(plan.processes()), rubric.startup_seconds,
-                      rubric.observe_seconds, alive=lambda: handle.running)
+        obs = observe(sess, wanted, rubric.startup_seconds, rubric.observe_seconds,
+                      alive=lambda: handle.running)
         live.obs = obs
         with contextlib.suppress(Exception):
             state.images.append(graph_view(session=sess).save(job_dir / 'graph.png'))
         _read_params_back(state, plan, sess, list(obs.nodes))
         live.statuses = handle.processes
-        live.logs = {p.label: _last_logs(handle, p.label) for p in live.statuses}
+        output = {p.label: handle.logs(p.label) for p in live.statuses}
+        live.logs = {label: _last_logs(lines) for label, lines in output.items()}
         live.line_rates = {p.name: _line_rate(handle.log_dir / f'{p.label}.log',
                                               time.monotonic() - launched)
                            for p in live.statuses}
+        live.alive_nodes = set(full_node_names(sess, include_hidden=False))
+        live.roles = infer_roles(obs, float(state.option('sensor_publishes', 'min_rate_hz',
+                                                         0.5)))
+        if live.roles.sensor and live.roles.controller:
+            live.response = drive_controller(
+                sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess))
     finally:
         handle.shutdown(timeout=10)
-    live.roles = infer_roles(obs, float(state.option('sensor_publishes', 'min_rate_hz', 0.5)))
+    _after_the_run(state, job_dir, output)
+
+
+def _process_of(statuses: list[Any], node: str, other: str | None) -> int | None:
+    """The pid of the running process that hosts `node` and not `other`: named so by the
+    launch, given `__node:=` for it, or its executable named like the node."""
+    import psutil
+
+    short, other_short = node.rsplit('/', 1)[-1], (other or '').rsplit('/', 1)[-1]
+    for p in statuses:
+        if not p.pid or p.state != 'running' or p.name == other:
+            continue
+        try:
+            args = psutil.Process(p.pid).cmdline()
+        except psutil.Error:
+            continue
+        names = {a.split(':=', 1)[1] for a in args if a.startswith('__node:=')}
+        exe = Path(args[0]).name if args else ''
+        if len(args) > 1 and exe.startswith('python'):
+            exe = Path(args[1]).name
+        if (p.name == node or short in names
+                or (not names and exe == short and exe != other_short)):
+            return int(p.pid)
+    return None
+
+
+def _pause_sensor(state: JobState, plan: LaunchPlan, handle: Any,
+                  sess: Any) -> tuple[Callable[[], None], str] | None:
+    """Take the student's sensor out of the loop: stop its process when it runs alone,
+    else relaunch the system with the sensor's topic remapped away for that node only."""
+    roles = state.live.roles
+    assert roles is not None and roles.sensor and roles.sensor_topic
+    pid = _process_of(handle.processes, roles.sensor, roles.controller)
+    if pid is not None:
+        os.kill(pid, signal.SIGSTOP)
+        return (lambda: os.kill(pid, signal.SIGCONT)), "the sensor's process was paused"
+    from robot_lab.graph.discovery import full_node_names
+    from robot_lab.launch.api import LaunchHandle
+
+    handle.shutdown(timeout=10)
+    again = copy.deepcopy(plan)
+    rule = f'{roles.sensor.rsplit("/", 1)[-1]}:{roles.sensor_topic}:=/_robot_lab_grader/unplugged'
+    for spec in again.processes():
+        if '--ros-args' in spec.cmd:
+            spec.cmd[spec.cmd.index('--ros-args') + 1:0] = ['-r', rule]
+        else:
+            spec.cmd += ['--ros-args', '-r', rule]
+    try:
+        relaunched = LaunchHandle(again)
+    except RobotLabError:
+        return None
+    deadline = time.monotonic() + state.rubric.startup_seconds
+    while (time.monotonic() < deadline
+           and roles.controller not in full_node_names(sess, include_hidden=False)):
+        time.sleep(0.1)
+    return ((lambda: relaunched.shutdown(timeout=10)),
+            'the system was relaunched with the sensor remapped away (its process could not '
+            'be paused alone)')
+
+
+def _after_the_run(state: JobState, job_dir: Path, output: dict[str, list[str]]) -> None:
+    """Why nodes died, what the sandbox refused, which processes outlived the launch."""
+    from robot_lab.grading.package.confinement import blocked_attempts, leftover_processes
+    from robot_lab.grading.package.crash import explain
+
+    live = state.live
+    assert state.package is not None
+    for p in live.died():
+        crash = explain(output.get(p.label, []), state.package, state.param_files)
+        if crash is not None:
+            live.crashes[p.label] = crash
+    state.blocked += blocked_attempts((line for lines in output.values() for line in lines),
+                                      job_dir)
+    if os.environ.get('ROBOT_LAB_GRADE_ISOLATED'):  # in its own PID namespace: all are its
+        for pid, cmdline in leftover_processes():
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+            state.blocked.append(f'a process started by the submission outlived the launch '
+                                 f'(`{cmdline}`); the sandbox killed it')
 
 
 def _line_rate(path: Path, seconds: float, cap: int = 256 * 1024 * 1024) -> float:

@@ -4,8 +4,8 @@ Students name packages, nodes, topics and types as they like, so roles come from
 behaviour seen by an observer session in the job's domain, never from names:
 
 - sensor: publishes a topic periodically and takes no input from the other nodes;
-- controller: subscribes to the sensor's topic and publishes another topic (its commands);
-  optionally its output must change while the sensor's data changes;
+- controller: subscribes to the sensor's topic and publishes another topic (its commands)
+  (whether they follow the readings, robot_lab.grading.package.perturb tests);
 - actuator: subscribes to the commands and writes a log line for each one received.
 
 `observe()` watches the graph (every topic with a subscription of its own, `/rosout` for
@@ -27,6 +27,7 @@ __all__ = ['NodeSeen', 'Observation', 'Roles', 'TopicSeen', 'infer_roles', 'obse
 IGNORED_TOPICS = ('/rosout', '/parameter_events')
 _SAMPLES = 3
 _SIGNATURES = 200
+_VALUES = 100  # message dicts kept per topic (the perturbation imitates the sensor)
 _LOG_LINES = 8
 _TEXT = 300  # characters of a sample message kept
 _STABLE = 3.0  # s the node list must stay the same to stop waiting for missing nodes
@@ -43,6 +44,7 @@ class TopicSeen:
     last: float = 0.0
     samples: deque[str] = field(default_factory=lambda: deque(maxlen=_SAMPLES))
     signatures: deque[str] = field(default_factory=lambda: deque(maxlen=_SIGNATURES))
+    values: deque[dict[str, Any]] = field(default_factory=lambda: deque(maxlen=_VALUES))
 
     @property
     def rate(self) -> float:
@@ -121,6 +123,7 @@ class _Watcher:
         with self.lock:
             seen.samples.append(text[:_TEXT])
             seen.signatures.append(text[:_TEXT])
+            seen.values.append(data)
 
     def _on_log(self, msg: Any) -> None:
         if not self.counting:
@@ -194,6 +197,16 @@ class _Watcher:
                 self.sess.node.destroy_subscription(sub)
 
 
+def _until_samples(watcher: _Watcher, deadline: float) -> None:
+    while time.monotonic() < deadline:
+        with watcher.lock:
+            waiting = [t for t in watcher.obs.topics.values()
+                       if t.publishers and t.name in watcher.subs and t.count == 0]
+        if not waiting:
+            return
+        time.sleep(0.05)
+
+
 def observe(sess: Any, expected_nodes: int, startup: float, duration: float,
             alive: Callable[[], bool]) -> Observation:
     """Watch the graph: wait (≤ `startup` s) until `expected_nodes` nodes are up, then count
@@ -214,9 +227,10 @@ def observe(sess: Any, expected_nodes: int, startup: float, duration: float,
             elif names and time.monotonic() - changed > _STABLE:
                 break  # some nodes never come (crashed, hung): grade what is there
             time.sleep(0.2)
-        # Count from here: a full window with every subscription in place.
-        time.sleep(0.3)
+        # Count from here: a full window with every subscription in place, i.e. once each
+        # published topic has delivered a sample to the observer (or 2 s have gone by).
         watcher.refresh()
+        _until_samples(watcher, time.monotonic() + 2.0)
         with watcher.lock:
             for topic in watcher.obs.topics.values():
                 topic.count, topic.first, topic.last = 0, 0.0, 0.0
@@ -233,10 +247,6 @@ def observe(sess: Any, expected_nodes: int, startup: float, duration: float,
     finally:
         watcher.counting = False
         watcher.close()
-
-
-def _changes(topic: TopicSeen) -> bool:
-    return len(set(topic.signatures)) > 1
 
 
 def infer_roles(obs: Observation, min_rate: float) -> Roles:
@@ -285,9 +295,3 @@ def infer_roles(obs: Observation, min_rate: float) -> Roles:
     if actuators:
         roles.actuator = max(actuators, key=lambda n: obs.nodes[n].log_count)
     return roles
-
-
-def controller_output_changes(obs: Observation, roles: Roles) -> bool:
-    """True when the commands took more than one value during the watch."""
-    topic = obs.topics.get(roles.command_topic or '')
-    return topic is not None and _changes(topic)

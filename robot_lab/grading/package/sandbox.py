@@ -1,14 +1,17 @@
 """One submission's job, fenced in: its own ROS domain, HOME, TMPDIR, limits and namespaces.
 
 The grader starts each job as `python -m robot_lab.grading.package.job JOBDIR` through
-`robot_lab.process.spawn` (parent-death signal), wrapped, where the host allows
-unprivileged namespaces, in `unshare --user --map-root-user --net --pid --fork
---kill-child`: the job then sees only a loopback interface (no DDS traffic leaves it or
-reaches another job) and is PID 1 of its own PID namespace, so when it dies — stopped at
-its time budget, or because the grader was killed with `kill -9` — the kernel kills every
-process the submission started, forked daemons included. Without namespaces the job leads
-its own process group, which the grader kills, and every process carries a token in its
-environment that a final sweep looks for.
+`robot_lab.process.spawn` (parent-death signal), wrapped in util-linux `unshare` with new
+mount, PID (and its own /proc), network and IPC namespaces — plus a user namespace when
+the grader is not root: the job sees only a loopback interface (no DDS traffic leaves it or
+reaches another job, no host service is reachable), no host process, and is PID 1 of its
+namespace, so when it dies — stopped at its time budget, or because the grader was killed
+with `kill -9` — the kernel kills every process the submission started, forked daemons
+included. `confinement` then gives it a read-only machine with only its own folder and a
+private /tmp writable, and takes its privileges (as root: uid 200000+domain, no
+capabilities). Where no namespace can be made, the job leads its own process group, which
+the grader kills, and every process carries a token in its environment that a final sweep
+looks for; a root grader refuses that unless told `--no-sandbox` (`check_can_contain`).
 
 Inside, `enter()` applies the resource limits (CPU seconds, address space, file size,
 process count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
@@ -38,13 +41,24 @@ from pathlib import Path
 from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
-__all__ = ['JobRun', 'enter', 'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job',
-           'stop_jobs', 'sweep']
+__all__ = ['BLOCKED', 'JobRun', 'check_can_contain', 'enter', 'job_domains',
+           'namespaces_available', 'pids_cgroup', 'run_job', 'stop_jobs', 'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
 CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
+UID_VAR = 'ROBOT_LAB_GRADE_UID'
+REPORT_FD_VAR = 'ROBOT_LAB_GRADE_REPORT_FD'  # the pipe a job sends its report through
+NO_SANDBOX_VAR = 'ROBOT_LAB_GRADE_NO_SANDBOX'
 _CGROUP_ROOTS = (Path('/sys/fs/cgroup/pids'), Path('/sys/fs/cgroup'))
-_UNSHARE = ['--user', '--map-root-user', '--net', '--pid', '--fork', '--kill-child']
+_NAMESPACES = ['--mount', '--propagation', 'private', '--net', '--ipc', '--pid', '--fork',
+               '--kill-child', '--mount-proc']
+# What the sandbox stopped in this job (signals sent to it from inside), for the feedback.
+BLOCKED: list[str] = []
+
+
+def _unshare_args() -> list[str]:
+    # Root needs no user namespace to make the others, and drops to a plain uid instead.
+    return _NAMESPACES if os.geteuid() == 0 else ['--user', '--map-root-user', *_NAMESPACES]
 
 
 @contextlib.contextmanager
@@ -67,15 +81,31 @@ def job_domains(jobs: int) -> Iterator[list[int]]:
 
 @functools.cache
 def namespaces_available() -> bool:
-    """True when `unshare` can give a job its own user, network and PID namespaces here."""
+    """True when `unshare` can give a job its own mount, network and PID namespaces here
+    (and, for a grader that is not root, a user namespace to make them in)."""
     unshare = shutil.which('unshare')
     if unshare is None or os.environ.get('ROBOT_LAB_GRADE_NO_NAMESPACES'):
         return False
     try:
-        done = subprocess.run([unshare, *_UNSHARE, 'true'], capture_output=True, timeout=10)
+        done = subprocess.run([unshare, *_unshare_args(), 'true'], capture_output=True,
+                              timeout=10)
     except (OSError, subprocess.TimeoutExpired):
         return False
     return done.returncode == 0
+
+
+def check_can_contain(no_sandbox: bool = False) -> None:
+    """Refuse to run students' code as root with nothing around it (unless `no_sandbox`)."""
+    from robot_lab.errors import RobotLabError
+
+    if no_sandbox or os.environ.get(NO_SANDBOX_VAR):
+        os.environ[NO_SANDBOX_VAR] = '1'  # for the jobs run_job starts
+        return
+    if os.geteuid() == 0 and not namespaces_available():
+        raise RobotLabError(
+            "refusing to grade as root: this machine cannot make namespaces (no 'unshare' "
+            "or not permitted), so students' code would run with root's privileges",
+            fix='grade as an ordinary user, or pass --no-sandbox to accept the risk')
 
 
 def _loopback_up() -> None:
@@ -104,8 +134,9 @@ def _init_process() -> None:
             pid, status = os.wait()
         except ChildProcessError:
             os._exit(1)
-        if pid == child:
-            os._exit(os.waitstatus_to_exitcode(status) & 0xFF)
+        if pid == child:  # a shell's convention: 128 + N for a job killed by signal N
+            code = os.waitstatus_to_exitcode(status)
+            os._exit(128 - code if code < 0 else code & 0xFF)
 
 
 def pids_cgroup(name: str, processes: int) -> Path | None:
@@ -158,8 +189,16 @@ def _remove_cgroup(group: Path) -> None:
             time.sleep(0.05)
 
 
-def enter(limits: Limits, in_namespace: bool) -> None:
-    """Run first thing in the job: its cgroup, loopback up, own process group, limits."""
+def _record_signal(signum: int, _frame: object) -> None:
+    name = signal.Signals(signum).name
+    if not any(name in b for b in BLOCKED):
+        BLOCKED.append(f'a process of the submission sent {name} to the grading job; the '
+                       'sandbox ignored it')
+
+
+def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> None:
+    """Run first thing in the job: its cgroup, loopback up, the job's view of the machine
+    and an unprivileged identity (`confinement`), own process group, limits."""
     group = os.environ.get(CGROUP_VAR)
     if group:
         with contextlib.suppress(OSError):  # '0': this process, whatever its PID namespace
@@ -173,9 +212,17 @@ def enter(limits: Limits, in_namespace: bool) -> None:
     with contextlib.suppress(OSError):
         os.setpgrp()
     if in_namespace:
+        from robot_lab.grading.package.confinement import confine, drop_privileges
+
         _loopback_up()
+        confine(job_dir or Path.cwd())
+        uid = os.environ.get(UID_VAR)
+        drop_privileges(int(uid) if uid else None)
         if os.getpid() == 1:
             _init_process()
+        for signum in (signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1,
+                       signal.SIGUSR2):
+            signal.signal(signum, _record_signal)
     mb = 1024 * 1024
     wanted = {
         resource.RLIMIT_CPU: limits.cpu_seconds,
@@ -233,7 +280,7 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         (home / '.cache' / 'matplotlib').mkdir(parents=True, exist_ok=True)
         with contextlib.suppress(OSError):
             shutil.copyfile(cached, home / '.cache' / 'matplotlib' / cached.name)
-    isolated = namespaces_available()
+    isolated = namespaces_available() and not os.environ.get(NO_SANDBOX_VAR)
     env = {k: v for k, v in os.environ.items()
            if not k.startswith(('JPY_', 'JUPYTER', 'ROBOT_LAB_GRAPH_DAEMON'))}
     env.update({
@@ -249,11 +296,27 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         env[CGROUP_VAR] = str(group)
     cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
-        cmd = [shutil.which('unshare') or 'unshare', *_UNSHARE, *cmd]
+        cmd = [shutil.which('unshare') or 'unshare', *_unshare_args(), *cmd]
+        if os.geteuid() == 0:
+            from robot_lab.grading.package.confinement import job_uid
+
+            env[UID_VAR] = str(job_uid(domain))
+            _chown_tree(job_dir, job_uid(domain))
     log = job_dir / 'job.log'
     started = time.monotonic()
+    # The report comes back through a pipe, not a file in the folder the student's code
+    # may write: the job's last complete report wins (robot_lab.grading.package.job).
+    read_end, write_end = os.pipe()
+    env[REPORT_FD_VAR] = str(write_end)
+    reports: list[bytes] = []
+    reader = threading.Thread(target=_read_reports, args=(read_end, reports), daemon=True)
+    reader.start()
     with log.open('wb') as out:
-        proc = spawn(cmd, env=env, cwd=job_dir, stdout=out, stderr=subprocess.STDOUT)
+        try:
+            proc = spawn(cmd, env=env, cwd=job_dir, stdout=out, stderr=subprocess.STDOUT,
+                         pass_fds=(write_end,))
+        finally:
+            os.close(write_end)
         with _RUNNING_LOCK:
             _RUNNING.add(proc)
             if _STOPPING.is_set():
@@ -267,6 +330,8 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
             _kill(proc, isolated)
             with _RUNNING_LOCK:
                 _RUNNING.discard(proc)
+    reader.join(timeout=10)
+    _keep_report(job_dir, reports)
     sweep(token)
     if group is not None:
         _remove_cgroup(group)
@@ -293,6 +358,33 @@ def stop_jobs(stopping: bool = True) -> None:
         for proc in _RUNNING:
             with contextlib.suppress(OSError):
                 proc.kill()
+
+
+def _read_reports(fd: int, reports: list[bytes]) -> None:
+    with os.fdopen(fd, 'rb') as pipe:
+        for line in pipe:
+            if line.endswith(b'\n'):
+                reports.append(line)
+                del reports[:-1]
+
+
+def _keep_report(job_dir: Path, reports: list[bytes]) -> None:
+    """job_dir/report.json is the job's last report through the pipe, never a file the
+    submission left there."""
+    target = job_dir / 'report.json'
+    with contextlib.suppress(FileNotFoundError):
+        target.unlink()
+    if reports:
+        target.write_bytes(reports[-1])
+
+
+def _chown_tree(root: Path, uid: int) -> None:
+    """The job folder to the job's uid (a root grader's job runs as that uid)."""
+    os.chown(root, uid, uid)
+    for folder, dirs, files in os.walk(root):
+        for name in (*dirs, *files):
+            with contextlib.suppress(OSError):
+                os.chown(os.path.join(folder, name), uid, uid, follow_symlinks=False)
 
 
 def _kill(proc: subprocess.Popen[bytes], isolated: bool) -> None:

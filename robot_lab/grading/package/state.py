@@ -18,6 +18,8 @@ from robot_lab.grading.package.rubric import Rubric
 from robot_lab.grading.report import CheckOutcome
 
 if TYPE_CHECKING:
+    from robot_lab.grading.package.crash import Crash
+    from robot_lab.grading.package.perturb import Response
     from robot_lab.grading.package.roles import Observation, Roles
 
 __all__ = ['LINES', 'JobState', 'LiveRun', 'ParamReading', 'Verdict', 'code', 'section']
@@ -90,15 +92,35 @@ class LiveRun:
     roles: Roles | None = None
     params_loaded: dict[str, list[str]] = field(default_factory=dict)  # file -> nodes
     readings: list[ParamReading] = field(default_factory=list)
+    alive_nodes: set[str] = field(default_factory=set)  # in the graph when the watch ended
+    crashes: dict[str, Crash] = field(default_factory=dict)  # label -> why it died
+    response: Response | None = None  # the controller driven by the grader (perturb)
 
     def not_run_verdict(self, expected: str) -> Verdict:
         return Verdict(False, expected, self.not_run, self.fix)
 
+    def died(self) -> list[Any]:
+        return [p for p in self.statuses if p.state == 'died' or p.exit_code not in (None, 0)]
+
     def dead(self) -> str:
-        """The processes that died, each with its last output."""
-        died = [p for p in self.statuses if p.state == 'died' or p.exit_code not in (None, 0)]
-        return ''.join(f'\n\n`{p.label}` exited with code {p.exit_code}; its last output:'
-                       f'{self.logs.get(p.label, "")}' for p in died)
+        """The processes that died: why, in the student's own source (else the last output)."""
+        text = ''
+        for p in self.died():
+            crash = self.crashes.get(p.label)
+            if crash is None:
+                text += (f'\n\n`{p.label}` exited with code {p.exit_code}; its last output:'
+                         f'{self.logs.get(p.label, "")}')
+            else:
+                text += f'\n\n`{p.label}` exited with code {p.exit_code}: {crash.markdown()}'
+        return text
+
+    def crash_fix(self) -> str:
+        """The fix for the first crash, when a node died (it, not the wiring, is the cause)."""
+        for p in self.died():
+            crash = self.crashes.get(p.label)
+            if crash is not None and crash.fix:
+                return f'first fix the crash of `{p.label}`: {crash.fix}'
+        return ''
 
     def seen(self) -> str:
         """The topics the observer saw (who publishes, who subscribes), then the dead."""
@@ -126,6 +148,7 @@ class JobState:
     outcomes: dict[str, CheckOutcome] = field(default_factory=dict)
     images: list[Path] = field(default_factory=list)
     grader_errors: list[str] = field(default_factory=list)
+    blocked: list[str] = field(default_factory=list)  # what the sandbox refused, for feedback
     _parsed: dict[str, dict[str, dict[str, Any]] | ParamFileError] = field(
         default_factory=dict, repr=False)
 

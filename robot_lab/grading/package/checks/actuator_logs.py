@@ -18,12 +18,12 @@ def actuator_logs(state: JobState, check: RubricCheck) -> Verdict:
     if roles.sensor is None or roles.controller is None:
         return Verdict(False, 'a node that subscribes to the commands and logs each one',
                        'no commands to log: there is no controller output.\n\n' + live.seen(),
-                       'first make the controller publish commands')
+                       live.crash_fix() or 'first make the controller publish commands')
     expected = f'a node that subscribes to `{roles.command_topic}` and logs each command'
     if roles.actuator is None:
         return Verdict(False, expected, 'no other node subscribes to it.\n\n' + live.seen(),
-                       f'subscribe to `{roles.command_topic}` with the same type and call '
-                       '`self.get_logger().info(...)` in the callback')
+                       live.crash_fix() or f'subscribe to `{roles.command_topic}` with the same '
+                       'type and call `self.get_logger().info(...)` in the callback')
     commands = obs.topics.get(roles.command_topic or '')
     count = commands.count if commands else 0
     node = obs.nodes[roles.actuator]

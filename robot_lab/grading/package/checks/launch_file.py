@@ -40,15 +40,21 @@ def launch_file(state: JobState, check: RubricCheck) -> Verdict:
                        'node')
     if live.not_run:
         return live.not_run_verdict('a launch file that starts the nodes')
+    # Nodes, not processes: one process spinning three nodes is a correct system.
     started = [p for p in live.statuses if p.pid is not None]
-    lines = [f'- `{p.label}` ({p.name}): {p.state}'
+    # A node that crashed at start still counts: the launch file did start it.
+    names = sorted(set(live.obs.nodes if live.obs is not None else [])
+                   | {p.name for p in started if p.name.startswith('/')})
+    lines = [f'- `{p.label}`: {p.state}'
              + (f', exit code {p.exit_code}' if p.exit_code not in (None, 0) else '')
              for p in live.statuses]
-    observed = (f'`launch/{live.launch_name}` started {len(started)} process(es):\n\n'
-                if live.launch_name else 'no launch file was run.\n\n') + '\n'.join(lines)
+    observed = (f'`launch/{live.launch_name}` started {len(started)} process(es) with '
+                f'{len(names)} node(s) in the graph ({", ".join(f"`{n}`" for n in names)}):'
+                '\n\n' if live.launch_name else 'no launch file was run.\n\n') + '\n'.join(lines)
     if live.notes:
         observed += '\n\n' + '\n\n'.join(live.notes)
-    ok = bool(live.launch_name) and len(started) >= min_nodes
-    return Verdict(ok, f'a launch file in launch/ that starts all (at least {min_nodes}) nodes',
-                   observed, 'add every node to the launch file (and install launch/ with '
-                   'data_files)')
+    ok = bool(live.launch_name) and len(names) >= min_nodes
+    return Verdict(ok, f'a launch file in launch/ that brings up all (at least {min_nodes}) '
+                   'nodes', observed + live.dead(),
+                   live.crash_fix() or 'add every node to the launch file (and install '
+                   'launch/ with data_files)')

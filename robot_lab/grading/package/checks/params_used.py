@@ -37,9 +37,18 @@ def params_used(state: JobState, check: RubricCheck) -> Verdict:
             "get_package_share_directory('PKG'), 'config', 'params.yaml')]`")
     else:
         checked, wrong, lines = 0, 0, []
+        dead = {p.name for p in live.died()}
         for reading in live.readings:
+            named = reading.pattern.lstrip('/') not in ('**', '*')
             if reading.node is None:
+                # A node the file names that is not running (it died): nothing uses it.
+                wrong += named
                 lines.append(f'{reading.pattern} {reading.name}: no running node holds it')
+                continue
+            if reading.node in dead or reading.node not in live.alive_nodes:
+                wrong += 1
+                lines.append(f'{reading.node} {reading.name}: its node died, so the value is '
+                             'not used')
                 continue
             checked += 1
             if _same(reading.held, reading.file_value):
@@ -56,6 +65,8 @@ def params_used(state: JobState, check: RubricCheck) -> Verdict:
                           'declare each parameter in the node (`declare_parameter(name, '
                           'default)`) and read it with `get_parameter(name).value`; make the '
                           'node names in the file match the names the launch file gives')
+        if not verdict.fraction and live.crash_fix():
+            verdict.fix = live.crash_fix()
     if live.dropped:
         verdict.observed += ('\n\nleft out of the launch (rcl would refuse them, and every node '
                              'given them would exit at start):\n\n') + '\n'.join(

@@ -20,8 +20,8 @@ def sensor_publishes(state: JobState, check: RubricCheck) -> Verdict:
     if roles.sensor is None:
         return Verdict(False, f'a node that publishes a topic periodically (≥ {min_rate:g} Hz) '
                        'without input', live.seen(),
-                       'create a timer (`create_timer(1.0 / rate, callback)`) that publishes a '
-                       'message with a simulated reading')
+                       live.crash_fix() or 'create a timer (`create_timer(1.0 / rate, '
+                       'callback)`) that publishes a message with a simulated reading')
     topic = obs.topics[roles.sensor_topic or '']
     sample = topic.samples[-1] if topic.samples else '(none kept)'
     flood = max(obs.log_rate(roles.sensor), live.line_rates.get(roles.sensor, 0.0))

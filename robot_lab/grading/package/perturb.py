@@ -1,0 +1,202 @@
+"""Does the controller follow its input? The grader drives the sensor topic itself.
+
+Watching a running system cannot tell a controller that computes its command from the
+reading from one that publishes `linear.x = 0.5` forever, nor an honest controller whose
+output is saturated from a broken one. So, with the student's sensor paused (its process
+stopped, or the system relaunched with the sensor remapped away), the grader publishes
+messages of the sensor's type on the sensor's topic at three levels spanning the range
+the sensor itself produced — low, high, low — and reads the controller's commands at each.
+The controller follows its input when some numeric field of its command moves one way
+from low to high and back the other way from high to low: an input-ignoring controller
+(constant, or drifting with time) does not; a saturated but responsive one does.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import statistics
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+from robot_lab.grading.package.roles import Observation, Roles
+
+__all__ = ['Response', 'drive_controller']
+
+_RATE = 20.0  # Hz the grader publishes at
+_SETTLE = 0.25  # s after a level change before commands count
+_WINDOW = 0.5  # s of commands read per level
+_FIRST = 3.0  # s to wait for the controller's first command
+_SKIP = ('stamp', 'sec', 'nanosec', 'frame_id', 'seq')
+
+
+@dataclass
+class Response:
+    """What the controller did when the grader drove its input."""
+
+    tested: bool
+    follows: bool = False
+    how: str = ''  # how the sensor was taken out of the loop
+    levels: list[tuple[float, dict[str, Any], int]] = field(default_factory=list)
+    why: str = ''  # why it was not tested
+
+    def table(self) -> str:
+        rows = []
+        for level, outputs, count in self.levels:
+            shown = ', '.join(f'{k} = {v:.3g}' if isinstance(v, float) else f'{k} = {v!r}'
+                              for k, v in list(outputs.items())[:3]) or '—'
+            rows.append(f'- input {level:.3g} → {count} command(s): {shown}')
+        return '\n'.join(rows)
+
+
+def _leaves(data: Any, prefix: str = '') -> Iterator[tuple[str, float]]:
+    """Numeric leaves of a message dict ('linear.x', 'ranges[0]'), stamps left out."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if key not in _SKIP:
+                yield from _leaves(value, f'{prefix}{key}.')
+    elif isinstance(data, list | tuple):
+        for i, value in enumerate(data[:64]):
+            yield from _leaves(value, f'{prefix[:-1]}[{i}].')
+    elif (isinstance(data, int | float) and not isinstance(data, bool)
+          and math.isfinite(float(data))):
+        yield prefix[:-1], float(data)
+
+
+def _varying(values: list[dict[str, Any]]) -> tuple[set[str], float, float]:
+    """The sensor's numeric fields that changed (all of them if none did) and the range
+    they covered (a span around a constant reading)."""
+    seen: dict[str, list[float]] = {}
+    for data in values:
+        for key, value in _leaves(data):
+            seen.setdefault(key, []).append(value)
+    keys = {k for k, vs in seen.items() if max(vs) - min(vs) > 1e-9} or set(seen)
+    numbers = [v for k in keys for v in seen[k]]
+    low, high = (min(numbers), max(numbers)) if numbers else (0.0, 1.0)
+    if math.isclose(low, high, abs_tol=1e-9):
+        low, high = (low * 0.5, low * 1.5) if low else (-1.0, 1.0)
+    return keys, low, high
+
+
+def _set_level(data: Any, keys: set[str], level: float, prefix: str = '') -> Any:
+    """The template message with the varying numeric fields set to `level`."""
+    if isinstance(data, dict):
+        return {k: (v if k in _SKIP else _set_level(v, keys, level, f'{prefix}{k}.'))
+                for k, v in data.items()}
+    if isinstance(data, list):
+        return [_set_level(v, keys, level, f'{prefix[:-1]}[{i}].') for i, v in enumerate(data)]
+    if prefix[:-1] not in keys and not (prefix[:-1].endswith(']') and
+                                        prefix[:-1].rsplit('[', 1)[0] + '[0]' in keys):
+        return data
+    if isinstance(data, float):
+        return float(level)
+    if isinstance(data, int) and not isinstance(data, bool):
+        return round(level)
+    return data
+
+
+def _texts(data: Any, prefix: str = '') -> Iterator[tuple[str, str]]:
+    """Text leaves of a message dict (a command may be a word: 'HIGH', 'fan on')."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            if key not in _SKIP:
+                yield from _texts(value, f'{prefix}{key}.')
+    elif isinstance(data, str):
+        yield prefix[:-1], data[:80]
+
+
+def _summary(samples: list[dict[str, Any]]) -> dict[str, Any]:
+    """Per field: the median of a number, the most frequent of a text."""
+    keys = {k for s in samples for k in s}
+    summary: dict[str, Any] = {}
+    for key in sorted(keys):
+        values = [s[key] for s in samples if key in s]
+        if all(isinstance(v, float) for v in values):
+            summary[key] = statistics.median(values)
+        else:
+            summary[key] = statistics.mode(str(v) for v in values)
+    return summary
+
+
+def _follows(low1: dict[str, Any], high: dict[str, Any], low2: dict[str, Any]) -> bool:
+    for key in low1.keys() & high.keys() & low2.keys():
+        a, b, c = low1[key], high[key], low2[key]
+        if isinstance(a, str) or isinstance(b, str) or isinstance(c, str):
+            if a != b and c != b:  # a word: it changes with the input and changes back
+                return True
+            continue
+        up, down = b - a, c - b
+        scale = 1e-6 + 1e-3 * max(abs(a), abs(b))
+        if abs(up) > scale and abs(down) > scale and up * down < 0:
+            return True
+    return False
+
+
+def drive_controller(sess: Any, obs: Observation, roles: Roles,
+                     pause: Callable[[], tuple[Callable[[], None], str] | None]) -> Response:
+    """Drive the sensor topic low → high → low and read the commands (see the module doc).
+
+    `pause()` takes the student's sensor out of the loop and returns how to undo it and
+    what it did (None: it cannot be done here, the controller is not tested).
+    """
+    from rclpy.qos import QoSProfile, QoSReliabilityPolicy
+
+    from robot_lab.messages import message_class, message_from_yaml, message_to_dict
+
+    sensor = obs.topics.get(roles.sensor_topic or '')
+    command = obs.topics.get(roles.command_topic or '')
+    if sensor is None or command is None or not sensor.values or len(sensor.types) != 1:
+        return Response(False, why='no sensor readings of a single type to imitate')
+    keys, low, high = _varying(list(sensor.values))
+    template = sensor.values[-1]
+    in_cls = message_class(sensor.types[0])
+    out_cls = message_class(command.types[0])
+    paused = pause()
+    if paused is None:
+        return Response(False, why='the sensor could not be taken out of the loop')
+    resume, how = paused
+    node = sess.node
+    lock = threading.Lock()
+    received: list[tuple[float, dict[str, Any]]] = []
+
+    def on_command(msg: Any) -> None:
+        with contextlib.suppress(Exception):
+            data = message_to_dict(msg)
+            sample: dict[str, Any] = {**dict(_texts(data)), **dict(_leaves(data))}
+            with lock:
+                received.append((time.monotonic(), sample))
+
+    publisher = node.create_publisher(in_cls, sensor.name, 10)
+    subscription = node.create_subscription(
+        out_cls, command.name, on_command,
+        QoSProfile(depth=100, reliability=QoSReliabilityPolicy.BEST_EFFORT))
+    response = Response(True, how=f'{how}; the grader published on `{sensor.name}` instead')
+    try:
+        messages = {lvl: message_from_yaml(in_cls, _set_level(template, keys, lvl))
+                    for lvl in (low, high)}
+
+        def hold(level: float, seconds: float, until: Callable[[], bool] | None = None) -> None:
+            end = time.monotonic() + seconds
+            while time.monotonic() < end and not (until and until()):
+                publisher.publish(messages[level])
+                time.sleep(1.0 / _RATE)
+
+        hold(low, _FIRST, until=lambda: len(received) > 0)  # matched and answering
+        summaries = []
+        for level in (low, high, low):
+            start = time.monotonic()
+            hold(level, _SETTLE + _WINDOW)
+            with lock:
+                window = [s for t, s in received if t >= start + _SETTLE]
+            summaries.append(_summary(window))
+            response.levels.append((level, summaries[-1], len(window)))
+        response.follows = all(response.levels[i][2] for i in range(3)) and _follows(*summaries)
+    finally:
+        with contextlib.suppress(Exception):
+            node.destroy_publisher(publisher)
+            node.destroy_subscription(subscription)
+        resume()
+    return response
