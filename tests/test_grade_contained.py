@@ -292,7 +292,8 @@ def test_every_entry_has_a_row_and_the_run_exits_0(graded: dict[str, Any]) -> No
     expected = {'alice', 'gus', 'hostile', *VARIANTS, *graded['odd']}
     assert set(grades) == expected, done.stdout
     for student, words in graded['odd'].items():
-        assert grades[student]['score'] == '0'
+        assert grades[student]['score'] in ('0', 'not graded'), grades[student]
+        assert all(grades[student][c] in ('0', '') for c in POINT_COLUMNS), grades[student]
         text = _feedback(graded, student)
         assert words in text and '.zip or .tar.gz' in text
         assert str(graded['base']) not in text and 'robot_lab_grade_' not in text
