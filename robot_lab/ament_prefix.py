@@ -68,6 +68,10 @@ def kit_prefix() -> Path | None:
         tmp.unlink(missing_ok=True)
         tmp.symlink_to(root, target_is_directory=True)
         tmp.replace(share)
+    # colcon warns about an AMENT_PREFIX_PATH entry without setup files (every `colcon build`
+    # in a kernel would print it); this prefix needs none: robot_lab adds it itself.
+    for name in ('local_setup.sh', 'local_setup.bash'):
+        _write_if_changed(prefix / name, "# robot_lab's editable prefix: nothing to set up\n")
     for node in _NODES:
         script = (
             f'#!{sys.executable}\n'

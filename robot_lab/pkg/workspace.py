@@ -172,10 +172,34 @@ def use_workspace(path: str | os.PathLike[str] = '.') -> list[Path]:
                 sys.path.remove(entry)
             sys.path.insert(0, entry)
     _forget_modules([install, ws / 'build'])
+    _load_libraries(prefixes)
     if ws in _used:
         _used.remove(ws)
     _used.append(ws)
     return prefixes
+
+
+def _load_libraries(prefixes: list[Path]) -> None:
+    """Load the workspace's shared libraries (an interface package's type support) now.
+
+    A shell's `source` puts <prefix>/lib on LD_LIBRARY_PATH before Python starts; a running
+    kernel cannot change its own library path, but once a library is loaded by full path
+    the dynamic loader resolves later imports' dependencies on it by name. Libraries are
+    retried until no more load, as they depend on each other in no listed order.
+    """
+    import ctypes
+
+    pending = [lib for prefix in prefixes for lib in sorted((prefix / 'lib').glob('lib*.so'))]
+    while pending:
+        failed = []
+        for lib in pending:
+            try:
+                ctypes.CDLL(str(lib), mode=ctypes.RTLD_GLOBAL)
+            except OSError:
+                failed.append(lib)
+        if len(failed) == len(pending):
+            return  # what is left needs something else: its import will say what
+        pending = failed
 
 
 def used_workspaces() -> list[Path]:
