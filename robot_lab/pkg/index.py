@@ -46,6 +46,8 @@ def package_prefix(name: str, env: Mapping[str, str] | None = None) -> Path:
     prefixes = ament_prefixes(env)
     for prefix in prefixes:
         if (prefix / _MARKERS / name).is_file():
+            if prefix == Path(sys.prefix):
+                ensure_kit_package(name)  # a kit package older than its definitions: rebuilt
             return prefix
     # The tutorials' interface packages and turtlesim: built from their definitions on
     # first need when `./kit setup` has not built them.

@@ -67,6 +67,7 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
 }
 
 _MARKERS = Path('share', 'ament_index', 'resource_index', 'packages')
+_ENSURED: set[str] = set()  # checked current in this process (once: a lookup is frequent)
 
 
 def kit_package_sources(name: str) -> Path:
@@ -274,12 +275,16 @@ def ensure_kit_package(name: str, progress: Callable[[str], None] | None = None)
     """Build kit package `name` on first need (False: `name` is not a kit package)."""
     if name not in KIT_PACKAGES:
         return False
+    if name in _ENSURED:
+        return True
     prefix = Path(sys.prefix)
     if _is_current(name, prefix):
         install_executables(prefix)
+        _ENSURED.add(name)
         return True
     say = progress or (lambda line: print(f'[robot_lab] {line}', file=sys.stderr, flush=True))
     build = build_kit_packages([name], progress=say)
     for line in build.lines():
         say(line)
+    _ENSURED.add(name)
     return True
