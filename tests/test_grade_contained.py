@@ -13,6 +13,7 @@ import os
 import shutil
 import socket
 import tarfile
+import time
 import zipfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -234,6 +235,16 @@ VARIANTS: dict[str, Callable[[Path], None]] = {
 }
 
 
+RUN_VAR = 'ROBOT_LAB_TEST_GRADE_RUN'
+
+
+def _environ(proc: psutil.Process) -> dict[str, str]:
+    try:
+        return dict(proc.environ())
+    except psutil.Error:
+        return {}
+
+
 def _tree_digest(root: Path) -> str:
     digest = hashlib.sha256()
     for path in sorted(root.rglob('*')):
@@ -263,15 +274,17 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Any]]
     _hostile(root / 'hostile', root, listener.getsockname()[1])
     before = {name: _tree_digest(root / name) for name in ('alice', 'solo')}
     out = base / 'out'
+    run = f'contained-{os.getpid()}-{time.monotonic_ns()}'  # this run's processes carry it
     done = run_cli('grade', str(root), '--lab', 'ch6-lab1', '-o', str(out), '--jobs', '2',
-                   timeout=1500)
+                   timeout=1500, env={RUN_VAR: run})
     connections = 0
     with contextlib.suppress(BlockingIOError):
         while listener.accept():
             connections += 1
     listener.close()
     daemons = [p for p in psutil.process_iter(['cmdline'])
-               if 'robot_lab_hostile_daemon' in ' '.join(p.info['cmdline'] or [])]
+               if 'robot_lab_hostile_daemon' in ' '.join(p.info['cmdline'] or [])
+               and _environ(p).get(RUN_VAR) == run]
     yield {'done': done, 'out': out, 'root': root, 'odd': odd, 'before': before,
            'connections': connections, 'daemons': daemons, 'base': base}
 
