@@ -99,6 +99,12 @@ class LiveRun:
     def not_run_verdict(self, expected: str) -> Verdict:
         return Verdict(False, expected, self.not_run, self.fix)
 
+    def watched(self) -> tuple[Observation, Roles] | None:
+        """What the observer saw and the roles in it; None when nothing ran."""
+        if self.not_run or self.obs is None or self.roles is None:
+            return None
+        return self.obs, self.roles
+
     def died(self) -> list[Any]:
         return [p for p in self.statuses if p.state == 'died' or p.exit_code not in (None, 0)]
 

@@ -12,9 +12,9 @@ __all__ = ['actuator_logs']
 @register('actuator_logs', stage='run')
 def actuator_logs(state: JobState, check: RubricCheck) -> Verdict:
     live = state.live
-    if live.not_run or live.obs is None or live.roles is None:
+    if (watched := live.watched()) is None:
         return live.not_run_verdict('the running system')
-    obs, roles = live.obs, live.roles
+    obs, roles = watched
     if roles.sensor is None or roles.controller is None:
         return Verdict(False, 'a node that subscribes to the commands and logs each one',
                        'no commands to log: there is no controller output.\n\n' + live.seen(),

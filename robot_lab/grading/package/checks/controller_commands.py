@@ -14,9 +14,9 @@ EXPECTED = 'a node that subscribes to the sensor topic and publishes commands de
 @register('controller_commands', stage='run')
 def controller_commands(state: JobState, check: RubricCheck) -> Verdict:
     live = state.live
-    if live.not_run or live.obs is None or live.roles is None:
+    if (watched := live.watched()) is None:
         return live.not_run_verdict('the running system')
-    obs, roles = live.obs, live.roles
+    obs, roles = watched
     if roles.sensor is None or roles.controller is None:
         why = '; '.join(roles.notes) or 'no node subscribes to a sensor topic and publishes'
         return Verdict(False, EXPECTED, why + '.\n\n' + live.seen(),

@@ -14,9 +14,9 @@ def sensor_publishes(state: JobState, check: RubricCheck) -> Verdict:
     live = state.live
     min_rate = float(check.option('min_rate_hz', 0.5))
     max_logs = float(check.option('max_log_rate_hz', 500))
-    if live.not_run or live.obs is None or live.roles is None:
+    if (watched := live.watched()) is None:
         return live.not_run_verdict('the running system')
-    obs, roles = live.obs, live.roles
+    obs, roles = watched
     if roles.sensor is None:
         return Verdict(False, f'a node that publishes a topic periodically (≥ {min_rate:g} Hz) '
                        'without input', live.seen(),
