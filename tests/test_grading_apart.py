@@ -152,3 +152,27 @@ def test_a_refused_notebook_is_a_not_graded_row_and_exit_2(tmp_path: Path) -> No
 
 if __name__ == '__main__':  # pragma: no cover
     sys.exit(pytest.main([__file__, '-q']))
+
+
+PATH_CHECK = ("import os, pathlib, robot_lab\n"
+              "robot_lab.load_param_file(pathlib.Path(os.environ['ROBOT_LAB_WORKSPACE'], "
+              "'config', 'robot_params.yaml'))\n")
+
+
+def test_feedback_pages_list_each_check_once_wrapped_without_machine_paths(
+        tmp_path: Path) -> None:
+    solutions = tmp_path / 'solutions'
+    cells = [_cell(CHECK, 'check', points=1), _cell(PATH_CHECK, 'check-params', points=2)]
+    _write(solutions / 'tiny.ipynb', cells)
+    _write(tmp_path / 'class' / 'erin' / 'tiny.ipynb', cells)
+    done = run_cli('grade', str(tmp_path / 'class'), '--solutions', str(solutions),
+                   '-o', str(tmp_path / 'out'), timeout=120)
+    assert done.returncode == 0, done.stderr
+    page = (tmp_path / 'out' / 'feedback' / 'erin.html').read_text()
+    markdown = (tmp_path / 'out' / 'feedback' / 'erin.md').read_text()
+    assert markdown.count('check-params') == 1 and markdown.count('## check —') == 1
+    assert markdown.count('## ') == 2  # one section per check, no table repeating them
+    assert 'white-space:pre-wrap' in page  # long lines wrap
+    assert '~/robot_lab_ws/config/robot_params.yaml' in page  # the student's path
+    for leak in ('/tmp/', str(Path(__file__).resolve().parent.parent), 'Traceback'):
+        assert leak not in page, leak

@@ -1,10 +1,11 @@
-"""`robot-lab course release DIR`: write or update the student's copy of the course."""
+"""`robot-lab course release DIR`: write or update the student's copy of the course;
+`robot-lab course nbgrader DIR`: write an nbgrader course of the kit's exercises."""
 
 from __future__ import annotations
 
 import argparse
 
-HELP = "Release the course: the student's copy of the notebooks and exercises"
+HELP = "Release the course (the student's copy), or write an nbgrader course of it"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -20,9 +21,44 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          help="The course repository (default: the kit's checkout)")
     release.add_argument('--no-sign', action='store_true',
                          help='Do not mark the notebooks trusted in your Jupyter data dir')
+    nbgrader = sub.add_parser(
+        'nbgrader', help="Write an nbgrader course of the kit's exercises into DIR",
+        description="Write DIR/nbgrader_config.py (course_id, the exchange), "
+        "DIR/students/nbgrader_config.py (the students' config) and DIR/source/exNN/ (the "
+        "kit's exercises as nbgrader source notebooks). Files already there are kept.",
+    )
+    nbgrader.add_argument('dest', metavar='DIR', help='The nbgrader course folder')
+    nbgrader.add_argument('--course-id', default='robot_lab', metavar='ID',
+                          help='nbgrader course_id (default: robot_lab)')
+    nbgrader.add_argument('--exchange', metavar='PATH',
+                          help='A shared exchange folder (default: DIR/exchange)')
+    nbgrader.add_argument('--solutions', metavar='DIR',
+                          help="Source notebooks (default: the kit's solutions/)")
+
+
+def _nbgrader(args: argparse.Namespace) -> int:
+    import os
+
+    from robot_lab.grading.nbgrader_course import write_course
+
+    files = write_course(args.dest, course_id=args.course_id, exchange=args.exchange,
+                         solutions=args.solutions)
+
+    def shown(path: object) -> str:
+        return os.path.relpath(str(path))
+
+    for f in files:
+        print(f'{f.action:<6} {shown(f.path)}')
+    sources = sorted({f.path.parent.name for f in files if f.path.parent.parent.name == 'source'})
+    exchange = args.exchange or os.path.join(args.dest, 'exchange')
+    print(f'course {args.course_id!r} in {args.dest}: assignments {", ".join(sources)}; '
+          f'exchange {exchange}')
+    return 0
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.course_command == 'nbgrader':
+        return _nbgrader(args)
     from robot_lab.grading.release import release_course
 
     results = release_course(args.dest, args.course, sign=not args.no_sign)

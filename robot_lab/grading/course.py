@@ -22,8 +22,10 @@ import re
 import shutil
 import sys
 import tempfile
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from robot_lab.widgets.output import is_headless
 
@@ -105,6 +107,35 @@ def _in_test_run() -> bool:
                ('ROBOT_LAB_NOTEBOOK_DOMAIN_BASE', 'ROBOT_LAB_TEST_DOMAIN_BASE'))
 
 
+def _short_errors(workspace: Path) -> None:
+    """Under nbgrader (Validate, autograde), a failed check or a kit error shows as its
+    message alone, wrapped, with the paths the student knows: what nbgrader's feedback page
+    and Validate print holds no traceback into the kit's code or the grader's folders.
+    Every other error keeps IPython's traceback (the student's own code)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return
+    shell = get_ipython()
+    if shell is None:
+        return
+    from robot_lab.errors import RobotLabError
+
+    def short(shell: Any, etype: type[BaseException], value: BaseException, tb: Any,
+              tb_offset: int | None = None) -> list[str]:
+        if not (issubclass(etype, RobotLabError) or etype.__name__ == 'CheckError'):
+            shell.showtraceback((etype, value, tb), tb_offset=tb_offset)
+            return []
+        text = f'{etype.__name__}: {value}'.replace(str(workspace), '~/robot_lab_ws')
+        home = str(Path.home())
+        text = text.replace(home + '/', '~/') if home != '/' else text
+        lines = textwrap.wrap(text, 88, break_long_words=False, break_on_hyphens=False)
+        shell._showtraceback(etype, value, lines)
+        return lines
+
+    shell.set_custom_exc((RobotLabError, AssertionError), short)
+
+
 def setup(notebook: str) -> Lesson:
     """Prepare this kernel for lesson `notebook` (e.g. '04_parameters'); what was chosen."""
     if _in_test_run() or _autograding():
@@ -119,4 +150,7 @@ def setup(notebook: str) -> Lesson:
     from robot_lab.env import apply_ros_defaults
 
     apply_ros_defaults()
-    return Lesson(notebook, domain, _workspace())
+    lesson = Lesson(notebook, domain, _workspace())
+    if os.environ.get('NBGRADER_EXECUTION', '').strip():
+        _short_errors(lesson.workspace)
+    return lesson

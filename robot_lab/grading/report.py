@@ -116,7 +116,7 @@ class StudentReport:
         return data
 
     def markdown(self, image_names: Sequence[str] = ()) -> str:
-        """The feedback page: total, a table of checks, then each check's explanation."""
+        """The feedback page: total, then each check once: its points and explanation."""
         head = f'# Feedback for {self.student}'
         if self.title:
             head += f' — {self.title}'
@@ -130,16 +130,12 @@ class StudentReport:
             lines += [f'> Grading ended early ({self.status}): {self.error}', '']
         for note in self.notes:
             lines += [f'> **Sandbox:** {note}', '']
-        lines += ['| check | points | result |', '|---|---|---|']
-        for c in self.checks:
-            mark = 'passed' if c.passed else ('partly' if c.score > 0 else 'not met')
-            lines.append(f'| `{c.id}` {c.name} | {number(c.score)}/{number(c.max_score)} '
-                         f'| {mark} |')
-        lines.append('')
         for name in image_names:
             lines += [f'![your running graph]({name})', '']
-        for c in self.checks:
-            lines += [f'## {c.name or c.id} — {number(c.score)}/{number(c.max_score)}', '',
+        for c in self.checks:  # each check once: its points, then why
+            mark = 'passed' if c.passed else ('partly' if c.score > 0 else 'not met')
+            lines += [f'## {c.name or c.id} — {number(c.score)}/{number(c.max_score)} '
+                      f'({mark})', '',
                       c.output.strip() or ('Passed.' if c.passed else 'Not met.'), '']
         return '\n'.join(lines)
 
@@ -207,7 +203,8 @@ def _to_html(markdown_text: str, title: str) -> str:
             f'<title>{html.escape(title)}</title><style>'
             'body{font-family:sans-serif;max-width:60em;margin:2em auto;line-height:1.4}'
             'table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:.2em .6em}'
-            'pre{background:#f6f8fa;padding:.6em;overflow-x:auto}img{max-width:100%}'
+            'pre{background:#f6f8fa;padding:.6em;white-space:pre-wrap;overflow-wrap:anywhere}'
+            'code{overflow-wrap:anywhere}img{max-width:100%}'
             f'</style></head><body>\n{body}</body></html>\n')
 
 

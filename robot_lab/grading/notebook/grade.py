@@ -337,10 +337,19 @@ def grade(
         error = outcome[check.cell_id]
         passed = error is None
         result.checks.append(CheckResult(check.cell_id, check.points if passed else 0,
-                                         check.points, passed, error or '',
-                                         check_output(nb.cells[at[check.cell_id]])))
+                                         check.points, passed, _public(error or '', work),
+                                         _public(check_output(nb.cells[at[check.cell_id]]),
+                                                 work)))
     result.elapsed = round(time.monotonic() - started, 2)
     return result
+
+
+def _public(text: str, work: Path) -> str:
+    """`text` with the paths the student knows: the grader's scratch folder is their
+    workspace (~/robot_lab_ws), the grader's home is `~`."""
+    text = text.replace(str(work), '~/robot_lab_ws')
+    home = str(Path.home())
+    return text.replace(home + '/', '~/') if home != '/' else text
 
 
 def _log_tail(path: Path, lines: int = 5) -> str:
