@@ -14,13 +14,17 @@ each notebook's set-up cell gives its kernel a new workspace and a leased ROS do
 
 from __future__ import annotations
 
+import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
+
+from nbconvert.preprocessors import Preprocessor
 
 from robot_lab.grading.exercises import kit_root
 
-__all__ = ['COURSE_ID', 'CourseFile', 'write_course']
+__all__ = ['COURSE_ID', 'CourseFile', 'StudentPaths', 'student_paths', 'write_course']
 
 COURSE_ID = 'robot_lab'
 _INSTRUCTOR = """\
@@ -33,6 +37,11 @@ c.CourseDirectory.root = {root!r}
 c.Exchange.root = {exchange!r}
 # A check that starts ROS nodes and watches them needs more than nbgrader's 30 s per cell.
 c.ExecutePreprocessor.timeout = 120
+# Feedback shows the paths a student knows (~/robot_lab_ws), not the grader's folders.
+from nbconvert.preprocessors import CSSHTMLHeaderPreprocessor  # noqa: E402
+from nbgrader.preprocessors import GetGrades  # noqa: E402
+from robot_lab.grading.nbgrader_course import StudentPaths  # noqa: E402
+c.GenerateFeedback.preprocessors = [GetGrades, CSSHTMLHeaderPreprocessor, StudentPaths]
 """
 _STUDENTS = """\
 # The students' nbgrader configuration of the robot_lab course (`robot-lab course nbgrader`):
@@ -43,6 +52,35 @@ c.Exchange.root = {exchange!r}
 # Validate runs the checks: one that starts ROS nodes needs more than nbgrader's 30 s.
 c.ExecutePreprocessor.timeout = 120
 """
+
+
+_AUTOGRADE_FOLDER = re.compile(r'(?:/[\w.-]+)*/robot_lab_autograde_\w+')
+
+
+def student_paths(text: str) -> str:
+    """`text` with the grader's folders as the student knows them: an autograded kernel's
+    workspace is their ~/robot_lab_ws, the instructor's home is `~`, the kit is `robot_lab`."""
+    text = _AUTOGRADE_FOLDER.sub('~/robot_lab_ws', text)
+    text = text.replace(str(kit_root()) + '/', '')
+    home = str(Path.home())
+    return text.replace(home + '/', '~/') if home != '/' else text
+
+
+class StudentPaths(Preprocessor):  # type: ignore[misc]  # nbconvert is unannotated
+    """nbgrader's feedback: every output with `student_paths` applied."""
+
+    def preprocess_cell(self, cell: Any, resources: Any, index: int) -> tuple[Any, Any]:
+        for output in cell.get('outputs', []):
+            if 'text' in output:
+                output['text'] = student_paths(str(output['text']))
+            if 'traceback' in output:
+                output['traceback'] = [student_paths(line) for line in output['traceback']]
+            if 'evalue' in output:
+                output['evalue'] = student_paths(str(output['evalue']))
+            for kind, value in output.get('data', {}).items():
+                if kind.startswith('text/') and isinstance(value, str):
+                    output['data'][kind] = student_paths(value)
+        return cell, resources
 
 
 @dataclass(frozen=True)
