@@ -66,7 +66,7 @@ def student_paths(text: str) -> str:
     return text.replace(home + '/', '~/') if home != '/' else text
 
 
-class StudentPaths(Preprocessor):  # type: ignore[misc]  # nbconvert is unannotated
+class StudentPaths(Preprocessor):
     """nbgrader's feedback: every output with `student_paths` applied."""
 
     def preprocess_cell(self, cell: Any, resources: Any, index: int) -> tuple[Any, Any]:
