@@ -69,6 +69,10 @@ def student_paths(text: str) -> str:
 class StudentPaths(Preprocessor):
     """nbgrader's feedback: every output with `student_paths` applied."""
 
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)  # type: ignore[no-untyped-call]
+        self.enabled = True  # nbconvert runs only enabled preprocessors
+
     def preprocess_cell(self, cell: Any, resources: Any, index: int) -> tuple[Any, Any]:
         for output in cell.get('outputs', []):
             if 'text' in output:
