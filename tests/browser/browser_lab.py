@@ -271,11 +271,13 @@ class Notebook:
         """Tracebacks and widgets that failed to display, anywhere in the notebook."""
         scope = self.page.locator('.jp-NotebookPanel:visible')
         # JupyterLab shows an exception as a stderr text output, like any stream: a
-        # traceback is what tells it from a warning a command printed.
+        # traceback, or a failed check's two lines (it has no traceback), is what tells it
+        # from a warning a command printed.
+        stderr = '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"]'
         found = [str(e.text_content())[-800:] for e in scope.locator(
             f'.jp-OutputArea-output[data-mime-type="{ERROR_MIME}"], '
-            '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"]'
-            ':has-text("Traceback (most recent call last)")').all()]
+            f'{stderr}:has-text("Traceback (most recent call last)"), '
+            f'{stderr}:has-text("✗ expected")').all()]
         found += [str(e.text_content())[:300] for e in scope.locator(
             '.jupyter-widgets:has-text("Error displaying widget")').all()]
         return found
