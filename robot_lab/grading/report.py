@@ -238,7 +238,7 @@ def write_gradebook(path: Path, reports: Sequence[StudentReport],
                         + (['late_days', 'penalty'] if late else []))
         for r in sorted(reports, key=lambda r: r.student):
             earned = {c.id: c.score for c in r.checks}
-            if r.status == 'not graded':  # nothing ran: no points, a row that says so
+            if r.status == 'not graded' and not r.checks:  # nothing ran: a row that says so
                 writer.writerow([r.student, 'not graded', '', *('' for _ in ids)]
                                 + (['', ''] if late else []))
                 continue
