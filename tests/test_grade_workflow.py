@@ -117,7 +117,8 @@ def test_the_class_run_reports_everyone(moodle_class: dict[str, object]) -> None
     short = sorted(r.student for r in load_record(out) if r.status != 'graded')
     assert last.startswith(f'4 student(s): {4 - len(short)} fully graded'), last
     assert all(f'{s} (' in last for s in short), last
-    assert 'no ROS 2 package' in (out / 'feedback' / 'Gus_Empty_1004.md').read_text()
+    assert 'notes.txt is a .txt file, not a package' in (
+        out / 'feedback' / 'Gus_Empty_1004.md').read_text()
     assert 'similarity.html' in done.stdout
 
 
