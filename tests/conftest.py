@@ -93,7 +93,8 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Slow groups first; module domains by sorted name, which every worker computes alike."""
     modules = sorted({item.module.__name__ for item in items
-                      if isinstance(item, pytest.Function) and item.module is not None})
+                      if isinstance(item, pytest.Function) and item.module is not None
+                      and item.get_closest_marker('no_ros') is None})
     if len(modules) > len(_MODULE_SLOTS):
         raise pytest.UsageError(f'tests/conftest.py: {len(modules)} test modules but '
                                 f'{len(_MODULE_SLOTS)} domain slots; add slots to _MODULE_SLOTS')
@@ -104,7 +105,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 @pytest.fixture(autouse=True, scope='module')
 def ros_domain(request: pytest.FixtureRequest) -> Iterator[int]:
-    """A ROS_DOMAIN_ID of this module's own, so modules never hear each other."""
+    """A ROS_DOMAIN_ID of this module's own, so modules never hear each other (a module
+    marked `no_ros` reads files only and takes no slot)."""
+    if request.module.__name__ not in _modules:
+        assert request.node.get_closest_marker('no_ros') is not None
+        yield -1
+        return
     domain = _modules[request.module.__name__]  # laid out at collection, above
     old = os.environ.get('ROS_DOMAIN_ID')
     os.environ['ROS_DOMAIN_ID'] = str(domain)

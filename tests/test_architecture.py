@@ -19,6 +19,10 @@ import ast
 import functools
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.no_ros  # reads files only: no ROS_DOMAIN_ID slot
+
 PACKAGE = Path(__file__).resolve().parent.parent / 'robot_lab'
 MAX_LINES = 600
 

@@ -27,6 +27,8 @@ from typing import Any
 
 import pytest
 
+pytestmark = pytest.mark.no_ros  # reads files only: no ROS_DOMAIN_ID slot
+
 ROOT = Path(__file__).resolve().parents[1]
 COMMITTED = ('notebooks', 'exercises', 'solutions')
 COURSE = ROOT / 'notebooks'

@@ -6,6 +6,8 @@ from __future__ import annotations
 import base64
 from pathlib import Path
 
+import pytest
+
 from robot_lab.grading.report import (
     CheckOutcome,
     StudentReport,
@@ -14,6 +16,8 @@ from robot_lab.grading.report import (
     safe_name,
     write_outputs,
 )
+
+pytestmark = pytest.mark.no_ros  # reads files only: no ROS_DOMAIN_ID slot
 
 PNG = base64.b64decode(
     'iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8/5+hHgAHggJ/PchI7wAAAABJRU5ErkJggg==')

@@ -22,6 +22,8 @@ from robot_lab.grading.package.similarity import (
 )
 from robot_lab.grading.package.submission import find_submissions
 
+pytestmark = pytest.mark.no_ros  # reads files only: no ROS_DOMAIN_ID slot
+
 DATA = REPO / 'tests' / 'data'
 INDEPENDENT = ('ana', 'ben', 'chen', 'dara', 'eli')
 

@@ -10,6 +10,8 @@ from robot_lab.turtlesim import CANVAS, FRAME_PERIOD, RotateGoal, World
 from robot_lab.turtlesim.path_image import PathImage
 from robot_lab.turtlesim.turtle import normalize_angle
 
+pytestmark = pytest.mark.no_ros  # reads files only: no ROS_DOMAIN_ID slot
+
 
 class Log:
     def __init__(self) -> None:
