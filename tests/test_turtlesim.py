@@ -214,7 +214,7 @@ def test_teleop_key_in_a_terminal(sim: Proc) -> None:
         assert text in seen, seen.decode(errors='replace')
 
     try:
-        read_until(b"'Q' to quit.")
+        read_until(b"'Q' to quit.\r\n")  # the whole last line, not a partial read
         assert seen.replace(b'\r\n', b'\n').startswith(
             b'Reading from keyboard\n---------------------------\n'
             b'Use arrow keys to move the turtle.\n'
