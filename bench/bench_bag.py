@@ -42,7 +42,7 @@ import sys, time
 from rclpy.duration import Duration
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Int32
-from robot_lab.context import session
+from robot_lab.rclpy_session import session
 count, rate = int(sys.argv[1]), float(sys.argv[2])
 node = session().node
 reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
@@ -109,7 +109,7 @@ def playback_error(bag: Path, rate: float) -> float:
     from std_msgs.msg import Int32
 
     from robot_lab.bag.read import open_bag
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     with open_bag(bag) as reader:
         stamps = [t for _, t, _ in reader.messages()]
@@ -170,7 +170,7 @@ def delivery_under_load(work: Path, busy: int, shallow: bool,
     from std_msgs.msg import String
 
     from robot_lab.bag.read import open_bag
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     with open_bag(WBAG) as reader:
         counts = {c.topic: int(c.msgcount) for c in reader.connections}

@@ -32,9 +32,9 @@ from pathlib import Path
 os.environ.setdefault('ROS_DOMAIN_ID', '59')
 
 import robot_lab
-from robot_lab.context import session
 from robot_lab.env import ros_environment
 from robot_lab.process import spawn, stop
+from robot_lab.rclpy_session import session
 
 BIN = Path(sys.executable).parent
 CLI = str(BIN / 'robot-lab')

@@ -87,7 +87,7 @@ except KeyboardInterrupt:
 # A kernel-like participant: the kit's session (one rclpy context, its executor thread).
 SESSION = r"""
 import time
-from robot_lab.context import session
+from robot_lab.rclpy_session import session
 session().node
 print('ready', time.time(), flush=True)
 time.sleep(3600)

@@ -51,7 +51,7 @@ CONFIG = Path(__file__).resolve().parents[1] / 'config' / 'robot_params.yaml'
 # Started before the fleet: reports when it sees every node, and the sensors' messages.
 OBSERVER = r"""
 import json, sys, threading, time
-from robot_lab.context import session
+from robot_lab.rclpy_session import session
 from std_msgs.msg import Float32
 robots = int(sys.argv[1])
 node = session().node

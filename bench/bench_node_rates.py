@@ -21,10 +21,10 @@ from pathlib import Path
 
 os.environ.setdefault('ROS_DOMAIN_ID', '97')
 
-from robot_lab.context import session
 from robot_lab.env import ros_environment
 from robot_lab.messages import message_class
 from robot_lab.process import spawn, stop
+from robot_lab.rclpy_session import session
 
 BIN = Path(sys.executable).parent
 CASES = [

@@ -13,7 +13,7 @@ part of that in a plain Python process, against the real three-node system
 Each case is measured in a fresh process (process CPU seconds over --seconds, as % of one
 core) and the median of --runs runs is printed, with the messages delivered per second (a
 cheap executor that drops callbacks would show there) and a slider set() round trip.
-`session` is the executor robot_lab.context.Session uses now (after), `multi4` the
+`session` is the executor robot_lab.rclpy_session.Session uses now (after), `multi4` the
 4-thread pool it used before; `multi2`, `single` and `events` are the other candidates
 (rclpy 7.1.5's EventsExecutor spins a whole core while idle and never ran a guard
 condition's callback here, so `events` runs end as hung).
@@ -64,7 +64,7 @@ def _cpu_over(seconds: float) -> float:
 def _child(executor: str, case: str, seconds: float) -> dict[str, float]:
     """One measurement in this (fresh) process; returns the numbers as a dict."""
     import robot_lab
-    from robot_lab.context import Session, session
+    from robot_lab.rclpy_session import Session, session
 
     factory = _factories()[executor]
     if factory is not None:

@@ -24,8 +24,8 @@ _API: dict[str, str] = {
     'BagError': 'robot_lab.errors',
     # environment and session
     'apply_ros_defaults': 'robot_lab.env',
-    'session': 'robot_lab.context',
-    'Session': 'robot_lab.context',
+    'session': 'robot_lab.rclpy_session',
+    'Session': 'robot_lab.rclpy_session',
     # packages
     'package_share': 'robot_lab.pkg.index',
     'package_prefix': 'robot_lab.pkg.index',
@@ -113,7 +113,6 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
-    from robot_lab.context import Session, session
     from robot_lab.env import apply_ros_defaults
     from robot_lab.errors import (
         BagError,
@@ -126,3 +125,4 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         RobotLabError,
     )
     from robot_lab.pkg.index import find_executable, package_prefix, package_share
+    from robot_lab.rclpy_session import Session, session

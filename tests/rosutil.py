@@ -11,8 +11,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from robot_lab.context import session
 from robot_lab.messages import message_class
+from robot_lab.rclpy_session import session
 
 
 class Listener:

@@ -137,7 +137,7 @@ def test_read_topic_gives_columns_for_plots(system_bag: Path) -> None:
 def test_play_handle_pause_resume_progress(system_bag: Path) -> None:
     from std_msgs.msg import Float32
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     recorded = [m.data for m in _rosbags(system_bag, '/sensor/temperature')]
     got: list[float] = []

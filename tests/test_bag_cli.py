@@ -199,7 +199,7 @@ class _Listener:
     """An in-process subscriber (the test's session) collecting what playback sends."""
 
     def __init__(self, topic: str, msgtype: Any, field: str = 'data') -> None:
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.values: list[Any] = []
         self.times: list[float] = []

@@ -13,8 +13,8 @@ import pytest
 
 import robot_lab
 from robot_lab.bag.read import bag_messages, open_bag
-from robot_lab.context import session
 from robot_lab.errors import BagError
+from robot_lab.rclpy_session import session
 
 INFINITE = {'sec': 2147483647, 'nsec': 4294967295}
 

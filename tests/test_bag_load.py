@@ -22,7 +22,7 @@ def test_split_bag_reaches_reliable_subscribers_completely_under_load() -> None:
     from std_msgs.msg import String
 
     from robot_lab.bag.read import open_bag
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     with open_bag(WBAG) as reader:
         counts = {c.topic: int(c.msgcount) for c in reader.connections}

@@ -33,7 +33,7 @@ def clock_listener(clocks: list[int]) -> Iterator[None]:
     from rclpy.qos import QoSProfile, ReliabilityPolicy
     from rosgraph_msgs.msg import Clock
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     node = session().node
     sub = node.create_subscription(
@@ -84,7 +84,7 @@ class Received:
 def received() -> Iterator[Received]:
     from std_msgs.msg import Int32
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     got = Received()
     node = session().node

@@ -22,15 +22,15 @@ from conftest import BIN, Proc
 
 import robot_lab
 from robot_lab.bag.qos import adapt_offer, load_overrides
-from robot_lab.context import session
 from robot_lab.errors import BagError
+from robot_lab.rclpy_session import session
 
 N = 20
 PUBLISHER = r"""
 import sys, threading, time
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
-from robot_lab.context import session
+from robot_lab.rclpy_session import session
 node = session().node
 scan = node.create_publisher(
     String, '/scan', QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))

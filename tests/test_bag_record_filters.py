@@ -45,7 +45,7 @@ def test_regex_searches_and_types_select(system: dict[str, Proc], tmp_path: Path
 def test_hidden_topics_need_the_option(system: dict[str, Proc], tmp_path: Path) -> None:
     from std_msgs.msg import Int32
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     node = session().node
     publisher = node.create_publisher(Int32, '/lab/_debug', 10)
@@ -67,7 +67,7 @@ def test_no_discovery_keeps_to_the_topics_of_the_start(system: dict[str, Proc],
                                                        tmp_path: Path) -> None:
     from std_msgs.msg import Int32
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     subscribed = threading.Event()
 
@@ -156,7 +156,7 @@ def test_qos_overrides_file_decides_the_subscription(tmp_path: Path) -> None:
     from rclpy.qos import DurabilityPolicy, QoSProfile
     from std_msgs.msg import String
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     node = session().node
     latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -24,7 +24,7 @@ import sys, time
 from rclpy.duration import Duration
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Int32
-from robot_lab.context import session
+from robot_lab.rclpy_session import session
 count, rate = int(sys.argv[1]), float(sys.argv[2])
 node = session().node
 reliable = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)

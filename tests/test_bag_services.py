@@ -99,7 +99,7 @@ def test_without_the_flag_the_events_are_republished(recorded: Path) -> None:
     """rosbag2's default: the `_service_event` messages play as a topic, all six."""
     from std_srvs.srv import SetBool
 
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     got: list[int] = []
     all_six = threading.Event()

@@ -15,8 +15,8 @@ from conftest import Proc, reference_system, run_reference_node
 
 import robot_lab
 from robot_lab import GraphError
-from robot_lab.context import session
 from robot_lab.params import load_param_file
+from robot_lab.rclpy_session import session
 
 
 @pytest.fixture(scope='module')

@@ -13,14 +13,14 @@ import pytest
 import yaml
 
 from robot_lab.errors import LaunchError, ParamFileError
-from robot_lab.launch.describe import describe_launch, launch_arguments, parse_launch_arguments
-from robot_lab.launch.description import (
+from robot_lab.launch.plan import (
     LaunchPlan,
     LogAction,
     ProcessSpec,
     ShutdownAction,
-    TimerAction,
+    TimerSpec,
 )
+from robot_lab.launch.resolve import describe_launch, launch_arguments, parse_launch_arguments
 from robot_lab.pkg.index import find_executable, package_prefix, package_share
 
 DATA = Path(__file__).resolve().parent / 'data' / 'launch'
@@ -290,8 +290,8 @@ def test_timer_log_shutdown_and_labels_in_start_order(tmp_path: Path) -> None:
           <shutdown reason="bye"/>
         </launch>""")
     late, sooner, now, hello, bye = plan.actions
-    assert isinstance(late, TimerAction) and late.period == 2.0
-    assert isinstance(sooner, TimerAction) and sooner.period == 1.0
+    assert isinstance(late, TimerSpec) and late.period == 2.0
+    assert isinstance(sooner, TimerSpec) and sooner.period == 1.0
     assert isinstance(sooner.actions[0], LogAction) and sooner.actions[0].message == 'one second'
     assert isinstance(now, ProcessSpec) and now.label == 'echo-1'
     assert [p.label for p in plan.processes()] == ['echo-3', 'echo-2', 'echo-1']
@@ -551,7 +551,7 @@ def test_yaml_frontend() -> None:
     assert greeter.cmd == ['echo', 'hello sim'] and greeter.label == 'greeter-2'
     assert 'ROBOT_LAB_TEST_B' not in greeter.env
     timer = plan.actions[2]
-    assert isinstance(timer, TimerAction) and timer.period == 1.5
+    assert isinstance(timer, TimerSpec) and timer.period == 1.5
     assert not any(isinstance(a, ShutdownAction) for a in plan.actions)
     with pytest.raises(LaunchError) as err_plan:
         describe_launch(DATA / 'everything.launch.yaml', args={'mode': 'other'})
@@ -596,7 +596,7 @@ def test_python_launch_api() -> None:
     assert echo.output == 'screen'
     assert sensor.source == f'{DATA / "python_api.launch.py"}:44'
     timer = plan.actions[-1]
-    assert isinstance(timer, TimerAction) and timer.period == 2.0
+    assert isinstance(timer, TimerSpec) and timer.period == 2.0
     assert [p.label for p in plan.processes()][-1] == 'controller_node-6'
     skipped = describe_launch(DATA / 'python_api.launch.py', args={'use_group': 'false'})
     assert next(p.node_name for p in skipped.processes()) == '/skipped'

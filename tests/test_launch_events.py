@@ -16,8 +16,8 @@ import pytest
 import yaml
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.describe import describe_launch
-from robot_lab.launch.description import EventHandlerSpec, LogAction, ProcessSpec
+from robot_lab.launch.plan import EventHandlerSpec, LogAction, ProcessSpec
+from robot_lab.launch.resolve import describe_launch
 
 DATA = Path(__file__).resolve().parent / 'data' / 'launch' / 'events'
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import yaml
 
-from robot_lab.launch.describe import describe_launch
+from robot_lab.launch.resolve import describe_launch
 
 
 def test_fleet_is_ten_namespaced_robots_with_their_own_topics() -> None:

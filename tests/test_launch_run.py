@@ -24,15 +24,15 @@ import pytest
 from conftest import Proc, launched_nodes
 
 from robot_lab.errors import ParamFileError
-from robot_lab.launch.description import (
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.parameters import check_param_files
+from robot_lab.launch.plan import (
     LaunchPlan,
     LogAction,
     ProcessSpec,
     ShutdownAction,
-    TimerAction,
+    TimerSpec,
 )
-from robot_lab.launch.output import LaunchOutput
-from robot_lab.launch.parameters import check_param_files
 from robot_lab.launch.supervisor import Supervisor
 from robot_lab.pkg.index import find_executable
 
@@ -231,7 +231,7 @@ def test_on_exit_shutdown_stops_the_others(run_plan) -> None:  # type: ignore[no
 def test_timer_log_and_shutdown_actions(run_plan) -> None:  # type: ignore[no-untyped-def]
     run = run_plan(LogAction('starting'),
                    py_spec('import time; time.sleep(60)', 1),
-                   TimerAction(0.4, [LogAction('timer fired', 'WARNING'), ShutdownAction('done')]))
+                   TimerSpec(0.4, [LogAction('timer fired', 'WARNING'), ShutdownAction('done')]))
     assert run.join() == 0
     lines = run.text.splitlines()
     assert '[INFO] [launch.user]: starting' in lines
@@ -288,7 +288,7 @@ RUNNER = r"""
 import json, sys
 from pathlib import Path
 from robot_lab.cli.launch import run
-from robot_lab.launch.description import LaunchPlan, ProcessSpec
+from robot_lab.launch.plan import LaunchPlan, ProcessSpec
 specs = [ProcessSpec(**d) for d in json.loads(sys.argv[1])]
 sys.exit(run(LaunchPlan(Path('hand.launch.xml'), specs, []), noninteractive=sys.argv[2] == '1'))
 """

@@ -199,7 +199,7 @@ class Player:
             return self
         import rclpy
 
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         with open_bag(self.bag) as reader:
             conns = list(reader.connections)

@@ -197,7 +197,7 @@ class Recorder:
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
 
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.open()
         assert self._writer is not None

@@ -73,9 +73,9 @@ class _Observer:
 
 def main(args: argparse.Namespace) -> int:
     from robot_lab.cli.launch import run
-    from robot_lab.context import session
-    from robot_lab.launch.describe import describe_launch
+    from robot_lab.launch.resolve import describe_launch
     from robot_lab.launch.supervisor import Supervisor
+    from robot_lab.rclpy_session import session
 
     launch_args = {'robot_name': args.robot_name} if args.robot_name else {}
     plan = describe_launch('robot_lab', 'robot.launch.xml', launch_args)

@@ -14,12 +14,12 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from robot_lab.launch.description import (
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.parameters import check_param_files
+from robot_lab.launch.plan import (
     LaunchArgument,
     LaunchPlan,
 )
-from robot_lab.launch.output import LaunchOutput
-from robot_lab.launch.parameters import check_param_files
 from robot_lab.launch.runner import run_supervisor
 from robot_lab.launch.supervisor import Supervisor
 
@@ -87,7 +87,7 @@ def format_arguments(arguments: list[LaunchArgument]) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    from robot_lab.launch.describe import (
+    from robot_lab.launch.resolve import (
         describe_launch,
         launch_arguments,
         parse_launch_arguments,
@@ -99,16 +99,16 @@ def main(args: argparse.Namespace) -> int:
         return 0
     if args.print:
         # like ros2 launch --print: the parsed description, nothing evaluated or written
-        from robot_lab.launch.describe import (
-            find_launch_file,
-            included_description,
-            load_description,
-        )
         from robot_lab.launch.introspect import format_description
+        from robot_lab.launch.resolve import (
+            find_launch_file,
+            included_launch_file,
+            load_launch_file,
+        )
 
         parse_launch_arguments(argv)  # a malformed one is still an error
         path = find_launch_file(source, file)
-        print(format_description(load_description(path), path, included_description))
+        print(format_description(load_launch_file(path), path, included_launch_file))
         return 0
     # First thing, before the launch file is read: the graph daemon's socket, and word that
     # a launch is starting, so a `node list` typed from now on waits for its nodes and a

@@ -30,7 +30,7 @@ from robot_lab.graph.nodes import split_name
 from robot_lab.messages import message_from_yaml
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'ActionGoal',

@@ -2,7 +2,7 @@
 
 Each function returns data (the `robot-lab` verbs only print it). Every wait has a
 timeout and ends in a GraphError that says what is missing and how to check. All take an
-optional `session=` (default: `robot_lab.context.session()`).
+optional `session=` (default: `robot_lab.rclpy_session.session()`).
 """
 
 from __future__ import annotations

@@ -483,7 +483,7 @@ class _Server:
         for sig in (signal.SIGTERM, signal.SIGINT):
             signal.signal(sig, lambda _s, _f: self.stopping.set())
         try:
-            from robot_lab.context import session
+            from robot_lab.rclpy_session import session
 
             self.session = session()
             # Idle from when it can answer: a slow start-up (a loaded machine) must not

@@ -26,7 +26,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeVar
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'ANSWER_BURST',
@@ -75,7 +75,7 @@ def get_session(session: Session | None) -> Session:
     """The session to use: the one given, or the process's session for ROS_DOMAIN_ID."""
     if session is not None:
         return session
-    from robot_lab.context import session as process_session
+    from robot_lab.rclpy_session import session as process_session
 
     return process_session()
 

@@ -17,7 +17,7 @@ from robot_lab.graph.nodes import node_list
 from robot_lab.graph.services import call_service, service_list_typed
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'LifecycleTransition',

@@ -18,7 +18,7 @@ from robot_lab.graph.discovery import (
 )
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'NodeInfo',

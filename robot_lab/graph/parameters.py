@@ -20,7 +20,7 @@ from robot_lab.graph.discovery import absolute_name, get_session, wait_until
 from robot_lab.graph.nodes import find_node, node_list
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'ParamDescription',
@@ -119,7 +119,7 @@ def param_list(node: str | None = None, prefixes: list[str] | None = None,
     """
     from rcl_interfaces.srv import ListParameters
 
-    from robot_lab.context import is_session_node
+    from robot_lab.rclpy_session import is_session_node
 
     sess = get_session(session)
     if node:

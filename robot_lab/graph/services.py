@@ -26,7 +26,7 @@ from robot_lab.graph.nodes import names_and_types
 from robot_lab.messages import message_from_yaml
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'ServiceInfo',

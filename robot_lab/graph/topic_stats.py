@@ -19,7 +19,7 @@ from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session
 from robot_lab.graph.topics import _resolve_type, _without_qos_events
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'BandwidthMeter',

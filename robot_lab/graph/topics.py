@@ -31,7 +31,7 @@ from robot_lab.messages import (
 )
 
 if TYPE_CHECKING:
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = [
     'Endpoint',

@@ -24,7 +24,7 @@ from robot_lab.graph.nodes import is_hidden, node_list, split_name
 if TYPE_CHECKING:
     import networkx as nx
 
-    from robot_lab.context import Session
+    from robot_lab.rclpy_session import Session
 
 __all__ = ['DEFAULT_HIDDEN_TOPICS', 'GraphImage', 'graph_model', 'graph_view']
 

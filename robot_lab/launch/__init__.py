@@ -25,7 +25,7 @@ class _CallableModule(ModuleType):
     def __getattr__(self, name: str) -> Any:
         # describe_launch & co. live in describe.py; load it only when asked for.
         if name in __all__:
-            return getattr(importlib.import_module('robot_lab.launch.describe'), name)
+            return getattr(importlib.import_module('robot_lab.launch.resolve'), name)
         raise AttributeError(f'module {self.__name__!r} has no attribute {name!r}')
 
 

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from robot_lab.launch.conditions import Condition
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['DescriptionStep', 'LaunchStep', 'Subs', 'as_step', 'caller_line', 'opt_subs',
+__all__ = ['LaunchDescriptionStep', 'LaunchStep', 'Subs', 'as_step', 'caller_line', 'opt_subs',
            'python_error', 'subs']
 
 Subs = list[Substitution]
@@ -84,7 +84,7 @@ class LaunchStep:
         return []
 
 
-class DescriptionStep(LaunchStep):
+class LaunchDescriptionStep(LaunchStep):
     """A LaunchDescription: its entities, in order, in the current scope."""
 
     launch_name = 'LaunchDescription'
@@ -123,5 +123,5 @@ def as_step(item: Any) -> LaunchStep:
         return item
     entities = getattr(item, 'entities', None)
     if entities is not None:
-        return DescriptionStep([as_step(e) for e in entities])
+        return LaunchDescriptionStep([as_step(e) for e in entities])
     raise TypeError(f'not a launch action: {item!r}')

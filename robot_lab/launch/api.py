@@ -21,9 +21,9 @@ from types import TracebackType
 from typing import Any
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.description import LaunchPlan
 from robot_lab.launch.output import LaunchOutput, OutputLine
 from robot_lab.launch.parameters import check_param_files
+from robot_lab.launch.plan import LaunchPlan
 from robot_lab.launch.runner import run_supervisor
 from robot_lab.launch.supervisor import Supervisor
 
@@ -40,8 +40,8 @@ _REGISTRY_LOCK = threading.Lock()
 
 def describe_launch(source: str | Path, file: str | None = None,
                     args: Mapping[str, str] | None = None) -> LaunchPlan:
-    """The resolved plan of a launch file, nothing started (see robot_lab.launch.describe)."""
-    from robot_lab.launch.describe import describe_launch as resolve
+    """The resolved plan of a launch file, nothing started (see robot_lab.launch.resolve)."""
+    from robot_lab.launch.resolve import describe_launch as resolve
 
     return resolve(source, file, args)
 

@@ -14,17 +14,17 @@ from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import LaunchError, ParamFileError, RobotLabError
-from robot_lab.launch.description import Action, LaunchArgument
 from robot_lab.launch.output import make_log_dir
+from robot_lab.launch.plan import Action, LaunchArgument
 from robot_lab.launch.substitutions import Substitution, SubstitutionFailure
 
 if TYPE_CHECKING:
-    from robot_lab.launch.action import DescriptionStep, LaunchStep
+    from robot_lab.launch.action import LaunchDescriptionStep, LaunchStep
 
 __all__ = ['LaunchContext']
 
 
-def _no_loader(path: Path) -> DescriptionStep:
+def _no_loader(path: Path) -> LaunchDescriptionStep:
     raise LaunchError(f'cannot include {path}: this context has no launch file loader')
 
 
@@ -45,7 +45,7 @@ class LaunchContext:
         self.source: tuple[Path | None, int | None] = (None, None)
         self._file_override: Path | None = None
         # how an include reads its file (describe.py sets it: actions never import frontends)
-        self.load_description: Callable[[Path], DescriptionStep] = _no_loader
+        self.load_launch_file: Callable[[Path], LaunchDescriptionStep] = _no_loader
         # what LocalSubstitution and event-handler functions read (`event` while handling one)
         self.locals = SimpleNamespace()
         self.made_log_dir: Path | None = None
@@ -76,7 +76,7 @@ class LaunchContext:
                     for key, value in self.ros.items()}
         copy.files = list(self.files)
         copy.source, copy._file_override = self.source, self._file_override
-        copy.load_description = self.load_description
+        copy.load_launch_file = self.load_launch_file
         copy.locals = SimpleNamespace(**vars(self.locals))
         copy.made_log_dir = self.made_log_dir
         return copy

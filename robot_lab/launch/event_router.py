@@ -13,7 +13,6 @@ from collections.abc import Callable
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.launch.description import Action, EventHandlerSpec, ProcessSpec
 from robot_lab.launch.events import (
     EventKind,
     ExecutionComplete,
@@ -21,6 +20,7 @@ from robot_lab.launch.events import (
     ProcessIO,
     ProcessStarted,
 )
+from robot_lab.launch.plan import Action, EventHandlerSpec, ProcessSpec
 
 __all__ = ['EventRouter']
 

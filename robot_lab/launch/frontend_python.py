@@ -12,13 +12,13 @@ import importlib.util
 from pathlib import Path
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.action import DescriptionStep, as_step, python_error
+from robot_lab.launch.action import LaunchDescriptionStep, as_step, python_error
 from robot_lab.launch.compat_path import compat_api, real_launch_installed
 
 __all__ = ['load_python_launch_file']
 
 
-def load_python_launch_file(path: Path) -> DescriptionStep:
+def load_python_launch_file(path: Path) -> LaunchDescriptionStep:
     """Execute the file and call its generate_launch_description(); nothing is started."""
     digest = hashlib.sha1(str(path).encode()).hexdigest()[:12]
     spec = importlib.util.spec_from_file_location(f'_robot_lab_launch_{digest}', path)
@@ -56,6 +56,6 @@ def load_python_launch_file(path: Path) -> DescriptionStep:
                 fix='return launch.LaunchDescription([...])'
                 + (' (a real ROS 2 `launch` is installed: run it with `ros2 launch`)'
                    if real_launch_installed() else '')) from None
-    assert isinstance(step, DescriptionStep)
+    assert isinstance(step, LaunchDescriptionStep)
     step.locate(path, None)
     return step

@@ -11,7 +11,7 @@ from typing import Any
 from xml.parsers import expat
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.action import DescriptionStep
+from robot_lab.launch.action import LaunchDescriptionStep
 from robot_lab.launch.entity import Entity
 from robot_lab.launch.registry import parse_root
 from robot_lab.launch.substitutions import coerce
@@ -127,6 +127,6 @@ def _type_label(kind: str) -> str:
             'float': "<class 'float'>"}.get(kind.split('_or_')[0], kind)
 
 
-def load_xml_launch_file(path: Path) -> DescriptionStep:
+def load_xml_launch_file(path: Path) -> LaunchDescriptionStep:
     """Parse an XML launch file into actions (nothing is executed yet)."""
     return parse_root(XmlEntity(parse_xml(path), path))

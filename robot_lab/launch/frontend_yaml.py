@@ -12,7 +12,7 @@ from typing import Any
 import yaml
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.action import DescriptionStep
+from robot_lab.launch.action import LaunchDescriptionStep
 from robot_lab.launch.entity import Entity
 from robot_lab.launch.registry import parse_root
 
@@ -110,7 +110,7 @@ class YamlEntity(Entity):
             raise ValueError(f'Unexpected key(s) found in `{self.type_name}`: {unread}')
 
 
-def load_yaml_launch_file(path: Path) -> DescriptionStep:
+def load_yaml_launch_file(path: Path) -> LaunchDescriptionStep:
     """Parse a YAML launch file into actions (nothing is executed yet)."""
     try:
         text = path.read_text()

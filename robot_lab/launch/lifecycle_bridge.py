@@ -17,9 +17,9 @@ from typing import Any
 
 from lifecycle_msgs.msg import TransitionEvent
 
-from robot_lab.launch.description import LifecycleRequest, ProcessSpec
 from robot_lab.launch.event_router import EventRouter
 from robot_lab.launch.events import StateTransition
+from robot_lab.launch.plan import LifecycleRequest, ProcessSpec
 from robot_lab.launch.process_record import ProcessRecord, domain_of
 
 __all__ = ['LifecycleBridge']
@@ -47,7 +47,7 @@ class LifecycleBridge:
         self._closed = False
 
     def _session(self, domain: int) -> Any:
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         return session(domain)
 

@@ -16,8 +16,8 @@ import yaml
 
 from robot_lab.errors import LaunchError, ParamFileError
 from robot_lab.launch.action import Subs, subs
-from robot_lab.launch.description import LaunchPlan
 from robot_lab.launch.entity import Entity, literal_or_subs
+from robot_lab.launch.plan import LaunchPlan
 from robot_lab.launch.substitution_grammar import parse_substitution
 from robot_lab.launch.substitutions import Substitution, SubstitutionFailure, coerce, perform
 from robot_lab.params import load_param_file

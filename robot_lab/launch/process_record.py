@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
-from robot_lab.launch.description import ProcessSpec
+from robot_lab.launch.plan import ProcessSpec
 
 __all__ = ['ProcessRecord', 'ProcessState', 'Scheduled', 'domain_of']
 

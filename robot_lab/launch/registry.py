@@ -13,7 +13,7 @@ from collections.abc import Callable
 from typing import TypeVar
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.action import DescriptionStep, LaunchStep
+from robot_lab.launch.action import LaunchDescriptionStep, LaunchStep
 from robot_lab.launch.conditions import Condition
 from robot_lab.launch.entity import Entity
 from robot_lab.launch.substitution_grammar import parse_substitution
@@ -70,13 +70,13 @@ def parse_entity(entity: Entity) -> LaunchStep:
     return step
 
 
-def parse_root(root: Entity) -> DescriptionStep:
+def parse_root(root: Entity) -> LaunchDescriptionStep:
     if root.type_name != 'launch':
         raise root.fail("Expected 'launch' as root tag",
                         fix='wrap the file in <launch> ... </launch> (YAML: launch: [...])')
     root.attr('deprecated')
     # like launch's parse_description, other attributes of the root are ignored
     actions = [parse_entity(child) for child in root.children()]
-    description = DescriptionStep(actions)
+    description = LaunchDescriptionStep(actions)
     description.locate(root.file, root.line)
     return description

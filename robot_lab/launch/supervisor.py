@@ -27,7 +27,10 @@ from typing import TYPE_CHECKING
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
-from robot_lab.launch.description import (
+from robot_lab.launch.event_router import EventRouter
+from robot_lab.launch.events import Shutdown
+from robot_lab.launch.output import LaunchOutput
+from robot_lab.launch.plan import (
     Action,
     EventHandlerSpec,
     LaunchPlan,
@@ -35,11 +38,8 @@ from robot_lab.launch.description import (
     LogAction,
     ProcessSpec,
     ShutdownAction,
-    TimerAction,
+    TimerSpec,
 )
-from robot_lab.launch.event_router import EventRouter
-from robot_lab.launch.events import Shutdown
-from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
 from robot_lab.process import spawn
 
@@ -233,7 +233,7 @@ class Supervisor:
                 level = action.level.upper()
                 self.output.launcher(level if level in _LEVELS else 'INFO', 'launch.user',
                                      action.message)
-            elif isinstance(action, TimerAction) and not self.is_shutdown:
+            elif isinstance(action, TimerSpec) and not self.is_shutdown:
                 self._at(max(0.0, action.period), self._timer_callback(action.actions))
             elif isinstance(action, ShutdownAction):
                 self._shutdown(due_to_sigint=False, reason=action.reason)

@@ -102,7 +102,7 @@ class Console:
         from rcl_interfaces.msg import Log
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.session = session(domain_id)
         # /rosout publishers are reliable and transient-local (depth 1000): matching that

@@ -120,7 +120,7 @@ class Plot:
         if self.bag is not None:
             self.series = self._read_bag(paths)
             return
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.session = session(domain_id)
         self.series = self._resolve(paths, timeout)

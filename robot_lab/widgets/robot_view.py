@@ -49,7 +49,7 @@ class RobotView:
     def __init__(self, topic: str = '/cmd_vel', hold: float = 0.5, rate: float = 20.0,
                  domain_id: int | None = None, headless_seconds: float | None = None,
                  height: int = 360) -> None:
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.topic = topic if topic.startswith('/') else '/' + topic
         self.hold = float(hold)

@@ -63,7 +63,7 @@ class Sliders:
         from rclpy.parameter import parameter_value_to_python
         from rclpy.parameter_client import AsyncParameterClient
 
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.node = _node_name(node)
         self.session = session(domain_id)

@@ -122,7 +122,7 @@ class TurtlesimView:
         from std_msgs.msg import String
         from std_srvs.srv import Trigger
 
-        from robot_lab.context import session
+        from robot_lab.rclpy_session import session
 
         self.node = node if node.startswith('/') else '/' + node
         self.headless_seconds = headless_seconds

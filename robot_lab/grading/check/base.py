@@ -73,7 +73,7 @@ def student_frames(err: BaseException, mine: Callable[[str], bool]) -> list[str]
 def callback_failed(what: str) -> None:
     """Raise CheckError if a node started in this kernel raised in a callback (a timer's, a
     subscription's): that exception, at the student's line, is why nothing came."""
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     errors = session().callback_errors
     while errors:

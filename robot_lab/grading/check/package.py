@@ -127,8 +127,8 @@ def node_starts(module: str, cls: str, package: str = 'my_robot_system',
     import importlib
     import sys
 
-    from robot_lab.context import session
     from robot_lab.notebook_cell import cell_owns
+    from robot_lab.rclpy_session import session
 
     name = f'{package}.{module}'
     what = f'{cls}() from {module}.py to start'
@@ -165,7 +165,7 @@ def stop_node(node: Any) -> None:
 
     Stopping a node that is stopped already does nothing.
     """
-    from robot_lab.context import session
+    from robot_lab.rclpy_session import session
 
     session().remove_node(node)
     node.destroy_node()

@@ -26,7 +26,7 @@ from robot_lab.grading.package.roles import infer_roles, observe
 from robot_lab.grading.package.state import JobState, ParamReading, code
 
 if TYPE_CHECKING:
-    from robot_lab.launch.description import LaunchPlan
+    from robot_lab.launch.plan import LaunchPlan
 
 __all__ = ['run_system']
 
@@ -183,10 +183,10 @@ def run_system(job_dir: Path, ws: Path, state: JobState) -> None:
 
 
 def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
-    from robot_lab.context import session
     from robot_lab.graph.discovery import full_node_names
     from robot_lab.graph.view import graph_view
     from robot_lab.launch.api import LaunchHandle
+    from robot_lab.rclpy_session import session
 
     rubric, live = state.rubric, state.live
     sess = session()

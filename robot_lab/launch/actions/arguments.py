@@ -6,10 +6,10 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, opt_subs, subs
-from robot_lab.launch.description import (
+from robot_lab.launch.entity import Entity, required, sub_attr
+from robot_lab.launch.plan import (
     LaunchArgument,
 )
-from robot_lab.launch.entity import Entity, required, sub_attr
 from robot_lab.launch.registry import register
 from robot_lab.launch.substitutions import Text, perform
 

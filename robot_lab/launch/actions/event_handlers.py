@@ -14,13 +14,13 @@ from typing import TYPE_CHECKING, Any
 from robot_lab.errors import RobotLabError
 from robot_lab.launch.action import LaunchStep, as_step, python_error
 from robot_lab.launch.compat_path import compat_api
-from robot_lab.launch.description import (
+from robot_lab.launch.events import ChangeState, EventKind, Shutdown
+from robot_lab.launch.plan import (
     Action,
     EventHandlerSpec,
     LifecycleRequest,
     ShutdownAction,
 )
-from robot_lab.launch.events import ChangeState, EventKind, Shutdown
 from robot_lab.launch.substitutions import perform
 
 if TYPE_CHECKING:

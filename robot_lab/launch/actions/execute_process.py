@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, Subs, subs
 from robot_lab.launch.actions.event_handlers import EventHandler, RegisterEventHandlerStep
-from robot_lab.launch.description import (
+from robot_lab.launch.entity import Entity, env_pairs, split_cmdline, sub_attr
+from robot_lab.launch.plan import (
     ProcessSpec,
 )
-from robot_lab.launch.entity import Entity, env_pairs, split_cmdline, sub_attr
 from robot_lab.launch.registry import register
 from robot_lab.launch.substitutions import coerce, perform
 

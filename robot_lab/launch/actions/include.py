@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from robot_lab.launch.action import DescriptionStep, LaunchStep, subs
+from robot_lab.launch.action import LaunchDescriptionStep, LaunchStep, subs
 from robot_lab.launch.actions.arguments import DeclareArgumentStep
 from robot_lab.launch.actions.timer import TimerStep
 from robot_lab.launch.entity import Entity, required
@@ -27,7 +27,7 @@ class IncludeStep(LaunchStep):
     launch_name = 'IncludeLaunchDescription'
 
     def __init__(self, path: Any, arguments: Iterable[tuple[Any, Any]] = (),
-                 loader: Callable[[Path], DescriptionStep] | None = None) -> None:
+                 loader: Callable[[Path], LaunchDescriptionStep] | None = None) -> None:
         self.path = subs(path)
         self.arguments = [(subs(n), subs(v)) for n, v in arguments]
         self.loader = loader
@@ -45,7 +45,7 @@ class IncludeStep(LaunchStep):
                                 fix='remove one of the includes (or guard it with if=)')
         names = [perform(n, context) for n, _ in self.arguments]
         values = [perform(v, context) for _, v in self.arguments]
-        description = (self.loader or context.load_description)(path)
+        description = (self.loader or context.load_launch_file)(path)
         given = set(names)
         for declared in declared_arguments(description, conditional_ok=False):
             if declared.default is None and declared.name not in given:

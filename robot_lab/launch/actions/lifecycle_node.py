@@ -11,8 +11,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.actions.node import NodeStep
-from robot_lab.launch.description import ProcessSpec
 from robot_lab.launch.entity import Entity
+from robot_lab.launch.plan import ProcessSpec
 from robot_lab.launch.registry import register
 
 if TYPE_CHECKING:

@@ -5,10 +5,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, subs
-from robot_lab.launch.description import (
+from robot_lab.launch.entity import Entity, required
+from robot_lab.launch.plan import (
     LogAction,
 )
-from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.registry import register
 from robot_lab.launch.substitutions import perform
 

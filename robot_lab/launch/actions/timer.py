@@ -6,10 +6,10 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, subs
-from robot_lab.launch.description import (
-    TimerAction,
-)
 from robot_lab.launch.entity import Entity
+from robot_lab.launch.plan import (
+    TimerSpec,
+)
 from robot_lab.launch.registry import parse_entity, register
 from robot_lab.launch.substitution_grammar import parse_substitution
 from robot_lab.launch.substitutions import perform
@@ -41,7 +41,7 @@ class TimerStep(LaunchStep):
             inner = context.sink
         finally:
             context.sink = outer
-        outer.append(TimerAction(period, inner, source=context.where()))
+        outer.append(TimerSpec(period, inner, source=context.where()))
 
     def children(self) -> list[LaunchStep]:
         return self.actions

@@ -23,7 +23,7 @@ __all__ = [
     'LogAction',
     'ProcessSpec',
     'ShutdownAction',
-    'TimerAction',
+    'TimerSpec',
 ]
 
 
@@ -62,8 +62,8 @@ class LogAction:
 
 
 @dataclass
-class TimerAction:
-    """`<timer period=...>`: actions started `period` seconds after launch."""
+class TimerSpec:
+    """A resolved `<timer>`/TimerAction: its actions, started `period` seconds after launch."""
 
     period: float
     actions: list[Action]
@@ -107,7 +107,7 @@ class LifecycleRequest:
     source: str | None = None
 
 
-Action: TypeAlias = (ProcessSpec | LogAction | TimerAction | ShutdownAction | EventHandlerSpec
+Action: TypeAlias = (ProcessSpec | LogAction | TimerSpec | ShutdownAction | EventHandlerSpec
                      | LifecycleRequest)
 
 
@@ -138,7 +138,7 @@ class LaunchPlan:
             for action in actions:
                 if isinstance(action, ProcessSpec):
                     found.append(action)
-                elif isinstance(action, TimerAction):
+                elif isinstance(action, TimerSpec):
                     walk(action.actions)
 
         walk(self.actions)

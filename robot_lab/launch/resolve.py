@@ -13,31 +13,31 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from robot_lab.errors import LaunchError, RobotLabError
-from robot_lab.launch.action import DescriptionStep, LaunchStep
+from robot_lab.launch.action import LaunchDescriptionStep, LaunchStep
 from robot_lab.launch.actions.include import IncludeStep, declared_arguments
 from robot_lab.launch.context import LaunchContext
-from robot_lab.launch.description import (
+from robot_lab.launch.plan import (
     Action,
     LaunchArgument,
     LaunchPlan,
     ProcessSpec,
-    TimerAction,
+    TimerSpec,
 )
 from robot_lab.launch.substitutions import SubstitutionFailure, perform
 
 __all__ = [
     'describe_launch',
     'find_launch_file',
-    'included_description',
+    'included_launch_file',
     'launch_arguments',
-    'load_description',
+    'load_launch_file',
     'parse_launch_arguments',
 ]
 
 _NOT_SHARE = {'build', 'install', 'log', '__pycache__', 'node_modules'}
 
 
-def load_description(path: Path) -> DescriptionStep:
+def load_launch_file(path: Path) -> LaunchDescriptionStep:
     """Parse one launch file (by extension: .py, .xml, .yaml/.yml) into actions."""
     name = path.name
     if name.endswith('.py'):
@@ -106,13 +106,13 @@ def find_launch_file(source: str | Path, file: str | None = None) -> Path:
 def _number_labels(actions: list[Action]) -> None:
     """`sensor_node-1`: launch numbers processes as they start (timers after the rest)."""
     order: list[ProcessSpec] = []
-    timers: list[tuple[float, TimerAction]] = []
+    timers: list[tuple[float, TimerSpec]] = []
 
     def walk(items: list[Action], delay: float) -> None:
         for item in items:
             if isinstance(item, ProcessSpec) and delay == 0.0:
                 order.append(item)
-            elif isinstance(item, TimerAction):
+            elif isinstance(item, TimerSpec):
                 timers.append((delay + item.period, item))
 
     walk(actions, 0.0)
@@ -124,7 +124,7 @@ def _number_labels(actions: list[Action]) -> None:
         for item in timer.actions:
             if isinstance(item, ProcessSpec):
                 order.append(item)
-            elif isinstance(item, TimerAction):
+            elif isinstance(item, TimerSpec):
                 timers.append((delay + item.period, item))
     for number, spec in enumerate(order, start=1):
         spec.label = f'{spec.label}-{number}'
@@ -140,8 +140,8 @@ def describe_launch(
 
     path = find_launch_file(source, file)
     context = LaunchContext(args or {}, ros_environment())
-    context.load_description = load_description
-    description = load_description(path)
+    context.load_launch_file = load_launch_file
+    description = load_launch_file(path)
     context.files.append(path)
     context.run([description])
     _number_labels(context.sink)
@@ -155,9 +155,9 @@ def describe_launch(
 def launch_arguments(source: str | Path, file: str | None = None) -> list[LaunchArgument]:
     """Declared arguments with defaults and descriptions (`--show-args`); none required."""
     path = find_launch_file(source, file)
-    description = load_description(path)
+    description = load_launch_file(path)
     context = LaunchContext({}, dict(os.environ))
-    context.load_description = load_description
+    context.load_launch_file = load_launch_file
     context.files.append(path)
     result = []
     for declared in declared_arguments(description):
@@ -181,7 +181,7 @@ def parse_launch_arguments(items: Iterable[str]) -> dict[str, str]:
     return result
 
 
-def included_description(step: LaunchStep) -> tuple[Path, DescriptionStep] | None:
+def included_launch_file(step: LaunchStep) -> tuple[Path, LaunchDescriptionStep] | None:
     """An include's file and description when its path needs no launch context (a literal
     path, `os.path.join(get_package_share_directory(...), ...)`, `$(find-pkg-share ...)`):
     what `--print` expands, as launch's `try_get_launch_description_without_context` does.
@@ -193,6 +193,6 @@ def included_description(step: LaunchStep) -> tuple[Path, DescriptionStep] | Non
         path = Path(os.path.abspath(perform(step.path, context)))
         if not path.is_file():
             return None
-        return path, load_description(path)
+        return path, load_launch_file(path)
     except (SubstitutionFailure, RobotLabError, OSError, ValueError):
         return None
