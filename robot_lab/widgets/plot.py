@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import io
 import math
 import threading
 import time
@@ -19,10 +18,17 @@ from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.output import WidgetLog, in_ci, is_headless, owned_by_cell
+from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.output import owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import ToggleButton, Widget
+    from matplotlib.figure import Figure
+
+    from robot_lab.widgets.canvas import Chart
 
 __all__ = ['Plot', 'Series', 'plot', 'resolve_field_path']
 
@@ -87,7 +93,7 @@ def resolve_field_path(path: str, topics: dict[str, str]) -> tuple[str, str]:
     )
 
 
-class Plot:
+class Plot(LiveView):
     """A live plot of message fields; `.data` holds the samples for check cells.
 
     Times are seconds since the plot was created. Drive it from code with `pause()`,
@@ -100,18 +106,14 @@ class Plot:
         if not paths:
             raise GraphError('plot() needs at least one field path',
                              fix="e.g. robot_lab.plot('/sensor/temperature')")
+        super().__init__(fps, headless_seconds)
         self.window = float(window)
-        self.fps = float(fps)
-        self.headless_seconds = headless_seconds
+        self.fps = self.rate
         self.bag = Path(bag) if bag is not None else None
-        self.t0 = time.monotonic()
-        self.log = WidgetLog(max_lines=20, height='5em')
         self._lock = threading.Lock()
         self._paused_at: float | None = None
-        self._closed = threading.Event()
-        self._widget: Any = None
-        self._chart: Any = None
-        self._feed: Any = None
+        self._chart: Chart | None = None
+        self._pause_button: ToggleButton | None = None
         self._subscriptions: list[Any] = []
         self._node: Any = None  # the plot's own node, taken from by `_taker`
         self._taker: threading.Thread | None = None
@@ -221,7 +223,7 @@ class Plot:
         period = 1.0 / max(self.fps, 1.0)
         while not self._closed.wait(period):
             self._take()
-            if self._sending:
+            if self._sending and self._feed is not None:
                 self._feed.tick()  # the same wake-up sends the new samples to the page
 
     def _take(self) -> None:
@@ -301,7 +303,7 @@ class Plot:
             if self.bag is None:
                 self._take()  # what arrived before the pause is in the frozen view
             self._paused_at = time.monotonic() - self.t0
-        if self._widget is not None:
+        if self._chart is not None and self._pause_button is not None:
             self._chart.frozen_at = self._paused_at
             self._pause_button.value = True
 
@@ -310,9 +312,10 @@ class Plot:
         if self.bag is not None:
             return  # a recording's view is fixed
         self._paused_at = None
-        if self._widget is not None:
+        if self._chart is not None and self._pause_button is not None:
             self._pause_button.value = False
             self._chart.frozen_at = None
+        if self._feed is not None:
             self._feed.reset()
 
     @property
@@ -320,9 +323,8 @@ class Plot:
         return self._paused_at is not None
 
     # -- the static picture (headless runs, bags in a static page) -------------------
-    def render_png(self) -> bytes:
-        """Draw the current window to PNG bytes with matplotlib (no live frontend needed)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
+    def _figure(self) -> Figure:
+        """The current window, drawn with matplotlib (no live frontend needed)."""
         from matplotlib.figure import Figure
 
         end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
@@ -331,7 +333,6 @@ class Plot:
         data = self.data
         topics = list(dict.fromkeys(s.topic for s in self.series))
         fig = Figure(figsize=(8.0, 1.1 + 1.7 * len(topics)), dpi=100)
-        FigureCanvasAgg(fig)
         axes = dict(zip(topics, fig.subplots(len(topics), 1, squeeze=False)[:, 0],
                         strict=True))
         for index, series in enumerate(self.series):
@@ -357,19 +358,11 @@ class Plot:
                 ax.tick_params(labelbottom=False)
         last.set_xlabel(self._xlabel(), fontsize=9)
         fig.tight_layout(h_pad=0.6)
-        buffer = io.BytesIO()
-        fig.savefig(buffer, format='png')
-        return buffer.getvalue()
+        return fig
 
     def _xlabel(self) -> str:
         return ('time since the start of the bag (s)' if self.bag
                 else 'time relative to now (s)')
-
-    def snapshot(self) -> Any:
-        """An IPython Image of the window now (what a static page should show)."""
-        from IPython.display import Image
-
-        return Image(data=self.render_png(), format='png')
 
     # -- the live view: the browser draws ------------------------------------------
     def _full(self) -> dict[str, Any]:
@@ -406,7 +399,7 @@ class Plot:
         return self._feed.sent if self._feed is not None else 0
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         """The live view: pause/clear buttons and the chart the browser draws."""
         if self._widget is None:
             import ipywidgets as widgets
@@ -421,18 +414,19 @@ class Plot:
                 'panels': topics, 'window': self.window, 'live': self.bag is None,
                 'xlabel': self._xlabel(), 'fps': 30,
             }
-            self._chart = Chart(config=config, frozen_at=self._paused_at)
-            self._feed = Feed(self._chart, self._full, self._new, self.fps, self.log.guard)
-            self._pause_button = widgets.ToggleButton(
+            chart = Chart(config=config, frozen_at=self._paused_at)
+            self._chart = self._canvas = chart
+            self._feed = Feed(chart, self._full, self._new, self.fps, self.log.guard)
+            pause = self._pause_button = widgets.ToggleButton(
                 value=self.paused, description='Pause', icon='pause',
                 tooltip='freeze the view', layout=widgets.Layout(width='7em'),
                 disabled=self.bag is not None)
             clear = widgets.Button(description='Clear', icon='eraser',
                                    layout=widgets.Layout(width='7em'))
-            self._pause_button.observe(self._on_pause, names='value')
+            pause.observe(self._on_pause, names='value')
             clear.on_click(lambda _b: self.clear())
-            toolbar = widgets.HBox([self._pause_button, clear])
-            self._widget = widgets.VBox([toolbar, self._chart, self.log.widget],
+            toolbar = widgets.HBox([pause, clear])
+            self._widget = widgets.VBox([toolbar, chart, self.log.widget],
                                         layout=widgets.Layout(max_width='960px'))
             self._widget.add_class('robot-lab-widget')
         return self._widget
@@ -450,18 +444,12 @@ class Plot:
             self._sending = True  # `_take_loop` ticks the feed: no thread of its own
         return self
 
-    def close(self) -> None:
-        """Stop sending and unsubscribe (also done when the cell that made it runs again)."""
-        if self._closed.is_set():
-            return
-        self._closed.set()
-        if self._feed is not None:
-            self._feed.close()
+    def _release(self) -> None:
         if self.bag is not None:
             return
-        if self._widget is not None:
+        if self._pause_button is not None:
             self._pause_button.disabled = True
-            self._chart.note = 'closed: no longer updated'
+        super()._release()
         taker = self._taker
         if taker is not None and taker is not threading.current_thread():
             taker.join(timeout=2.0)
@@ -472,19 +460,14 @@ class Plot:
                 with contextlib.suppress(Exception):  # the context may be shut down already
                     node.destroy_node()
 
-    def _ipython_display_(self) -> None:
-        from IPython.display import display
+    def _headless_seconds(self) -> float:
+        if self.headless_seconds is not None:
+            return self.headless_seconds
+        return min(self.window, super()._headless_seconds())
 
-        if self.bag is not None and is_headless():
-            display(self.snapshot())
-        elif is_headless():
-            seconds = self.headless_seconds
-            if seconds is None:
-                seconds = min(self.window, 1.5 if in_ci() else 3.0)
-            self._closed.wait(max(0.0, seconds - (time.monotonic() - self.t0)))
-            display(self.snapshot())
-        else:
-            display(self.start().widget)
+    def _collect_headless(self) -> None:
+        if self.bag is None:  # a bag's plot is complete from the start
+            super()._collect_headless()
 
     def __repr__(self) -> str:
         counts = ', '.join(f'{s.path}: {len(s.samples)} samples' for s in self.series)

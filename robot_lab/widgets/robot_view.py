@@ -8,15 +8,19 @@ with no frontend (nbval, CI) the view collects for a bounded time and shows a pi
 
 from __future__ import annotations
 
-import io
 import itertools
 import math
 import threading
 import time
 from collections import deque
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
-from robot_lab.widgets.output import WidgetLog, in_ci, is_headless, owned_by_cell
+from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.output import owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
+    from matplotlib.figure import Figure
 
 __all__ = ['Pose', 'RobotView', 'robot_view']
 
@@ -43,21 +47,20 @@ def integrate(pose: Pose, v: float, w: float, dt: float) -> Pose:
                 y - radius * (math.cos(th2) - math.cos(th)), th2)
 
 
-class RobotView:
+class RobotView(LiveView):
     """The robot's pose from `topic`'s commands; `.pose`, `.path` and `.count` for checks."""
+
+    headless_default = (3.0, 1.5)
 
     def __init__(self, topic: str = '/cmd_vel', hold: float = 0.5, rate: float = 20.0,
                  domain_id: int | None = None, headless_seconds: float | None = None,
                  height: int = 360) -> None:
         from robot_lab.rclpy_session import session
 
+        super().__init__(rate, headless_seconds)
         self.topic = topic if topic.startswith('/') else '/' + topic
         self.hold = float(hold)
-        self.rate = float(rate)
         self.height = int(height)
-        self.headless_seconds = headless_seconds
-        self.t0 = time.monotonic()
-        self.log = WidgetLog(max_lines=20, height='5em')
         self.count = 0
         self._pose = Pose(0.0, 0.0, 0.0)
         self._twist = (0.0, 0.0)
@@ -65,10 +68,6 @@ class RobotView:
         self._path: deque[Pose] = deque([self._pose], maxlen=20_000)
         self._pending: list[float] = []
         self._lock = threading.Lock()
-        self._closed = threading.Event()
-        self._widget: Any = None
-        self._canvas: Any = None
-        self._feed: Any = None
         self.session = session(domain_id)
         self._subscription = self._subscribe()
         owned_by_cell(self)
@@ -151,38 +150,32 @@ class RobotView:
                     'count': self.count}
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         """The live view: the floor seen from above, the trail, the robot and its command."""
         if self._widget is None:
             import ipywidgets as widgets
 
             from robot_lab.widgets.canvas import Feed, PoseCanvas
 
-            self._canvas = PoseCanvas(config={'topic': self.topic, 'height': self.height})
-            self._feed = Feed(self._canvas, self._full, self._new, self.rate, self.log.guard)
+            canvas = PoseCanvas(config={'topic': self.topic, 'height': self.height})
+            self._canvas = canvas
+            self._feed = Feed(canvas, self._full, self._new, self.rate, self.log.guard)
             reset = widgets.Button(description='Reset', icon='undo',
                                    tooltip='put the robot back at the origin',
                                    layout=widgets.Layout(width='7em'))
             reset.on_click(lambda _b: self.reset())
-            self._widget = widgets.VBox([reset, self._canvas, self.log.widget],
+            self._widget = widgets.VBox([reset, canvas, self.log.widget],
                                         layout=widgets.Layout(max_width='960px'))
             self._widget.add_class('robot-lab-widget')
         return self._widget
 
-    def start(self) -> RobotView:
-        _ = self.widget
-        self._feed.start()
-        return self
-
-    def render_png(self) -> bytes:
-        """The trail and the robot as a PNG (what a page without a live kernel shows)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
+    def _figure(self) -> Figure:
+        """The trail and the robot, seen from above."""
         from matplotlib.figure import Figure
         from matplotlib.patches import Circle, FancyArrow
 
         path, pose = self.path, self.pose
         fig = Figure(figsize=(6.0, 4.0), dpi=100)
-        FigureCanvasAgg(fig)
         ax = fig.subplots()
         ax.plot([p.x for p in path], [p.y for p in path], color='#56B4E9', linewidth=2)
         xs = [p.x for p in path] + [-1.0, 1.0]
@@ -203,33 +196,13 @@ class RobotView:
                      f'θ {math.degrees(pose.theta):.0f}° ({self.count} messages)',
                      fontsize=10, loc='left')
         fig.tight_layout()
-        buffer = io.BytesIO()
-        fig.savefig(buffer, format='png')
-        return buffer.getvalue()
+        return fig
 
-    def close(self) -> None:
-        """Stop following the topic (also done when the cell that made it runs again)."""
-        if self._closed.is_set():
-            return
-        self._closed.set()
-        if self._feed is not None:
-            self._feed.close()
-            self._canvas.note = 'closed: no longer updated'
+    def _release(self) -> None:
+        super()._release()
         subscription = self._subscription
         self.session.run_in_executor(
             lambda: self.session.node.destroy_subscription(subscription))
-
-    def _ipython_display_(self) -> None:
-        from IPython.display import Image, display
-
-        if is_headless():
-            seconds = self.headless_seconds
-            if seconds is None:
-                seconds = 1.5 if in_ci() else 3.0
-            self._closed.wait(max(0.0, seconds - (time.monotonic() - self.t0)))
-            display(Image(data=self.render_png(), format='png'))
-        else:
-            display(self.start().widget)
 
     def __repr__(self) -> str:
         x, y, th = self.pose

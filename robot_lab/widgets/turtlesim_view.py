@@ -16,13 +16,18 @@ import json
 import math
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import anywidget
 import traitlets
 
 from robot_lab.widgets.canvas import SHARED_SCRIPT
-from robot_lab.widgets.output import WidgetLog, in_ci, is_headless, owned_by_cell
+from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.output import owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
+    from matplotlib.figure import Figure
 
 __all__ = ['TurtlesimView', 'turtlesim_view']
 
@@ -113,8 +118,10 @@ class TurtleCanvas(anywidget.AnyWidget):
     note = traitlets.Unicode('').tag(sync=True)
 
 
-class TurtlesimView:
+class TurtlesimView(LiveView):
     """Watch a turtlesim node: `.turtles`, `.background`, `.strokes` for checks."""
+
+    headless_default = (2.0, 1.0)
 
     def __init__(self, node: str = '/turtlesim', domain_id: int | None = None,
                  headless_seconds: float | None = None, rate: float = 20.0) -> None:
@@ -124,10 +131,8 @@ class TurtlesimView:
 
         from robot_lab.rclpy_session import session
 
+        super().__init__(rate, headless_seconds)
         self.node = node if node.startswith('/') else '/' + node
-        self.headless_seconds = headless_seconds
-        self.t0 = time.monotonic()
-        self.log = WidgetLog(max_lines=20, height='5em')
         self.background: list[int] = [69, 86, 255]
         self.turtles: list[list[Any]] = []
         self.messages = 0
@@ -137,12 +142,7 @@ class TurtlesimView:
         self._generation = -1  # of the snapshot we have
         self._heard = -1  # of the last view message
         self._lock = threading.Lock()
-        self._closed = threading.Event()
         self._asking = False
-        self._widget: Any = None
-        self._canvas: Any = None
-        self._feed: Any = None
-        self.rate = rate
         self.session = session(domain_id)
         node_ = self.session.node
         on_view = self.log.guard(self._on_view)
@@ -222,27 +222,22 @@ class TurtlesimView:
 
     # -- presentations --------------------------------------------------------------
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 
             from robot_lab.widgets.canvas import Feed
 
-            self._canvas = TurtleCanvas(node=self.node)
-            self._feed = Feed(self._canvas, self._full, self._new, self.rate, self.log.guard)
-            self._widget = widgets.VBox([self._canvas, self.log.widget],
+            canvas = TurtleCanvas(node=self.node)
+            self._canvas = canvas
+            self._feed = Feed(canvas, self._full, self._new, self.rate, self.log.guard)
+            self._widget = widgets.VBox([canvas, self.log.widget],
                                         layout=widgets.Layout(max_width='520px'))
             self._widget.add_class('robot-lab-widget')
         return self._widget
 
-    def start(self) -> TurtlesimView:
-        _ = self.widget
-        self._feed.start()
-        return self
-
-    def render_png(self) -> bytes:
-        """The window as a PNG: background, trails, turtles (for pages without a kernel)."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
+    def _figure(self) -> Figure:
+        """The window: background, trails, turtles (for pages without a kernel)."""
         from matplotlib.figure import Figure
         from matplotlib.image import imread
 
@@ -250,7 +245,6 @@ class TurtlesimView:
             png, strokes = self._png, list(self._strokes)
             background, turtles = list(self.background), list(self.turtles)
         fig = Figure(figsize=(4.0, 4.0), dpi=100)
-        FigureCanvasAgg(fig)
         ax = fig.add_axes((0.0, 0.0, 1.0, 0.93))
         ax.set_facecolor((background[0] / 255, background[1] / 255, background[2] / 255))
         if png is not None:
@@ -269,36 +263,22 @@ class TurtlesimView:
         ax.set_yticks([])
         fig.suptitle(f'{self.node}: ' + ', '.join(f'{t[0]} ({t[1]:.2f}, {t[2]:.2f})'
                                                    for t in turtles), fontsize=8)
-        buffer = io.BytesIO()
-        fig.savefig(buffer, format='png')
-        return buffer.getvalue()
+        return fig
 
-    def close(self) -> None:
-        if self._closed.is_set():
-            return
-        self._closed.set()
-        if self._feed is not None:
-            self._feed.close()
-            self._canvas.note = 'closed: no longer updated'
+    def _release(self) -> None:
+        super()._release()
         subscription, client = self._subscription, self._client
         node = self.session.node
         self.session.run_in_executor(lambda: (node.destroy_subscription(subscription),
                                               node.destroy_client(client)))
 
-    def _ipython_display_(self) -> None:
-        from IPython.display import Image, display
-
-        if is_headless():
-            seconds = self.headless_seconds
-            if seconds is None:
-                seconds = 1.0 if in_ci() else 2.0
-            self.wait_for_turtles(timeout=max(0.0, seconds - (time.monotonic() - self.t0)))
-            deadline = time.monotonic() + 2.0
-            while self._png is None and self.messages and time.monotonic() < deadline:
-                self._closed.wait(0.05)
-            display(Image(data=self.render_png(), format='png'))
-        else:
-            display(self.start().widget)
+    def _collect_headless(self) -> None:
+        """Until the turtles are seen (at most `headless_seconds`), then the snapshot."""
+        self.wait_for_turtles(
+            timeout=max(0.0, self._headless_seconds() - (time.monotonic() - self.t0)))
+        deadline = time.monotonic() + 2.0
+        while self._png is None and self.messages and time.monotonic() < deadline:
+            self._closed.wait(0.05)
 
     def __repr__(self) -> str:
         names = ', '.join(t[0] for t in self.turtles) or 'no turtles seen yet'
