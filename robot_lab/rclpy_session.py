@@ -16,14 +16,21 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.errors import GraphError
 
+if TYPE_CHECKING:
+    from rclpy.context import Context
+    from rclpy.executors import Executor
+    from rclpy.node import Node
+    from rclpy.task import Future
+
 __all__ = ['Session', 'is_session_node', 'session', 'shutdown_sessions']
 
 T = TypeVar('T')
+N = TypeVar('N', bound='Node')
 
 _LOCK = threading.Lock()
 _SESSIONS: dict[int, Session] = {}
@@ -91,25 +98,25 @@ class Session:
         self.executor.add_node(self.node)
         # Users' nodes (add_node): made on first use.
         self._nodes_lock = threading.Lock()
-        self._nodes_executor: Any = None
+        self._nodes_executor: Executor | None = None
         self._nodes_thread: threading.Thread | None = None
         # Exceptions raised by the callbacks of the nodes added with add_node, latest last.
         self.callback_errors: deque[BaseException | None] = deque(maxlen=10)
         self._thread = self._start_spinning(self.executor, 'executor')
 
-    def _new_executor(self) -> Any:
+    def _new_executor(self) -> Executor:
         from rclpy.executors import SingleThreadedExecutor
 
         return SingleThreadedExecutor(context=self.context)
 
-    def _start_spinning(self, executor: Any, role: str) -> threading.Thread:
+    def _start_spinning(self, executor: Executor, role: str) -> threading.Thread:
         thread = threading.Thread(target=self._spin, args=(executor,),
                                   name=f'robot_lab-{role}-{self.domain_id}', daemon=True)
         thread.start()
         return thread
 
     @staticmethod
-    def _context_for(domain_id: int) -> tuple[Any, bool]:
+    def _context_for(domain_id: int) -> tuple[Context, bool]:
         """Reuse the default context when it is ours to use; else make a private one."""
         import rclpy
         from rclpy.context import Context
@@ -131,7 +138,7 @@ class Session:
         context.init(args=_init_args(), domain_id=domain_id)
         return context, True
 
-    def _spin(self, executor: Any) -> None:
+    def _spin(self, executor: Executor) -> None:
         from rclpy.exceptions import InvalidHandle
         from rclpy.executors import ExternalShutdownException
 
@@ -175,7 +182,7 @@ class Session:
     def ok(self) -> bool:
         return bool(self.context.ok()) and self._thread.is_alive()
 
-    def add_node(self, node: Any) -> Any:
+    def add_node(self, node: N) -> N:
         """Spin `node` (created with this session's context) in the background too.
 
         A callback of `node` that raises stops its thread, as `rclpy.spin(node)` would
@@ -190,7 +197,7 @@ class Session:
                 self._nodes_thread = self._start_spinning(self._nodes_executor, 'nodes')
         return node
 
-    def remove_node(self, node: Any) -> None:
+    def remove_node(self, node: Node) -> None:
         """Stop spinning `node`; on return its executor no longer holds it.
 
         An executor keeps the handles of its last wait set in use until that wait ends, and
@@ -213,7 +220,7 @@ class Session:
         executor.create_task(left_wait.set)
         left_wait.wait(2.0)
 
-    def wait_future(self, future: Any, timeout: float, what: str) -> Any:
+    def wait_future(self, future: Future, timeout: float, what: str) -> Any:
         """Wait for an rclpy future spun by the background executor; never hangs."""
         done = threading.Event()
         future.add_done_callback(lambda _f: done.set())

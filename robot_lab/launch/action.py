@@ -15,22 +15,22 @@ import sysconfig
 import traceback
 from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Protocol, TypeAlias
 
 from robot_lab.errors import LaunchError
-from robot_lab.launch.substitutions import Substitution, Text
+from robot_lab.launch.substitutions import SomeSubstitutions, Substitution, Text
 
 if TYPE_CHECKING:
     from robot_lab.launch.conditions import Condition
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['LaunchDescriptionStep', 'LaunchStep', 'Subs', 'as_step', 'caller_line', 'opt_subs',
-           'python_error', 'subs']
+__all__ = ['HasEntities', 'LaunchDescriptionStep', 'LaunchEntity', 'LaunchStep', 'Subs',
+           'as_step', 'caller_line', 'opt_subs', 'python_error', 'subs']
 
 Subs = list[Substitution]
 
 
-def subs(value: Any) -> Subs:
+def subs(value: SomeSubstitutions) -> Subs:
     """SomeSubstitutionsType (str, Substitution or a list of them) -> list of substitutions."""
     if isinstance(value, Substitution):
         return [value]
@@ -46,7 +46,7 @@ def subs(value: Any) -> Subs:
     raise TypeError(f'expected text or substitutions, got {type(value).__name__}: {value!r}')
 
 
-def opt_subs(value: Any) -> Subs | None:
+def opt_subs(value: SomeSubstitutions | None) -> Subs | None:
     return None if value is None else subs(value)
 
 
@@ -99,6 +99,17 @@ class LaunchDescriptionStep(LaunchStep):
         return self.entities
 
 
+class HasEntities(Protocol):
+    """launch's LaunchDescription as an action sees it (the Python API's, or a look-alike)."""
+
+    @property
+    def entities(self) -> Sequence[LaunchEntity]: ...
+
+
+# What a Python launch file may put where launch wants an action.
+LaunchEntity: TypeAlias = 'LaunchStep | HasEntities'
+
+
 def python_error(err: BaseException, what: str) -> LaunchError:
     """A Python exception from launch-file code, located at its innermost launch-file frame."""
     frames = traceback.extract_tb(err.__traceback__)
@@ -118,7 +129,7 @@ def python_error(err: BaseException, what: str) -> LaunchError:
     return LaunchError(f'{what} raised {type(err).__name__}: {err}', file=file, line=line)
 
 
-def as_step(item: Any) -> LaunchStep:
+def as_step(item: object) -> LaunchStep:
     if isinstance(item, LaunchStep):
         return item
     entities = getattr(item, 'entities', None)

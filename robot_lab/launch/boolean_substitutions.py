@@ -13,7 +13,7 @@ from robot_lab.launch.substitutions import (
     perform,
 )
 
-__all__ = ['All', 'And', 'Any', 'Equals', 'IfElse', 'Not', 'NotEquals', 'Or']
+__all__ = ['AllTrue', 'And', 'AnyTrue', 'Equals', 'IfElse', 'Not', 'NotEquals', 'Or']
 
 
 def _bool(subs: Subs, context: SubstitutionContext) -> bool:
@@ -96,8 +96,10 @@ class NotEquals(Equals):
         return 'false' if super().perform(context) == 'true' else 'true'
 
 
-class Any(Substitution):
+class AnyTrue(Substitution):
     """`$(any a b ...)`: 'true' if at least one argument is true."""
+
+    launch_name = 'AnySubstitution'
 
     def __init__(self, *args: Subs) -> None:
         self.args = list(args)
@@ -107,11 +109,13 @@ class Any(Substitution):
 
     def describe(self) -> str:
         parts = (' + '.join(sub.describe() for sub in arg) for arg in self.args)
-        return f'{type(self).__name__}Substitution({", ".join(parts)})'
+        return f'{self.launch_name}({", ".join(parts)})'
 
 
-class All(Any):
+class AllTrue(AnyTrue):
     """`$(all a b ...)`: 'true' if every argument is true."""
+
+    launch_name = 'AllSubstitution'
 
     def perform(self, context: SubstitutionContext) -> str:
         return str(all([_bool(arg, context) for arg in self.args])).lower()

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import opt_subs, subs
-from robot_lab.launch.substitutions import condition_value, perform
+from robot_lab.launch.substitutions import SomeSubstitutions, condition_value, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -16,7 +16,7 @@ __all__ = ['Condition', 'EqualsCondition']
 class Condition:
     """IfCondition / UnlessCondition: 'true'/'1' or 'false'/'0', else an error."""
 
-    def __init__(self, expression: Any, negate: bool = False) -> None:
+    def __init__(self, expression: SomeSubstitutions, negate: bool = False) -> None:
         self.expression = subs(expression)
         self.negate = negate
 
@@ -32,7 +32,7 @@ class Condition:
 class EqualsCondition(Condition):
     """LaunchConfigurationEquals / NotEquals."""
 
-    def __init__(self, name: str, value: Any, negate: bool = False) -> None:
+    def __init__(self, name: str, value: SomeSubstitutions | None, negate: bool = False) -> None:
         self.name, self.value, self.negate = name, opt_subs(value), negate
 
     def evaluate(self, context: LaunchContext) -> bool:

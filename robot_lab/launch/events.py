@@ -8,8 +8,9 @@ written for ROS 2 reads them unchanged.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Literal
 
 __all__ = [
     'ChangeState',
@@ -32,7 +33,7 @@ EventKind = Literal['process_start', 'process_exit', 'process_io', 'execution_co
 class ProcessEvent:
     """What every process event tells: which action, which process."""
 
-    action: Any  # the ExecuteProcess/Node action the process came from
+    action: object  # the ExecuteProcess/Node action the process came from
     name: str  # its label, `sensor_node-1`
     cmd: list[str]
     cwd: str | None
@@ -45,7 +46,7 @@ class ProcessEvent:
         return self.name
 
     @property
-    def execute_process_action(self) -> Any:
+    def execute_process_action(self) -> object:
         return self.action
 
 
@@ -85,7 +86,7 @@ class ProcessIO(ProcessEvent):
 class ExecutionComplete:
     """launch.events.ExecutionComplete: an action (here: a process) has finished."""
 
-    action: Any
+    action: object
 
 
 @dataclass
@@ -100,7 +101,8 @@ class Shutdown:
 class ChangeState:
     """launch_ros.events.lifecycle.ChangeState: ask matching lifecycle nodes to transition."""
 
-    lifecycle_node_matcher: Any  # a function of the action (launch.events.matches_action)
+    # a function of the action (launch.events.matches_action)
+    lifecycle_node_matcher: Callable[[object], bool]
     transition_id: int
 
 
@@ -108,13 +110,13 @@ class ChangeState:
 class StateTransition:
     """launch_ros.events.lifecycle.StateTransition: a lifecycle node changed state."""
 
-    action: Any
-    msg: Any  # the lifecycle_msgs/msg/TransitionEvent
+    action: object
+    msg: object  # the lifecycle_msgs/msg/TransitionEvent
     transition: str
     start_state: str
     goal_state: str
 
 
-def matches_action(target: Any) -> Any:
+def matches_action(target: object) -> Callable[[object], bool]:
     """launch.events.matches_action: a matcher for events about `target`."""
     return lambda action: action is target

@@ -10,7 +10,7 @@ import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias, TypeGuard
 
 import yaml
 
@@ -19,13 +19,19 @@ from robot_lab.launch.action import Subs, subs
 from robot_lab.launch.entity import Entity, literal_or_subs
 from robot_lab.launch.plan import LaunchPlan
 from robot_lab.launch.substitution_grammar import parse_substitution
-from robot_lab.launch.substitutions import Substitution, SubstitutionFailure, coerce, perform
+from robot_lab.launch.substitutions import (
+    SomeSubstitutions,
+    Substitution,
+    SubstitutionFailure,
+    coerce,
+    perform,
+)
 from robot_lab.params import load_param_file
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['ParamFileRef', 'ParamValue', 'check_param_file', 'check_param_files',
+__all__ = ['NodeParameters', 'ParamFileRef', 'ParamValue', 'check_param_file', 'check_param_files',
            'flatten_params', 'is_subs', 'param_value', 'parse_param_entities',
            'substituted_param_file']
 
@@ -33,7 +39,7 @@ __all__ = ['ParamFileRef', 'ParamValue', 'check_param_file', 'check_param_files'
 class ParamValue:
     """A parameter value: a Python value, or substitutions typed by `value_type` (None=YAML)."""
 
-    value: Any
+    value: object
     value_type: str | None = None
     where: tuple[Path, int | None] | None = None  # the `<param>` it came from
 
@@ -45,6 +51,10 @@ class ParamFileRef:
     path: Subs
     allow_substs: bool = False
     where: tuple[Path, int | None] | None = None
+
+
+# One entry of a Node's `parameters`: names (nested dicts allowed) -> values, or a file.
+NodeParameters: TypeAlias = Mapping[SomeSubstitutions, object] | ParamFileRef
 
 
 def substituted_param_file(path: str, context: LaunchContext) -> str:
@@ -73,12 +83,12 @@ def check_param_file(path: str, context: LaunchContext) -> None:
                              fix=err.fix) from None
 
 
-def is_subs(value: Any) -> bool:
+def is_subs(value: object) -> TypeGuard[list[Substitution]]:
     return isinstance(value, list) and bool(value) and \
         all(isinstance(x, Substitution) for x in value)
 
 
-def param_value(value: Any, context: LaunchContext, name: str) -> Any:
+def param_value(value: object, context: LaunchContext, name: str) -> Any:
     """launch_ros's evaluation of one parameter value.
 
     Substitutions are performed, then typed by `value_type` (None: YAML rules); literal
@@ -129,7 +139,7 @@ def _uniform(items: list[Any], name: str) -> list[Any]:
     return items
 
 
-def flatten_params(params: Mapping[Any, Any], context: LaunchContext,
+def flatten_params(params: Mapping[SomeSubstitutions, object], context: LaunchContext,
              prefix: str = '') -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in params.items():
@@ -150,11 +160,11 @@ def flatten_params(params: Mapping[Any, Any], context: LaunchContext,
     return out
 
 
-def parse_param_entities(items: list[Entity]) -> list[Any]:
+def parse_param_entities(items: list[Entity]) -> list[NodeParameters]:
     """launch_ros's Node.parse_nested_parameters: one entry per top-level `param`."""
 
-    def nested(entries: list[Entity]) -> dict[str, Any]:
-        out: dict[str, Any] = {}
+    def nested(entries: list[Entity]) -> dict[SomeSubstitutions, object]:
+        out: dict[SomeSubstitutions, object] = {}
         for param in entries:
             try:
                 one(param, out)
@@ -165,7 +175,7 @@ def parse_param_entities(items: list[Entity]) -> list[Any]:
                 raise param.fail(str(err)) from None
         return out
 
-    def one(param: Entity, out: dict[str, Any]) -> None:
+    def one(param: Entity, out: dict[SomeSubstitutions, object]) -> None:
         name = param.attr('name', optional=False)
         type_name = param.attr('type')
         if type_name is not None and type_name not in (
@@ -193,7 +203,7 @@ def parse_param_entities(items: list[Entity]) -> list[Any]:
         else:
             raise RuntimeError('either a value attribute or nested params are needed')
 
-    result: list[Any] = []
+    result: list[NodeParameters] = []
     for param in items:
         source = param.attr('from')
         allow = param.attr('allow_substs', 'bool')

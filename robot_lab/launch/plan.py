@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 from robot_lab.launch.events import EventKind
 
@@ -48,7 +48,7 @@ class ProcessSpec:
     executable: str = ''
     param_files: list[str] = field(default_factory=list)
     source: str | None = None
-    origin: Any = field(default=None, repr=False)  # the action it came from (event targets)
+    origin: object = field(default=None, repr=False)  # the action it came from (event targets)
     lifecycle: str | None = None  # a LifecycleNode: 'manual' or 'autostart'
 
 
@@ -85,12 +85,12 @@ class EventHandlerSpec:
     registered in, and the supervisor runs what it returns."""
 
     event: EventKind
-    target: Any
-    respond: Callable[[Any], list[Action]] = field(repr=False)
+    target: object  # an action, a matcher function of one, or None: any
+    respond: Callable[[object], list[Action]] = field(repr=False)
     description: str = ''
     source: str | None = None
 
-    def matches(self, origin: Any) -> bool:
+    def matches(self, origin: object) -> bool:
         if self.target is None:
             return True
         if callable(self.target) and not hasattr(self.target, 'execute'):
@@ -102,7 +102,7 @@ class EventHandlerSpec:
 class LifecycleRequest:
     """EmitEvent(ChangeState(...)): the matching lifecycle nodes should take a transition."""
 
-    matcher: Callable[[Any], bool] = field(repr=False)
+    matcher: Callable[[object], bool] = field(repr=False)
     transition_id: int
     source: str | None = None
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from robot_lab.launch.boolean_substitutions import (
-    All,
+    AllTrue,
     And,
-    Any,
+    AnyTrue,
     Equals,
     IfElse,
     Not,
@@ -70,8 +70,8 @@ SUBSTITUTIONS: dict[str, tuple[Callable[..., Substitution], int, int]] = {
     'or': (Or, 2, 2),
     'equals': (Equals, 2, 2),
     'not-equals': (NotEquals, 2, 2),
-    'any': (Any, 1, 99),
-    'all': (All, 1, 99),
+    'any': (AnyTrue, 1, 99),
+    'all': (AllTrue, 1, 99),
     'log_dir': (LaunchLogDir, 0, 0),
     'launch_log_dir': (LaunchLogDir, 0, 0),
 }

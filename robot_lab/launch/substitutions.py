@@ -17,13 +17,16 @@ import shutil
 import socket
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeAlias
 
 import yaml
 
 __all__ = [
+    'SomeSubstitution',
+    'SomeSubstitutions',
+    'Subs',
     'Substitution',
     'SubstitutionContext',
     'SubstitutionError',
@@ -68,6 +71,9 @@ class Substitution:
 
 
 Subs = list[Substitution]
+# What launch's Python API accepts where it wants text (its SomeSubstitutionsType).
+SomeSubstitution: TypeAlias = str | os.PathLike[str] | Substitution
+SomeSubstitutions: TypeAlias = SomeSubstitution | Iterable[SomeSubstitution]
 
 
 def perform(subs: Sequence[Substitution] | str, context: SubstitutionContext) -> str:

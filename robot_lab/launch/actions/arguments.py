@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, opt_subs, subs
 from robot_lab.launch.entity import Entity, required, sub_attr
@@ -11,7 +11,7 @@ from robot_lab.launch.plan import (
     LaunchArgument,
 )
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import Text, perform
+from robot_lab.launch.substitutions import SomeSubstitutions, Text, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -23,7 +23,7 @@ __all__ = ['DeclareArgumentStep', 'SetConfigurationStep']
 class DeclareArgumentStep(LaunchStep):
     launch_name = 'DeclareLaunchArgument'
 
-    def __init__(self, name: str, default: Any = None, description: str = '',
+    def __init__(self, name: str, default: SomeSubstitutions | None = None, description: str = '',
                  choices: Sequence[str] | None = None) -> None:
         self.name = name
         self.default = opt_subs(default)
@@ -70,7 +70,7 @@ class SetConfigurationStep(LaunchStep):
 
     launch_name = 'SetLaunchConfiguration'
 
-    def __init__(self, name: Any, value: Any) -> None:
+    def __init__(self, name: SomeSubstitutions, value: SomeSubstitutions) -> None:
         self.name, self.value = subs(name), subs(value)
 
     def execute(self, context: LaunchContext) -> None:
@@ -91,7 +91,7 @@ class ResetConfigurationsStep(LaunchStep):
 
     launch_name = 'ResetLaunchConfigurations'
 
-    def __init__(self, keep: Mapping[Any, Any] | None = None) -> None:
+    def __init__(self, keep: Mapping[SomeSubstitutions, SomeSubstitutions] | None = None) -> None:
         self.keep = None if keep is None else [(subs(k), subs(v)) for k, v in keep.items()]
 
     def execute(self, context: LaunchContext) -> None:
@@ -117,7 +117,7 @@ class UnsetConfigurationStep(LaunchStep):
 
     launch_name = 'UnsetLaunchConfiguration'
 
-    def __init__(self, name: Any) -> None:
+    def __init__(self, name: SomeSubstitutions) -> None:
         self.name = subs(name)
 
     def execute(self, context: LaunchContext) -> None:

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.registry import register
 from robot_lab.launch.substitution_grammar import parse_substitution
-from robot_lab.launch.substitutions import coerce, perform
+from robot_lab.launch.substitutions import SomeSubstitutions, coerce, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -21,8 +21,9 @@ __all__ = ['EnvironmentStep']
 class EnvironmentStep(LaunchStep):
     """set_env / unset_env / append_env."""
 
-    def __init__(self, kind: str, name: Any, value: Any = '', prepend: Any = False,
-                 separator: Any = os.pathsep) -> None:
+    def __init__(self, kind: str, name: SomeSubstitutions, value: SomeSubstitutions = '',
+                 prepend: bool | SomeSubstitutions = False,
+                 separator: SomeSubstitutions = os.pathsep) -> None:
         self.kind, self.name, self.value = kind, subs(name), subs(value)
         self.prepend = prepend if isinstance(prepend, bool) else subs(prepend)
         self.separator = subs(separator)

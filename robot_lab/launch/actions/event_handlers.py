@@ -9,10 +9,10 @@ context, and the supervisor asks it to resolve the actions when the event happen
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from robot_lab.errors import RobotLabError
-from robot_lab.launch.action import LaunchStep, as_step, python_error
+from robot_lab.launch.action import LaunchEntity, LaunchStep, as_step, python_error
 from robot_lab.launch.compat_path import compat_api
 from robot_lab.launch.events import ChangeState, EventKind, Shutdown
 from robot_lab.launch.plan import (
@@ -26,10 +26,12 @@ from robot_lab.launch.substitutions import perform
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['EmitEventStep', 'EventHandler', 'RegisterEventHandlerStep']
+__all__ = ['EmitEventStep', 'EventHandler', 'HandlerFunction', 'RegisterEventHandlerStep',
+           'Response']
 
 # what each handler's callable receives: (event, context), except OnProcessIO's (event)
-Response = Sequence[Any] | Callable[..., Any] | None
+HandlerFunction: TypeAlias = Callable[..., 'LaunchEntity | Sequence[LaunchEntity] | None']
+Response: TypeAlias = 'LaunchEntity | Sequence[LaunchEntity] | HandlerFunction | None'
 
 
 class EventHandler:
@@ -37,9 +39,9 @@ class EventHandler:
 
     launch_name = 'EventHandler'
 
-    def __init__(self, event: EventKind, target: Any, responses: dict[str, Response],
+    def __init__(self, event: EventKind, target: object, responses: dict[str, Response],
                  pass_context: bool = True,
-                 accepts: Callable[[Any], bool] | None = None) -> None:
+                 accepts: Callable[[object], bool] | None = None) -> None:
         self.event, self.target, self.pass_context = event, target, pass_context
         self.accepts = accepts  # a further filter on the event (OnStateTransition's states)
         self.responses = {key: value for key, value in responses.items() if value is not None}
@@ -58,7 +60,7 @@ class EventHandler:
                      for key, value in self.responses.items() if key not in self.steps]
         return f'{self.launch_name}({", ".join(p for p in (target, *functions) if p)})'
 
-    def respond(self, event: Any, registered: LaunchContext) -> list[Action]:
+    def respond(self, event: object, registered: LaunchContext) -> list[Action]:
         """The actions this event asks for, resolved in a copy of the registering context."""
         context = registered.snapshot()
         context.locals.event = event
@@ -85,14 +87,14 @@ class EventHandler:
         context.run(steps)
         return context.sink
 
-    def _response_key(self, event: Any) -> str | None:
+    def _response_key(self, event: object) -> str | None:
         if self.event == 'process_io':
             wanted = 'on_stdout' if getattr(event, 'fd', 1) == 1 else 'on_stderr'
             return wanted if wanted in self.responses else None
         return next(iter(self.responses), None)
 
 
-def _is_function(value: Any) -> bool:
+def _is_function(value: object) -> bool:
     return callable(value) and not isinstance(value, LaunchStep) and \
         not hasattr(value, 'entities')
 
@@ -125,7 +127,7 @@ class EmitEventStep(LaunchStep):
 
     launch_name = 'EmitEvent'
 
-    def __init__(self, event: Any) -> None:
+    def __init__(self, event: object) -> None:
         if not isinstance(event, Shutdown | ChangeState):
             raise TypeError(
                 'robot_lab can emit launch.events.Shutdown and launch_ros.events.lifecycle.'

@@ -9,13 +9,13 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.launch.action import LaunchStep, Subs, subs
-from robot_lab.launch.actions.event_handlers import EventHandler, RegisterEventHandlerStep
+from robot_lab.launch.actions.event_handlers import EventHandler, RegisterEventHandlerStep, Response
 from robot_lab.launch.entity import Entity, env_pairs, split_cmdline, sub_attr
 from robot_lab.launch.plan import (
     ProcessSpec,
 )
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import coerce, perform
+from robot_lab.launch.substitutions import SomeSubstitutions, coerce, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -30,15 +30,15 @@ class ProcessOptions:
     name: Subs | None = None
     prefix: Subs | None = None
     output: Subs | None = None
-    respawn: Any = False
+    respawn: bool | Subs = False
     respawn_delay: float | None = None
     respawn_max_retries: int = -1
-    sigterm_timeout: Any = 5.0
-    sigkill_timeout: Any = 5.0
+    sigterm_timeout: float | SomeSubstitutions = 5.0
+    sigkill_timeout: float | SomeSubstitutions = 5.0
     shell: bool = False
     on_exit: str | None = None
     # on_exit=[actions] or a function(event, context): an OnProcessExit handler on itself
-    on_exit_handler: Any = None
+    on_exit_handler: Response = None
     env: list[tuple[Subs, Subs]] | None = None
     additional_env: list[tuple[Subs, Subs]] = field(default_factory=list)
 
@@ -49,7 +49,7 @@ class ExecuteStep(LaunchStep):
 
     launch_name = 'ExecuteProcess'
 
-    def __init__(self, cmd: Sequence[Any], options: ProcessOptions) -> None:
+    def __init__(self, cmd: Sequence[SomeSubstitutions], options: ProcessOptions) -> None:
         self.cmd = [subs(part) for part in cmd]
         self.options = options
 

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.registry import parse_entity, register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -23,7 +23,7 @@ class GroupStep(LaunchStep):
     launch_name = 'GroupAction'
 
     def __init__(self, actions: Sequence[LaunchStep], scoped: bool = True, forwarding: bool = True,
-                 keep: Mapping[Any, Any] | None = None) -> None:
+                 keep: Mapping[SomeSubstitutions, SomeSubstitutions] | None = None) -> None:
         self.actions = list(actions)
         self.scoped, self.forwarding = scoped, forwarding
         self.keep = [(subs(k), subs(v)) for k, v in (keep or {}).items()]

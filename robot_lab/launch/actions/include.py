@@ -5,14 +5,14 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchDescriptionStep, LaunchStep, subs
 from robot_lab.launch.actions.arguments import DeclareArgumentStep
 from robot_lab.launch.actions.timer import TimerStep
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -26,7 +26,8 @@ class IncludeStep(LaunchStep):
 
     launch_name = 'IncludeLaunchDescription'
 
-    def __init__(self, path: Any, arguments: Iterable[tuple[Any, Any]] = (),
+    def __init__(self, path: SomeSubstitutions,
+                 arguments: Iterable[tuple[SomeSubstitutions, SomeSubstitutions]] = (),
                  loader: Callable[[Path], LaunchDescriptionStep] | None = None) -> None:
         self.path = subs(path)
         self.arguments = [(subs(n), subs(v)) for n, v in arguments]

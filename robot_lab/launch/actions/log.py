@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, required
@@ -10,7 +10,7 @@ from robot_lab.launch.plan import (
     LogAction,
 )
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -22,7 +22,7 @@ __all__ = ['LogStep']
 class LogStep(LaunchStep):
     launch_name = 'LogInfo'
 
-    def __init__(self, message: Any, level: str = 'INFO') -> None:
+    def __init__(self, message: SomeSubstitutions, level: str = 'INFO') -> None:
         self.message, self.level = subs(message), level
 
     def execute(self, context: LaunchContext) -> None:

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.names import absolute_namespace, namespace_problem, prefix_namespace
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -22,7 +22,7 @@ class PushNamespaceStep(LaunchStep):
 
     launch_name = 'PushROSNamespace'
 
-    def __init__(self, namespace: Any) -> None:
+    def __init__(self, namespace: SomeSubstitutions) -> None:
         self.namespace = subs(namespace)
 
     def execute(self, context: LaunchContext) -> None:

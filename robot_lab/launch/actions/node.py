@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, opt_subs, subs
 from robot_lab.launch.actions.execute_process import (
@@ -20,6 +20,7 @@ from robot_lab.launch.names import (
     prefix_namespace,
 )
 from robot_lab.launch.parameters import (
+    NodeParameters,
     ParamFileRef,
     check_param_file,
     flatten_params,
@@ -27,7 +28,7 @@ from robot_lab.launch.parameters import (
     substituted_param_file,
 )
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 from robot_lab.params import write_param_file
 
 if TYPE_CHECKING:
@@ -42,12 +43,14 @@ class NodeStep(ExecuteStep):
 
     launch_name = 'Node'
 
-    def __init__(self, executable: Any, package: Any = None, name: Any = None,
-                 namespace: Any = None, exec_name: Any = None,
-                 parameters: Sequence[Any] | None = None,
-                 remappings: Iterable[tuple[Any, Any]] | None = None,
-                 ros_arguments: Sequence[Any] | None = None,
-                 arguments: Sequence[Any] | None = None,
+    def __init__(self, executable: SomeSubstitutions, package: SomeSubstitutions | None = None,
+                 name: SomeSubstitutions | None = None,
+                 namespace: SomeSubstitutions | None = None,
+                 exec_name: SomeSubstitutions | None = None,
+                 parameters: Sequence[NodeParameters] | None = None,
+                 remappings: Iterable[tuple[SomeSubstitutions, SomeSubstitutions]] | None = None,
+                 ros_arguments: Sequence[SomeSubstitutions] | None = None,
+                 arguments: Sequence[SomeSubstitutions] | None = None,
                  options: ProcessOptions | None = None) -> None:
         options = options or ProcessOptions()
         if exec_name is not None:

@@ -3,16 +3,19 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypeAlias
 
 from robot_lab.errors import RobotLabError
-from robot_lab.launch.action import LaunchStep, as_step, python_error
+from robot_lab.launch.action import LaunchEntity, LaunchStep, as_step, python_error
 from robot_lab.launch.compat_path import compat_api
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
 
-__all__ = ['OpaqueStep']
+__all__ = ['OpaqueCallable', 'OpaqueStep']
+
+# function(context, *args, **kwargs) -> the actions to run in its place (or None)
+OpaqueCallable: TypeAlias = Callable[..., 'Sequence[LaunchEntity] | None']
 
 
 class OpaqueStep(LaunchStep):
@@ -20,8 +23,8 @@ class OpaqueStep(LaunchStep):
 
     launch_name = 'OpaqueFunction'
 
-    def __init__(self, function: Callable[..., Any], args: Sequence[Any] | None = None,
-                 kwargs: Mapping[str, Any] | None = None) -> None:
+    def __init__(self, function: OpaqueCallable, args: Sequence[object] | None = None,
+                 kwargs: Mapping[str, object] | None = None) -> None:
         self.function, self.args, self.kwargs = function, list(args or []), dict(kwargs or {})
 
     def execute(self, context: LaunchContext) -> None:

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, cast
 
 from robot_lab.launch.action import LaunchStep, opt_subs, subs
 from robot_lab.launch.entity import Entity, required
 from robot_lab.launch.parameters import ParamValue, check_param_file, param_value
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -21,23 +21,24 @@ __all__ = ['GlobalRosStep', 'SetUseSimTimeStep']
 class GlobalRosStep(LaunchStep):
     """set_parameter / set_parameters_from_file / set_remap: for later nodes in scope."""
 
-    def __init__(self, kind: str, first: Any, second: Any = None) -> None:
+    def __init__(self, kind: str, first: SomeSubstitutions, second: object = None) -> None:
         self.kind = kind
         self.first = subs(first)
-        self.second = second if kind == 'parameter' else opt_subs(second)
+        # a parameter's value (typed when performed), else the remap's target
+        self.second = second if kind == 'parameter' else opt_subs(cast(SomeSubstitutions, second))
 
     def execute(self, context: LaunchContext) -> None:
         if self.kind == 'parameter':
             name = perform(self.first, context)
             value = param_value(self.second, context, name)
-            entry: Any = (name, value)
+            entry: str | tuple[str, object] = (name, value)
             key = 'global_params'
         elif self.kind == 'file':
             path = os.path.abspath(perform(self.first, context))
             check_param_file(path, context)
             entry, key = path, 'global_params'
         else:
-            assert self.second is not None
+            assert isinstance(self.second, list)
             entry = (perform(self.first, context), perform(self.second, context))
             key = 'ros_remaps'
         # launch appends to the list it finds (shared with enclosing scopes): same here
@@ -65,9 +66,9 @@ class SetUseSimTimeStep(GlobalRosStep):
 
     launch_name = 'SetUseSimTime'
 
-    def __init__(self, value: Any) -> None:
-        value = value if isinstance(value, bool) else ParamValue(subs(value), 'bool')
-        super().__init__('parameter', 'use_sim_time', value)
+    def __init__(self, value: bool | SomeSubstitutions) -> None:
+        typed = value if isinstance(value, bool) else ParamValue(subs(value), 'bool')
+        super().__init__('parameter', 'use_sim_time', typed)
 
     @classmethod
     def parse(cls, e: Entity) -> LaunchStep:

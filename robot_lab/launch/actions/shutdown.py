@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity, sub_attr
@@ -10,7 +10,7 @@ from robot_lab.launch.plan import (
     ShutdownAction,
 )
 from robot_lab.launch.registry import register
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -22,7 +22,7 @@ __all__ = ['ShutdownStep']
 class ShutdownStep(LaunchStep):
     launch_name = 'Shutdown'
 
-    def __init__(self, reason: Any = '') -> None:
+    def __init__(self, reason: SomeSubstitutions = '') -> None:
         self.reason = subs(reason)
 
     def execute(self, context: LaunchContext) -> None:

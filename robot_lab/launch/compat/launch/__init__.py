@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import Any
+from typing import NoReturn
 
-from robot_lab.launch.action import LaunchStep
+from robot_lab.launch.action import LaunchEntity, LaunchStep
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
 from robot_lab.launch.context import LaunchContext
-from robot_lab.launch.substitutions import Substitution
+from robot_lab.launch.substitutions import SomeSubstitutions, Substitution
 
 from . import (
     actions,
@@ -38,26 +38,26 @@ __all__ = [
 
 Action = LaunchStep
 LaunchDescriptionEntity = LaunchStep
-SomeSubstitutionsType = Any
+SomeSubstitutionsType = SomeSubstitutions
 
 
 class LaunchDescription:
     """What generate_launch_description() returns: an ordered list of actions."""
 
-    def __init__(self, initial_entities: Iterable[Any] | None = None, *,
+    def __init__(self, initial_entities: Iterable[LaunchEntity] | None = None, *,
                  deprecated_reason: str | None = None) -> None:
-        self.entities: list[Any] = list(initial_entities or [])
+        self.entities: list[LaunchEntity] = list(initial_entities or [])
         self.deprecated_reason = deprecated_reason
 
-    def add_action(self, action: Any) -> None:
+    def add_action(self, action: LaunchEntity) -> None:
         self.entities.append(action)
 
-    def add_entity(self, entity: Any) -> None:
+    def add_entity(self, entity: LaunchEntity) -> None:
         self.entities.append(entity)
 
-    def describe_sub_entities(self) -> list[Any]:
+    def describe_sub_entities(self) -> list[LaunchEntity]:
         return list(self.entities)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch', name, __all__)

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any, NoReturn
 
-from robot_lab.launch.action import LaunchStep, as_step
+from robot_lab.launch.action import LaunchEntity, LaunchStep, Subs, as_step, subs
+from robot_lab.launch.action import opt_subs as opt
 from robot_lab.launch.actions.arguments import (
     DeclareArgumentStep,
     ResetConfigurationsStep,
@@ -19,18 +20,20 @@ from robot_lab.launch.actions.event_handlers import (
     EmitEventStep,
     EventHandler,
     RegisterEventHandlerStep,
+    Response,
 )
 from robot_lab.launch.actions.execute_process import ExecuteStep, ProcessOptions
 from robot_lab.launch.actions.group import GroupStep
 from robot_lab.launch.actions.include import IncludeStep
 from robot_lab.launch.actions.log import LogStep
-from robot_lab.launch.actions.opaque import OpaqueStep
+from robot_lab.launch.actions.opaque import OpaqueCallable, OpaqueStep
 from robot_lab.launch.actions.shutdown import ShutdownStep
 from robot_lab.launch.actions.timer import TimerStep
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
+from robot_lab.launch.substitutions import SomeSubstitutions
 
-from .substitutions import opt, subs
+from .launch_description_sources import Located
 
 __all__ = [
     'AppendEnvironmentVariable',
@@ -62,34 +65,39 @@ def _place(step: LaunchStep, condition: Condition | None) -> None:
     step.locate_caller()
 
 
-def to_step(entity: Any) -> LaunchStep:
+def to_step(entity: LaunchEntity) -> LaunchStep:
     """An action or a (nested) LaunchDescription."""
     return as_step(entity)
 
 
 class DeclareLaunchArgument(DeclareArgumentStep):
-    def __init__(self, name: str, *, default_value: Any = None, description: str | None = None,
+    def __init__(self, name: str, *, default_value: SomeSubstitutions | None = None,
+                 description: str | None = None,
                  choices: Sequence[str] | None = None, condition: Condition | None = None,
-                 **_: Any) -> None:
+                 **_: object) -> None:
         super().__init__(name, default_value, description or '', choices)
         _place(self, condition)
 
     @property
-    def default_value(self) -> Any:
+    def default_value(self) -> Subs | None:
         return self.default
 
 
 class SetLaunchConfiguration(SetConfigurationStep):
-    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, value: SomeSubstitutions, *,
+                 condition: Condition | None = None) -> None:
         super().__init__(name, value)
         _place(self, condition)
 
 
 class IncludeLaunchDescription(IncludeStep):
-    def __init__(self, launch_description_source: Any, *,
-                 launch_arguments: Iterable[tuple[Any, Any]] | Mapping[Any, Any] | None = None,
-                 condition: Condition | None = None, **_: Any) -> None:
-        location = getattr(launch_description_source, 'location', launch_description_source)
+    def __init__(self, launch_description_source: Located | SomeSubstitutions,
+                 *, launch_arguments: Iterable[tuple[SomeSubstitutions, SomeSubstitutions]]
+                 | Mapping[SomeSubstitutions, SomeSubstitutions] | None = None,
+                 condition: Condition | None = None, **_: object) -> None:
+        location = (launch_description_source.location
+                    if isinstance(launch_description_source, Located)
+                    else launch_description_source)
         pairs = launch_arguments.items() if isinstance(launch_arguments, Mapping) \
             else (launch_arguments or [])
         super().__init__(location, list(pairs))
@@ -97,19 +105,23 @@ class IncludeLaunchDescription(IncludeStep):
 
 
 class GroupAction(GroupStep):
-    def __init__(self, actions: Iterable[Any], *, scoped: bool = True, forwarding: bool = True,
-                 launch_configurations: Mapping[Any, Any] | None = None,
-                 condition: Condition | None = None, **_: Any) -> None:
+    def __init__(self, actions: Iterable[LaunchEntity], *, scoped: bool = True,
+                 forwarding: bool = True,
+                 launch_configurations: Mapping[SomeSubstitutions, SomeSubstitutions] | None = None,
+                 condition: Condition | None = None, **_: object) -> None:
         super().__init__([to_step(a) for a in actions], scoped, forwarding, launch_configurations)
         _place(self, condition)
 
 
 def process_options(
-    *, name: Any = None, cwd: Any = None, env: Mapping[Any, Any] | None = None,
-    additional_env: Mapping[Any, Any] | None = None, shell: bool = False,
-    sigterm_timeout: Any = 5.0, sigkill_timeout: Any = 5.0, prefix: Any = None,
-    output: Any = 'log', respawn: Any = False, respawn_delay: float | None = None,
-    respawn_max_retries: int = -1, on_exit: Any = None, **_: Any,
+    *, name: SomeSubstitutions | None = None, cwd: SomeSubstitutions | None = None,
+    env: Mapping[SomeSubstitutions, SomeSubstitutions] | None = None,
+    additional_env: Mapping[SomeSubstitutions, SomeSubstitutions] | None = None,
+    shell: bool = False, sigterm_timeout: float | SomeSubstitutions = 5.0,
+    sigkill_timeout: float | SomeSubstitutions = 5.0, prefix: SomeSubstitutions | None = None,
+    output: SomeSubstitutions = 'log', respawn: bool | SomeSubstitutions = False,
+    respawn_delay: float | None = None, respawn_max_retries: int = -1,
+    on_exit: Response = None, **_: object,
 ) -> ProcessOptions:
     """ExecuteProcess's keyword arguments (emulate_tty, output_format, ... are accepted)."""
     exit_action, exit_handler = None, None
@@ -131,55 +143,59 @@ def process_options(
 
 
 class ExecuteProcess(ExecuteStep):
-    def __init__(self, *, cmd: Iterable[Any], condition: Condition | None = None,
+    def __init__(self, *, cmd: Iterable[SomeSubstitutions], condition: Condition | None = None,
                  **kwargs: Any) -> None:
         super().__init__([subs(part) for part in cmd], process_options(**kwargs))
         _place(self, condition)
 
 
 class TimerAction(TimerStep):
-    def __init__(self, *, period: Any, actions: Iterable[Any],
-                 condition: Condition | None = None, **_: Any) -> None:
+    def __init__(self, *, period: float | SomeSubstitutions, actions: Iterable[LaunchEntity],
+                 condition: Condition | None = None, **_: object) -> None:
         super().__init__(period if isinstance(period, float | int) else subs(period),
                          [to_step(a) for a in actions])
         _place(self, condition)
 
 
 class LogInfo(LogStep):
-    def __init__(self, *, msg: Any, condition: Condition | None = None, **_: Any) -> None:
+    def __init__(self, *, msg: SomeSubstitutions, condition: Condition | None = None,
+                 **_: object) -> None:
         super().__init__(msg)
         _place(self, condition)
 
 
 class SetEnvironmentVariable(EnvironmentStep):
-    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, value: SomeSubstitutions, *,
+                 condition: Condition | None = None) -> None:
         super().__init__('set', name, value)
         _place(self, condition)
 
 
 class UnsetEnvironmentVariable(EnvironmentStep):
-    def __init__(self, name: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, *, condition: Condition | None = None) -> None:
         super().__init__('unset', name)
         _place(self, condition)
 
 
 class AppendEnvironmentVariable(EnvironmentStep):
-    def __init__(self, name: Any, value: Any, *, prepend: Any = False,
-                 separator: Any = os.pathsep, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, value: SomeSubstitutions, *,
+                 prepend: bool | SomeSubstitutions = False,
+                 separator: SomeSubstitutions = os.pathsep,
+                 condition: Condition | None = None) -> None:
         super().__init__('append', name, value, prepend, separator)
         _place(self, condition)
 
 
 class OpaqueFunction(OpaqueStep):
-    def __init__(self, *, function: Callable[..., Any], args: Sequence[Any] | None = None,
-                 kwargs: Mapping[str, Any] | None = None,
+    def __init__(self, *, function: OpaqueCallable, args: Sequence[object] | None = None,
+                 kwargs: Mapping[str, object] | None = None,
                  condition: Condition | None = None) -> None:
         super().__init__(function, args, kwargs)
         _place(self, condition)
 
 
 class Shutdown(ShutdownStep):
-    def __init__(self, *, reason: Any = 'reason not given',
+    def __init__(self, *, reason: SomeSubstitutions = 'reason not given',
                  condition: Condition | None = None) -> None:
         super().__init__(reason)
         _place(self, condition)
@@ -187,26 +203,27 @@ class Shutdown(ShutdownStep):
 
 class RegisterEventHandler(RegisterEventHandlerStep):
     def __init__(self, event_handler: EventHandler, *, condition: Condition | None = None,
-                 **_: Any) -> None:
+                 **_: object) -> None:
         super().__init__(event_handler)
         _place(self, condition)
 
 
 class EmitEvent(EmitEventStep):
-    def __init__(self, *, event: Any, condition: Condition | None = None, **_: Any) -> None:
+    def __init__(self, *, event: object, condition: Condition | None = None, **_: object) -> None:
         super().__init__(event)
         _place(self, condition)
 
 
 class ResetLaunchConfigurations(ResetConfigurationsStep):
-    def __init__(self, launch_configurations: Mapping[Any, Any] | None = None, *,
+    def __init__(self, launch_configurations: Mapping[SomeSubstitutions, SomeSubstitutions]
+                 | None = None, *,
                  condition: Condition | None = None) -> None:
         super().__init__(launch_configurations)
         _place(self, condition)
 
 
 class UnsetLaunchConfiguration(UnsetConfigurationStep):
-    def __init__(self, name: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, *, condition: Condition | None = None) -> None:
         super().__init__(name)
         _place(self, condition)
 
@@ -241,5 +258,5 @@ class ResetEnvironment(ScopeStep):
         _place(self, condition)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch.actions', name, __all__)

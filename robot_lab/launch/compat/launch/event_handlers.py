@@ -3,9 +3,9 @@ OnShutdown (with launch's keyword arguments)."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
-from robot_lab.launch.actions.event_handlers import EventHandler
+from robot_lab.launch.actions.event_handlers import EventHandler, Response
 from robot_lab.launch.compat_path import unsupported
 
 __all__ = [
@@ -21,22 +21,22 @@ __all__ = [
 class OnProcessStart(EventHandler):
     launch_name = 'OnProcessStart'
 
-    def __init__(self, *, target_action: Any = None, on_start: Any, **_: Any) -> None:
+    def __init__(self, *, target_action: object = None, on_start: Response, **_: object) -> None:
         super().__init__('process_start', target_action, {'on_start': on_start})
 
 
 class OnProcessExit(EventHandler):
     launch_name = 'OnProcessExit'
 
-    def __init__(self, *, target_action: Any = None, on_exit: Any, **_: Any) -> None:
+    def __init__(self, *, target_action: object = None, on_exit: Response, **_: object) -> None:
         super().__init__('process_exit', target_action, {'on_exit': on_exit})
 
 
 class OnProcessIO(EventHandler):
     launch_name = 'OnProcessIO'
 
-    def __init__(self, *, target_action: Any = None, on_stdin: Any = None,
-                 on_stdout: Any = None, on_stderr: Any = None, **_: Any) -> None:
+    def __init__(self, *, target_action: object = None, on_stdin: Response = None,
+                 on_stdout: Response = None, on_stderr: Response = None, **_: object) -> None:
         # on_stdin: the kit's processes never read stdin, so there is nothing to report
         super().__init__('process_io', target_action,
                          {'on_stdout': on_stdout, 'on_stderr': on_stderr}, pass_context=False)
@@ -45,16 +45,17 @@ class OnProcessIO(EventHandler):
 class OnExecutionComplete(EventHandler):
     launch_name = 'OnExecutionComplete'
 
-    def __init__(self, *, target_action: Any = None, on_completion: Any, **_: Any) -> None:
+    def __init__(self, *, target_action: object = None, on_completion: Response,
+                 **_: object) -> None:
         super().__init__('execution_complete', target_action, {'on_completion': on_completion})
 
 
 class OnShutdown(EventHandler):
     launch_name = 'OnShutdown'
 
-    def __init__(self, *, on_shutdown: Any, **_: Any) -> None:
+    def __init__(self, *, on_shutdown: Response, **_: object) -> None:
         super().__init__('shutdown', None, {'on_shutdown': on_shutdown})
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch.event_handlers', name, __all__)

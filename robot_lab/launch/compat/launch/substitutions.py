@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch import boolean_substitutions as boolean
 from robot_lab.launch import substitutions as core
+from robot_lab.launch.action import opt_subs as opt
+from robot_lab.launch.action import subs
 from robot_lab.launch.compat_path import unsupported
-from robot_lab.launch.substitutions import Substitution, SubstitutionFailure
+from robot_lab.launch.substitutions import (
+    SomeSubstitution,
+    SomeSubstitutions,
+    Substitution,
+    SubstitutionFailure,
+)
 
 __all__ = [
     'AllSubstitution',
@@ -38,47 +45,33 @@ __all__ = [
 ]
 
 
-def subs(value: Any) -> list[Substitution]:
-    """launch's normalize_to_list_of_substitutions: text, a substitution, or a list of them."""
-    if isinstance(value, Substitution):
-        return [value]
-    if isinstance(value, str):
-        return [core.Text(value)]
-    if isinstance(value, os.PathLike):
-        return [core.Text(os.fspath(value))]
-    if isinstance(value, Iterable):
-        out: list[Substitution] = []
-        for item in value:
-            out.extend(subs(item))
-        return out
-    raise TypeError(f'expected str, Substitution or a list of them, got {value!r}')
-
-
-def opt(value: Any) -> list[Substitution] | None:
-    return None if value is None else subs(value)
-
-
 class TextSubstitution(core.Text):
     def __init__(self, *, text: str) -> None:
         super().__init__(text)
 
 
 class LaunchConfiguration(core.LaunchConfiguration):
-    def __init__(self, variable_name: Any, *, default: Any = None) -> None:
+    def __init__(self, variable_name: SomeSubstitutions, *,
+                 default: SomeSubstitutions | None = None) -> None:
         super().__init__(subs(variable_name), opt(default))
 
 
 class EnvironmentVariable(core.EnvironmentVariable):
-    def __init__(self, name: Any, *, default_value: Any = None) -> None:
+    def __init__(self, name: SomeSubstitutions, *,
+                 default_value: SomeSubstitutions | None = None) -> None:
         super().__init__(subs(name), opt(default_value))
 
 
 class PythonExpression(core.PythonExpression):
-    def __init__(self, expression: Any, python_modules: Any = None) -> None:
+    def __init__(self, expression: SomeSubstitutions,
+                 python_modules: SomeSubstitutions | None = None) -> None:
         modules: list[Substitution] | None = None
         if python_modules is not None:
-            names = [python_modules] if isinstance(python_modules, str | Substitution) \
-                else list(python_modules)
+            names: list[SomeSubstitution]
+            if isinstance(python_modules, str | os.PathLike | Substitution):
+                names = [python_modules]
+            else:
+                names = list(python_modules)
             modules = []
             for index, name in enumerate(names):
                 if index:
@@ -88,17 +81,18 @@ class PythonExpression(core.PythonExpression):
 
 
 class PathJoinSubstitution(core.PathJoin):
-    def __init__(self, substitutions: Iterable[Any]) -> None:
+    def __init__(self, substitutions: Iterable[SomeSubstitutions]) -> None:
         super().__init__([subs(part) for part in substitutions])
 
 
 class Command(core.Command):
-    def __init__(self, command: Any, *, on_stderr: Any = 'fail') -> None:
+    def __init__(self, command: SomeSubstitutions, *,
+                 on_stderr: SomeSubstitutions = 'fail') -> None:
         super().__init__(subs(command), subs(on_stderr))
 
 
 class AnonName(core.AnonName):
-    def __init__(self, name: Any) -> None:
+    def __init__(self, name: SomeSubstitutions) -> None:
         super().__init__(subs(name))
 
 
@@ -111,52 +105,53 @@ class ThisLaunchFile(core.ThisLaunchFile):
 
 
 class FindExecutable(core.FindExecutable):
-    def __init__(self, *, name: Any) -> None:
+    def __init__(self, *, name: SomeSubstitutions) -> None:
         super().__init__(subs(name))
 
 
 class FileContent(core.FileContent):
-    def __init__(self, path: Any) -> None:
+    def __init__(self, path: SomeSubstitutions) -> None:
         super().__init__(subs(path))
 
 
 class NotSubstitution(boolean.Not):
-    def __init__(self, value: Any) -> None:
+    def __init__(self, value: SomeSubstitutions) -> None:
         super().__init__(subs(value))
 
 
 class AndSubstitution(boolean.And):
-    def __init__(self, left: Any, right: Any) -> None:
+    def __init__(self, left: SomeSubstitutions, right: SomeSubstitutions) -> None:
         super().__init__(subs(left), subs(right))
 
 
 class OrSubstitution(boolean.Or):
-    def __init__(self, left: Any, right: Any) -> None:
+    def __init__(self, left: SomeSubstitutions, right: SomeSubstitutions) -> None:
         super().__init__(subs(left), subs(right))
 
 
 class EqualsSubstitution(boolean.Equals):
-    def __init__(self, left: Any, right: Any) -> None:
+    def __init__(self, left: SomeSubstitutions, right: SomeSubstitutions) -> None:
         super().__init__(subs(left), subs(right))
 
 
 class IfElseSubstitution(boolean.IfElse):
-    def __init__(self, condition: Any, if_value: Any = '', else_value: Any = '') -> None:
+    def __init__(self, condition: SomeSubstitutions, if_value: SomeSubstitutions = '',
+                 else_value: SomeSubstitutions = '') -> None:
         super().__init__(subs(condition), subs(if_value), subs(else_value))
 
 
 class NotEqualsSubstitution(boolean.NotEquals):
-    def __init__(self, left: Any, right: Any) -> None:
+    def __init__(self, left: SomeSubstitutions, right: SomeSubstitutions) -> None:
         super().__init__(subs(left), subs(right))
 
 
-class AnySubstitution(boolean.Any):
-    def __init__(self, *args: Any) -> None:
+class AnySubstitution(boolean.AnyTrue):
+    def __init__(self, *args: SomeSubstitutions) -> None:
         super().__init__(*(subs(arg) for arg in args))
 
 
-class AllSubstitution(boolean.All):
-    def __init__(self, *args: Any) -> None:
+class AllSubstitution(boolean.AllTrue):
+    def __init__(self, *args: SomeSubstitutions) -> None:
         super().__init__(*(subs(arg) for arg in args))
 
 
@@ -167,5 +162,5 @@ class LaunchLogDir(core.LaunchLogDir):
 LocalSubstitution = core.LocalSubstitution
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch.substitutions', name, __all__)

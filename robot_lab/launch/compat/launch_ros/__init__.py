@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 
@@ -11,5 +11,5 @@ from . import actions, event_handlers, events, parameter_descriptions, substitut
 __all__ = ['actions', 'event_handlers', 'events', 'parameter_descriptions', 'substitutions']
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros', name, __all__)

@@ -4,18 +4,21 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
-from typing import Any
+from typing import Any, NoReturn
 
+from robot_lab.launch.action import subs
 from robot_lab.launch.actions.lifecycle_node import LifecycleNodeStep
 from robot_lab.launch.actions.namespace import PushNamespaceStep
 from robot_lab.launch.actions.node import NodeStep
 from robot_lab.launch.actions.ros_globals import GlobalRosStep, SetUseSimTimeStep
 from robot_lab.launch.compat.launch.actions import _place, process_options
-from robot_lab.launch.compat.launch.substitutions import subs
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.conditions import Condition
-from robot_lab.launch.parameters import ParamFileRef, ParamValue
-from robot_lab.launch.substitutions import Substitution
+from robot_lab.launch.parameters import NodeParameters, ParamFileRef, ParamValue
+from robot_lab.launch.substitutions import SomeSubstitutions, Substitution
+
+# Node(remappings=[('from', 'to'), ...])
+Remappings = Iterable[tuple[SomeSubstitutions, SomeSubstitutions]]
 
 __all__ = [
     'LifecycleNode',
@@ -29,7 +32,7 @@ __all__ = [
 ]
 
 
-def _value(value: Any) -> Any:
+def _value(value: object) -> object:
     """launch_ros's normalize_parameter_dict for one value."""
     if isinstance(value, Mapping):
         return {k: _value(v) for k, v in value.items()}
@@ -47,12 +50,13 @@ def _value(value: Any) -> Any:
     raise TypeError(f'Unexpected type for parameter value {value!r}')
 
 
-def _parameters(parameters: Iterable[Any]) -> list[Any]:
-    result: list[Any] = []
+def _parameters(parameters: Iterable[object]) -> list[NodeParameters]:
+    result: list[NodeParameters] = []
     for entry in parameters:
         if isinstance(entry, Mapping):
             result.append({k: _value(v) for k, v in entry.items()})
-        elif isinstance(getattr(entry, 'value', None), ParamValue) and hasattr(entry, 'name'):
+        elif hasattr(entry, 'name') and hasattr(entry, 'value') and \
+                isinstance(entry.value, ParamValue):
             result.append({entry.name: entry.value})  # a Parameter (from either import path)
         elif isinstance(entry, ParamFileRef):
             result.append(entry)
@@ -63,8 +67,9 @@ def _parameters(parameters: Iterable[Any]) -> list[Any]:
     return result
 
 
-def _node_fields(parameters: Iterable[Any] | None, remappings: Iterable[tuple[Any, Any]] | None,
-                 ros_arguments: Iterable[Any] | None, arguments: Iterable[Any] | None,
+def _node_fields(parameters: Iterable[object] | None, remappings: Remappings | None,
+                 ros_arguments: Iterable[SomeSubstitutions] | None,
+                 arguments: Iterable[SomeSubstitutions] | None,
                  kwargs: dict[str, Any]) -> dict[str, Any]:
     """What Node and LifecycleNode take alike, as their steps want it (lists, our options)."""
     return {
@@ -77,12 +82,14 @@ def _node_fields(parameters: Iterable[Any] | None, remappings: Iterable[tuple[An
 
 
 class Node(NodeStep):
-    def __init__(self, *, executable: Any, package: Any = None, name: Any = None,
-                 namespace: Any = None, exec_name: Any = None,
-                 parameters: Iterable[Any] | None = None,
-                 remappings: Iterable[tuple[Any, Any]] | None = None,
-                 ros_arguments: Iterable[Any] | None = None,
-                 arguments: Iterable[Any] | None = None,
+    def __init__(self, *, executable: SomeSubstitutions, package: SomeSubstitutions | None = None,
+                 name: SomeSubstitutions | None = None,
+                 namespace: SomeSubstitutions | None = None,
+                 exec_name: SomeSubstitutions | None = None,
+                 parameters: Iterable[object] | None = None,
+                 remappings: Remappings | None = None,
+                 ros_arguments: Iterable[SomeSubstitutions] | None = None,
+                 arguments: Iterable[SomeSubstitutions] | None = None,
                  condition: Condition | None = None, **kwargs: Any) -> None:
         kwargs.pop('name', None)
         super().__init__(
@@ -93,12 +100,14 @@ class Node(NodeStep):
 
 
 class LifecycleNode(LifecycleNodeStep):
-    def __init__(self, *, executable: Any, name: Any = None, namespace: Any = None,
-                 autostart: bool = False, package: Any = None, exec_name: Any = None,
-                 parameters: Iterable[Any] | None = None,
-                 remappings: Iterable[tuple[Any, Any]] | None = None,
-                 ros_arguments: Iterable[Any] | None = None,
-                 arguments: Iterable[Any] | None = None,
+    def __init__(self, *, executable: SomeSubstitutions, name: SomeSubstitutions | None = None,
+                 namespace: SomeSubstitutions | None = None,
+                 autostart: bool = False, package: SomeSubstitutions | None = None,
+                 exec_name: SomeSubstitutions | None = None,
+                 parameters: Iterable[object] | None = None,
+                 remappings: Remappings | None = None,
+                 ros_arguments: Iterable[SomeSubstitutions] | None = None,
+                 arguments: Iterable[SomeSubstitutions] | None = None,
                  condition: Condition | None = None, **kwargs: Any) -> None:
         super().__init__(
             executable, autostart=autostart, package=package, name=name, namespace=namespace,
@@ -109,7 +118,7 @@ class LifecycleNode(LifecycleNodeStep):
 
 
 class PushROSNamespace(PushNamespaceStep):
-    def __init__(self, namespace: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, namespace: SomeSubstitutions, *, condition: Condition | None = None) -> None:
         super().__init__(namespace)
         _place(self, condition)
 
@@ -118,19 +127,21 @@ PushRosNamespace = PushROSNamespace
 
 
 class SetParameter(GlobalRosStep):
-    def __init__(self, name: Any, value: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, name: SomeSubstitutions, value: object, *,
+                 condition: Condition | None = None) -> None:
         super().__init__('parameter', name, _value(value))
         _place(self, condition)
 
 
 class SetParametersFromFile(GlobalRosStep):
-    def __init__(self, filename: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, filename: SomeSubstitutions, *, condition: Condition | None = None) -> None:
         super().__init__('file', filename)
         _place(self, condition)
 
 
 class SetRemap(GlobalRosStep):
-    def __init__(self, src: Any, dst: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, src: SomeSubstitutions, dst: SomeSubstitutions, *,
+                 condition: Condition | None = None) -> None:
         super().__init__('remap', src, dst)
         _place(self, condition)
 
@@ -138,10 +149,11 @@ class SetRemap(GlobalRosStep):
 
 
 class SetUseSimTime(SetUseSimTimeStep):
-    def __init__(self, value: Any, *, condition: Condition | None = None) -> None:
+    def __init__(self, value: bool | SomeSubstitutions, *,
+                 condition: Condition | None = None) -> None:
         super().__init__(value)
         _place(self, condition)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros.actions', name, __all__)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch.compat.launch_ros.parameter_descriptions import (
     Parameter,
@@ -14,5 +14,5 @@ from robot_lab.launch.compat_path import unsupported
 __all__ = ['Parameter', 'ParameterFile', 'ParameterValue']
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros.descriptions', name, __all__)

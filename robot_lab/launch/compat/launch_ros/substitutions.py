@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch import substitutions as core
-from robot_lab.launch.compat.launch.substitutions import subs
+from robot_lab.launch.action import subs
 from robot_lab.launch.compat_path import unsupported
+from robot_lab.launch.substitutions import SomeSubstitutions
 
 __all__ = ['ExecutableInPackage', 'FindPackagePrefix', 'FindPackageShare']
 
 
 class FindPackagePrefix(core.FindPackagePrefix):
-    def __init__(self, package: Any) -> None:
+    def __init__(self, package: SomeSubstitutions) -> None:
         super().__init__(subs(package))
 
     def find(self, package_name: str) -> str:
@@ -23,7 +24,7 @@ class FindPackagePrefix(core.FindPackagePrefix):
 
 
 class FindPackageShare(core.FindPackageShare):
-    def __init__(self, package: Any) -> None:
+    def __init__(self, package: SomeSubstitutions) -> None:
         super().__init__(subs(package))
 
     def find(self, package_name: str) -> str:
@@ -33,9 +34,9 @@ class FindPackageShare(core.FindPackageShare):
 
 
 class ExecutableInPackage(core.ExecutableInPackage):
-    def __init__(self, executable: Any, package: Any) -> None:
+    def __init__(self, executable: SomeSubstitutions, package: SomeSubstitutions) -> None:
         super().__init__(subs(executable), subs(package))
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros.substitutions', name, __all__)

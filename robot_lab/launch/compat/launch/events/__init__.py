@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.events import ExecutionComplete, Shutdown, matches_action
@@ -12,5 +12,5 @@ from . import process
 __all__ = ['ExecutionComplete', 'Shutdown', 'matches_action', 'process']
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch.events', name, __all__)

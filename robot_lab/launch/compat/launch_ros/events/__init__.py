@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 
@@ -11,5 +11,5 @@ from . import lifecycle
 __all__ = ['lifecycle']
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros.events', name, __all__)

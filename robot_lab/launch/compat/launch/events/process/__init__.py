@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.events import ProcessEvent, ProcessExited, ProcessIO, ProcessStarted
@@ -12,5 +12,5 @@ __all__ = ['ProcessExited', 'ProcessIO', 'ProcessStarted', 'RunningProcessEvent'
 RunningProcessEvent = ProcessEvent
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch.events.process', name, __all__)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.events import ChangeState as _ChangeState
@@ -16,5 +16,5 @@ class ChangeState(_ChangeState):
         super().__init__(lifecycle_node_matcher, transition_id)
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> NoReturn:
     raise unsupported('launch_ros.events.lifecycle', name, __all__)
