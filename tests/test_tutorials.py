@@ -130,9 +130,6 @@ def out(system: dict[str, Proc]) -> dict[str, str]:
         return dict(zip(BATCH, pool.map(lambda args: ok(*args), BATCH.values()), strict=True))
 
 
-@pytest.mark.xfail(reason='issue 22: under CI load a cold CLI participant can still '
-                   'answer before discovery settles (empty node list, a goal '
-                   'finished before its feedback subscription matched)', strict=False)
 def test_nodes_tutorial(out: dict[str, str]) -> None:
     executables, nodes, info = out['executables'], out['node list'], out['node info']
     assert executables.splitlines() == [
@@ -272,9 +269,6 @@ def test_parameters_tutorial(out: dict[str, str], tmp_path: Path) -> None:
         node.stop()
 
 
-@pytest.mark.xfail(reason='issue 22: under CI load a cold CLI participant can still '
-                   'answer before discovery settles (empty node list, a goal '
-                   'finished before its feedback subscription matched)', strict=False)
 def test_actions_tutorial(out: dict[str, str]) -> None:
     info_node, listed, typed, kind, info, shown = (out[k] for k in (
         'node info action', 'action list', 'action list -t', 'action type', 'action info',

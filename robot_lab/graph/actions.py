@@ -179,6 +179,35 @@ def action_client(name: str, type_name: str, session: Session | None = None) -> 
     return cache[key]
 
 
+def _server_heard_client(sess: Session, action: str, cls: Any, timeout: float) -> None:
+    """Return once the server has matched the client's feedback and status readers.
+
+    The client hearing the server's publishers is not enough: the server must also have
+    heard the client's readers, or the first feedback of a short goal goes nowhere (CI
+    under load: `send_goal --feedback` printed none). A participant announces its readers
+    in order and the server matches them in that order; a service client made after the
+    action client, answered by the server, shows that the server has matched everything
+    announced before it (a server answers only a client whose reader it has matched).
+    The request asks for the result of a goal id nobody sent: the server answers at once
+    with status UNKNOWN and nothing else happens.
+    """
+    import uuid
+
+    service = cls.Impl.GetResultService
+    probe = sess.run_in_executor(
+        lambda: sess.node.create_client(service, f'{action}/_action/get_result'))
+    try:
+        deadline = time.monotonic() + timeout
+        if wait_until(lambda: True if probe.service_is_ready() else None, timeout) is None:
+            return  # the goal's own wait reports an absent server
+        request = service.Request()
+        request.goal_id.uuid = list(uuid.uuid4().bytes)
+        sess.wait_future(probe.call_async(request), max(0.1, deadline - time.monotonic()),
+                         f'reach action server {action}')
+    finally:
+        sess.run_in_executor(lambda: sess.node.destroy_client(probe))
+
+
 class ActionGoal:
     """One goal sent to an action server: its id, feedback so far, and (once done) result.
 
@@ -265,6 +294,7 @@ def send_goal(name: str, type_name: str, goal: str | Mapping[str, Any] | Any = N
             f"action server '{action}' not available within {server_timeout:g} s",
             fix='is it running? `robot-lab action list -t` shows the actions',
         )
+    _server_heard_client(sess, action, cls, server_timeout)
     sent = ActionGoal(action, message, sess)
 
     def on_feedback(msg: Any) -> None:

@@ -11,18 +11,24 @@ When robot_lab launches are running, their launchers say which nodes they have u
 (robot_lab/graph/expected.py); once all of those are seen, a complete answer is ready
 without waiting out the window.
 
-A young session answers on conditions, not on its age alone: the others must have
-answered it at all (an empty graph is believed only at the deadline: on a loaded host
-the first answers can take longer than the window), for a full announcement burst since
-the first answer, and every node it lists must have its endpoints (its /rosout
-publisher), since a node's name arrives before its topics, services and actions.
+A young session answers on conditions, not on its age alone. With
+ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST every participant of the domain on this host has
+bound its discovery port, so the kernel's socket table says how many there are
+(`participants_on_host`); the session is complete once it has seen that many
+participants with named endpoints, and every node it lists has its endpoints (a node's
+name arrives before its topics, services and actions). On a loaded host the others'
+answers can come seconds apart, which no fixed window covers. Where the count cannot
+be read (another RMW, custom ports), the session falls back to a timing rule: the
+others must have answered at all, and a full announcement burst has passed since.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 if TYPE_CHECKING:
@@ -40,7 +46,10 @@ __all__ = [
     'full_node_names',
     'get_session',
     'heard_from_others',
+    'host_participants_seen',
     'launched_nodes_seen',
+    'participants_on_host',
+    'participants_seen',
     'settled',
     'wait_until',
 ]
@@ -64,6 +73,9 @@ WARM_SETTLE = 0.05
 # How long a query waits for nodes a running launch has started but discovery has not yet
 # shown (they are on their way: their processes are alive).
 EXPECTED_TIMEOUT = 5.0
+# How long a young session waits for participants the host's socket table shows but
+# discovery has not yet brought (a process that bound its port is creating its node).
+PARTICIPANT_TIMEOUT = 10.0
 # How long a lookup of a named node/topic waits for discovery before calling it unknown.
 LOOKUP_TIMEOUT = 2.5
 POLL = 0.02
@@ -151,6 +163,82 @@ def endpoints_attributed(session: Session,
     return ready
 
 
+# Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
+# is a participant's metatraffic unicast (discovery) port.
+_PORT_BASE, _DOMAIN_GAIN, _PARTICIPANT_GAIN, _D1 = 7400, 250, 2, 10
+_UDP_TABLES = (Path('/proc/net/udp'), Path('/proc/net/udp6'))
+_own_port_checked: dict[int, bool] = {}
+
+
+def _discovery_ports(domain_id: int) -> dict[int, str]:
+    """Bound discovery ports of this domain on this host -> their socket inodes."""
+    first = _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1
+    last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
+    ports: dict[int, str] = {}
+    for table in _UDP_TABLES:
+        try:
+            lines = table.read_text().splitlines()[1:]
+        except OSError:
+            continue
+        for line in lines:
+            fields = line.split()
+            if len(fields) < 10:
+                continue
+            port = int(fields[1].rsplit(':', 1)[1], 16)
+            if first <= port <= last and (port - first) % _PARTICIPANT_GAIN == 0:
+                ports[port] = fields[9]
+    return ports
+
+
+def participants_on_host(domain_id: int) -> int | None:
+    """How many DDS participants of `domain_id` run on this host (this network namespace),
+    this process's included: each has bound its discovery port. None when that cannot be
+    told: no socket table, or this process's own port is not among those found (another
+    RMW, a profile with other ports), so the count would mean nothing."""
+    ports = _discovery_ports(domain_id)
+    if domain_id not in _own_port_checked:
+        mine = set()
+        with contextlib.suppress(OSError):
+            for fd in os.listdir('/proc/self/fd'):
+                with contextlib.suppress(OSError):  # closed meanwhile
+                    mine.add(os.readlink(f'/proc/self/fd/{fd}'))
+        _own_port_checked[domain_id] = any(f'socket:[{inode}]' in mine
+                                           for inode in ports.values())
+    return len(ports) if _own_port_checked[domain_id] else None
+
+
+def participants_seen(session: Session) -> tuple[int, set[str]]:
+    """How many participants (this one included) the session has seen with a named node,
+    and the nodes that have endpoints: every rclpy and rclcpp node publishes
+    /parameter_events (and most /rosout), and an endpoint's GUID starts with its
+    participant's 12-byte prefix."""
+    node = session.node
+    prefixes = set()
+    named = set()
+    for topic in ('/parameter_events', '/rosout'):
+        for info in node.get_publishers_info_by_topic(topic):
+            if info.node_name and info.node_name != UNKNOWN_NODE:
+                prefixes.add(bytes(info.endpoint_gid)[:12])
+                named.add(info.node_namespace.rstrip('/') + '/' + info.node_name)
+    return len(prefixes), named
+
+
+def host_participants_seen(session: Session) -> Callable[[], bool | None]:
+    """A probe: True once the session has seen every participant of its domain on this
+    host (see `participants_on_host`), each with a named node, and every node it lists
+    has its endpoints; None when the host's count cannot be read."""
+    def complete() -> bool | None:
+        expected = participants_on_host(session.domain_id)
+        if expected is None:
+            return None
+        seen, with_endpoints = participants_seen(session)
+        if seen < expected:
+            return False
+        return set(full_node_names(session, include_hidden=True)) <= with_endpoints
+
+    return complete
+
+
 def heard_from_others(session: Session) -> Callable[[], bool]:
     """A probe: True once the session's graph holds a node other than its own and every
     non-hidden node it lists has its /rosout publisher (a node's endpoints are announced
@@ -175,8 +263,9 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
             settle: float = SETTLE,
             ready: Callable[[], bool | None] | None = None,
             ready_settle: float = WARM_SETTLE) -> T:
-    """`probe()` once discovery has answered (see ANSWER_BURST) and the answer stopped
-    changing; a graph nobody answered in is believed only at the deadline (`timeout`).
+    """`probe()` once discovery is complete (every participant on the host seen, see
+    `host_participants_seen`; else the ANSWER_BURST rule) and the answer stopped changing.
+    Bounded by `timeout`, extended while participants the host shows are still unseen.
 
     `ready` (default: `launched_nodes_seen(session)`) can shorten the settling: True
     means everything known to be coming has been seen; False means more is coming, so the
@@ -190,6 +279,7 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     if not young:
         settle = min(settle, WARM_SETTLE)
     heard = heard_from_others(session)
+    complete = host_participants_seen(session)
     heard_at: float | None = None
     value: T | None = None
     changed = start
@@ -201,23 +291,31 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         now = time.monotonic()
         if value is None or fresh != value:
             value, changed = fresh, now
-        if young:
-            # A young session answers once the others have answered it (a whole burst)
-            # and every node it lists has its endpoints; never on its age alone.
+        deadline = start + timeout
+        everyone = complete()
+        if everyone is not None:
+            # Every participant on the host is seen with its nodes' endpoints: complete,
+            # however young the session and however slow the others were to answer.
+            old_enough = everyone
+            if not everyone:
+                deadline = start + max(timeout, PARTICIPANT_TIMEOUT if young
+                                       else EXPECTED_TIMEOUT)
+        elif young:
+            # No count to go by: answer once the others have answered (a whole burst)
+            # and every node listed has its endpoints; never on the session's age alone.
             if heard_at is None and heard():
                 heard_at = now
             old_enough = (heard_at is not None and now - heard_at >= ANSWER_BURST
                           and heard())
         else:
             old_enough = True
-        deadline = start + timeout
         if expectation is True:
             # Every announced node is seen; a young session still waits for the others'
             # answers, since a node nobody announced (a kernel's) may not be heard yet.
             settle = min(settle, ready_settle)
         elif expectation is False:
             # Nodes are on their way: a quiet graph is not a complete one yet.
-            old_enough, deadline = False, start + max(timeout, EXPECTED_TIMEOUT)
+            old_enough, deadline = False, max(deadline, start + EXPECTED_TIMEOUT)
         if (old_enough and now - changed >= settle) or now >= deadline:
             return fresh
         time.sleep(POLL)

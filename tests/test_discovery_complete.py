@@ -1,0 +1,85 @@
+"""A cold command's graph is complete because it has seen every participant on the host.
+
+Issue 22.1: a fresh `node list` on a loaded host answered before the slowest node had
+answered it (CI: `param list` listed /switch alone beside four running nodes). With
+ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST each participant of the domain binds its
+discovery port, so the socket table counts them; a cold session answers once it has seen
+that many. These tests start nodes with `ros2 run` (no launcher announces them, so no
+other shortcut applies) and run the cold commands beside busy loops.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+from collections.abc import Iterator
+
+import pytest
+from conftest import BIN, Proc, run_reference_node
+
+from robot_lab.context import session
+from robot_lab.graph.discovery import participants_on_host, participants_seen
+
+NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
+
+
+def _until(condition: object, what: str, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():  # type: ignore[operator]
+        assert time.monotonic() < deadline, f'{what} not within {timeout:g} s'
+        time.sleep(0.05)
+
+
+@pytest.fixture(scope='module')
+def system(ros_domain: int) -> Iterator[list[Proc]]:
+    run = [str(BIN / 'ros2'), 'run', 'robot_lab']
+    started = [run_reference_node(name) for name in ('sensor', 'controller', 'robot')]
+    started += [Proc([*run, 'switch_node'], env=dict(os.environ)),
+                Proc([*run, 'fibonacci_node'], env=dict(os.environ))]
+    try:
+        for proc, line in zip(started, ('Sensor node started', 'Controller node started',
+                                        'Robot node started', 'Switch node started',
+                                        'Fibonacci action server started'), strict=True):
+            proc.wait_for(line, timeout=60)
+        yield started
+    finally:
+        for proc in started:
+            proc.stop()
+
+
+def test_the_host_counts_its_participants(ros_domain: int) -> None:
+    sess = session(ros_domain)
+    _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
+    node = run_reference_node('sensor', '-r', '__ns:=/counted')
+    try:
+        node.wait_for('Sensor node started', timeout=60)
+        assert participants_on_host(ros_domain) == 2
+        _until(lambda: participants_seen(sess)[0] == 2, 'the node seen by the session')
+        assert '/counted/sensor' in participants_seen(sess)[1]
+    finally:
+        node.stop()
+    # Its socket closes with its process: the count drops at once, lease or not.
+    assert participants_on_host(ros_domain) == 1
+
+
+def test_cold_lists_are_complete_beside_busy_loops(system: list[Proc]) -> None:
+    busy = [subprocess.Popen(['sh', '-c', 'while :; do :; done']) for _ in range(2)]
+    env = {**os.environ, 'ROBOT_LAB_NO_DAEMON': '1'}
+    try:
+        answers = [subprocess.run([str(BIN / 'ros2'), 'node', 'list'], capture_output=True,
+                                  text=True, env=env, timeout=120, check=True).stdout
+                   for _ in range(6)]
+    finally:
+        for proc in busy:
+            proc.kill()
+            proc.wait()
+    assert [a.split() for a in answers] == [NODES] * 6, answers
+
+
+def test_cold_param_list_asks_every_node(system: list[Proc]) -> None:
+    env = {**os.environ, 'ROBOT_LAB_NO_DAEMON': '1'}
+    listed = subprocess.run([str(BIN / 'ros2'), 'param', 'list'], capture_output=True,
+                            text=True, env=env, timeout=120, check=True).stdout
+    assert [line for line in listed.splitlines() if not line.startswith(' ')] == [
+        f'{name}:' for name in NODES]
