@@ -19,7 +19,7 @@ from typing import IO, Any
 __all__ = ['spawn', 'stop']
 
 _PR_SET_PDEATHSIG = 1
-_LIBC: Any = None
+_LIBC: ctypes.CDLL | None = None
 if os.name == 'posix':
     try:
         _LIBC = ctypes.CDLL(ctypes.util.find_library('c') or 'libc.so.6', use_errno=True)

@@ -12,7 +12,10 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Iterable
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
 
 __all__ = ['ClockPublisher']
 
@@ -20,7 +23,7 @@ __all__ = ['ClockPublisher']
 class ClockPublisher:
     """Publishes a player's bag time on /clock: periodically (`start`) and on demand."""
 
-    def __init__(self, node: Any, now: Callable[[], int], hz: float = 0.0,
+    def __init__(self, node: Node, now: Callable[[], int], hz: float = 0.0,
                  topics: Iterable[str] = (), all_topics: bool = False) -> None:
         from rclpy.qos import QoSProfile, ReliabilityPolicy
         from rosgraph_msgs.msg import Clock
@@ -66,6 +69,6 @@ class ClockPublisher:
         if self._thread is not None:
             self._thread.join(2.0)
 
-    def destroy(self, node: Any) -> None:
+    def destroy(self, node: Node) -> None:
         self.stop()
         node.destroy_publisher(self._publisher)

@@ -14,7 +14,7 @@ import time
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.bag.clock import ClockPublisher
 from robot_lab.bag.console import log_line
@@ -29,6 +29,10 @@ from robot_lab.bag.services import (
     service_name,
 )
 from robot_lab.errors import BagError, GraphError
+
+if TYPE_CHECKING:
+    from rclpy.qos import QoSProfile
+    pass
 
 __all__ = ['Player', 'play']
 
@@ -61,7 +65,7 @@ class Player:
         domain_id: int | None = None,
         log: Callable[[str], None] | None = None,
         node_name: str = NODE_NAME,
-        qos_overrides: Mapping[str, Any] | str | Path | None = None,
+        qos_overrides: Mapping[str, QoSProfile] | str | Path | None = None,
         services: Iterable[str] | None = None,
         publish_service_requests: bool = False,
         service_requests_source: RequestSource = 'service_introspection',
@@ -115,11 +119,11 @@ class Player:
             raise BagError(f'Value {delay} is less than zero.', fix='--delay 0 or more')
         self.start_offset = start_offset
         # {topic: rclpy QoSProfile}, or the path of a `--qos-profile-overrides-path` file
-        self.qos_overrides: dict[str, Any] = (
+        self.qos_overrides: dict[str, QoSProfile] = (
             load_overrides(qos_overrides) if isinstance(qos_overrides, (str, Path))
             else dict(qos_overrides or {})
         )
-        self.qos: dict[str, Any] = {}  # topic -> the QoSProfile its publisher offers
+        self.qos: dict[str, QoSProfile] = {}  # topic -> the profile its publisher offers
         self._unacked: dict[str, int] = {}  # reliable topic -> sent since all were acked
         self.delay = float(delay)  # seconds before play, each loop (rosbag2's --delay)
         self.domain_id = domain_id

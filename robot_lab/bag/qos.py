@@ -14,9 +14,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import BagError
+
+if TYPE_CHECKING:
+    from rclpy.qos import QoSProfile
 
 __all__ = ['DEFAULT_DEPTH', 'adapt_offer', 'load_overrides', 'profile_from_recorded',
            'publisher_qos']
@@ -31,11 +34,11 @@ _POLICIES = ('history', 'reliability', 'durability', 'liveliness')
 _VALUES = ('depth', 'avoid_ros_namespace_conventions')
 
 
-def _get(profile: Any, key: str) -> Any:
+def _get(profile: object, key: str) -> Any:
     return profile.get(key) if isinstance(profile, Mapping) else getattr(profile, key, None)
 
 
-def _duration_ns(value: Any) -> int:
+def _duration_ns(value: object) -> int:
     """A recorded duration ({sec, nsec} or rosbags QosTime) in ns; infinite stays infinite."""
     if value is None:
         return 0
@@ -63,7 +66,7 @@ def _policy(kind: Any, value: Any) -> Any:
         return kind.UNKNOWN
 
 
-def profile_from_recorded(profile: Any) -> Any:
+def profile_from_recorded(profile: object) -> QoSProfile:
     """One offered profile from a bag's metadata (dict or rosbags Qos) -> rclpy QoSProfile."""
     from rclpy.duration import Duration
     from rclpy.qos import (
@@ -89,13 +92,13 @@ def profile_from_recorded(profile: Any) -> Any:
     )
 
 
-def _rosbag2_default() -> Any:
+def _rosbag2_default() -> QoSProfile:
     from rclpy.qos import QoSProfile
 
     return QoSProfile(depth=DEFAULT_DEPTH)  # reliable, volatile, keep last 10
 
 
-def _compatibility(profile: Any) -> tuple[Any, ...]:
+def _compatibility(profile: QoSProfile) -> tuple[object, ...]:
     # History and lifespan are local to the publisher: rosbag2 leaves them out of the check.
     return (
         profile.reliability, profile.durability, profile.deadline.nanoseconds,
@@ -103,8 +106,8 @@ def _compatibility(profile: Any) -> tuple[Any, ...]:
     )
 
 
-def adapt_offer(topic: str, recorded: Sequence[Any],
-                warn: Callable[[str], None] | None = None) -> Any:
+def adapt_offer(topic: str, recorded: Sequence[object],
+                warn: Callable[[str], None] | None = None) -> QoSProfile:
     """rosbag2's `adapt_offer_to_recorded_offers`: the rclpy QoSProfile to publish with."""
     from rclpy.qos import HistoryPolicy
 
@@ -123,8 +126,8 @@ def adapt_offer(topic: str, recorded: Sequence[Any],
     return _rosbag2_default()
 
 
-def publisher_qos(topic: str, recorded: Sequence[Any], overrides: Mapping[str, Any],
-                  log: Callable[[str, str], None] | None = None) -> Any:
+def publisher_qos(topic: str, recorded: Sequence[object], overrides: Mapping[str, QoSProfile],
+                  log: Callable[[str, str], None] | None = None) -> QoSProfile:
     """rosbag2's `publisher_qos_for_topic`: the override, else the adapted recorded offer."""
     if topic in overrides:
         if log is not None:
@@ -133,7 +136,7 @@ def publisher_qos(topic: str, recorded: Sequence[Any], overrides: Mapping[str, A
     return adapt_offer(topic, recorded, None if log is None else lambda t: log('WARN', t))
 
 
-def _override(path: Path, topic: str, entry: Any) -> Any:
+def _override(path: Path, topic: str, entry: object) -> QoSProfile:
     """One topic's profile from an overrides file, checked as ros2bag checks it."""
     from rclpy.duration import Duration
     from rclpy.qos import (
@@ -186,7 +189,7 @@ def _override(path: Path, topic: str, entry: Any) -> Any:
                        fix='add e.g. "history: keep_last" and "depth: 10"') from None
 
 
-def load_overrides(path: str | Path) -> dict[str, Any]:
+def load_overrides(path: str | Path) -> dict[str, QoSProfile]:
     """Read a `--qos-profile-overrides-path` file: {topic: {policy: value, ...}} -> profiles."""
     import yaml
 

@@ -21,7 +21,7 @@ import weakref
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.bag.console import log_line
 from robot_lab.bag.qos import load_overrides
@@ -29,6 +29,10 @@ from robot_lab.bag.selection import RecordFilter
 from robot_lab.bag.services import event_topic
 from robot_lab.bag.writer import BagWriter, TopicSpec, qos_from_profile
 from robot_lab.errors import BagError, GraphError
+
+if TYPE_CHECKING:
+    from rclpy.qos import QoSProfile
+    pass
 
 __all__ = ['Recorder', 'default_bag_name', 'record']
 
@@ -97,7 +101,7 @@ class Recorder:
         polling_interval: float = POLL_INTERVAL,
         start_paused: bool = False,
         custom_data: Mapping[str, str] | None = None,
-        qos_overrides: Mapping[str, Any] | str | Path | None = None,
+        qos_overrides: Mapping[str, QoSProfile] | str | Path | None = None,
     ) -> None:
         topics, services = list(topics), list(services)
         # rosbag2's record filter (robot_lab.bag.selection): lists, types, regexes, hidden
@@ -124,7 +128,7 @@ class Recorder:
         self._paused = bool(start_paused)  # paused, messages are taken and dropped
         self.custom_data = dict(custom_data or {})  # metadata.yaml's custom_data
         # {topic: rclpy QoSProfile}, or the path of a `--qos-profile-overrides-path` file
-        self.qos_overrides: dict[str, Any] = (
+        self.qos_overrides: dict[str, QoSProfile] = (
             load_overrides(qos_overrides) if isinstance(qos_overrides, (str, Path))
             else dict(qos_overrides or {}))
         self.path = Path(output) if output else Path(default_bag_name())

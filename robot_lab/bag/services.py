@@ -12,7 +12,11 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+    from rclpy.task import Future
 
 __all__ = [
     'SERVICE_EVENT',
@@ -54,7 +58,7 @@ class ServiceRequestSender:
     request; responses are answered on the session's executor and counted in `answered`.
     """
 
-    def __init__(self, node: Any, topic: str, msgtype: str, source: RequestSource,
+    def __init__(self, node: Node, topic: str, msgtype: str, source: RequestSource,
                  log: Callable[[str, str], None]) -> None:
         from robot_lab.messages import message_class
 
@@ -102,7 +106,7 @@ class ServiceRequestSender:
         self.sent += 1
         return True
 
-    def _answered(self, future: Any) -> None:
+    def _answered(self, future: Future) -> None:
         with self._changed:
             self._pending.discard(future)
             if not future.cancelled():

@@ -9,7 +9,7 @@ waits at most `timeout` s and says what to check when nothing answers.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import LOOKUP_TIMEOUT, absolute_name, get_session, wait_until
@@ -17,6 +17,8 @@ from robot_lab.graph.nodes import node_list
 from robot_lab.graph.services import call_service, service_list_typed
 
 if TYPE_CHECKING:
+    from lifecycle_msgs.msg import TransitionDescription
+
     from robot_lab.rclpy_session import Session
 
 __all__ = [
@@ -86,7 +88,7 @@ def lifecycle_transitions(name: str, every: bool = False, timeout: float = 10.0,
     return [_transition(t) for t in response.available_transitions]
 
 
-def _transition(description: Any) -> LifecycleTransition:
+def _transition(description: TransitionDescription) -> LifecycleTransition:
     return LifecycleTransition(str(description.transition.label), int(description.transition.id),
                                str(description.start_state.label),
                                str(description.goal_state.label))

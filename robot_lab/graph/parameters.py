@@ -20,6 +20,8 @@ from robot_lab.graph.discovery import absolute_name, get_session, wait_until
 from robot_lab.graph.nodes import find_node, node_list
 
 if TYPE_CHECKING:
+    from rclpy.client import Client
+
     from robot_lab.rclpy_session import Session
 
 __all__ = [
@@ -48,12 +50,12 @@ _TYPE_STRINGS = {
     6: 'boolean array', 7: 'integer array', 8: 'double array', 9: 'string array',
 }
 
-_CLIENTS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str], Any]] = (
+_CLIENTS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str], Client]] = (
     weakref.WeakKeyDictionary()
 )
 
 
-def _client(sess: Session, node: str, service: str, srv_type: Any) -> Any:
+def _client(sess: Session, node: str, service: str, srv_type: type) -> Client:
     cache = _CLIENTS.setdefault(sess, {})
     key = (node, service)
     if key not in cache:

@@ -26,6 +26,8 @@ from robot_lab.graph.nodes import names_and_types
 from robot_lab.messages import message_from_yaml
 
 if TYPE_CHECKING:
+    from rclpy.client import Client
+
     from robot_lab.rclpy_session import Session
 
 __all__ = [
@@ -135,12 +137,12 @@ def service_class(srv_type: str) -> Any:
     return cls
 
 
-_CLIENTS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str], Any]] = (
+_CLIENTS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str], Client]] = (
     weakref.WeakKeyDictionary()
 )
 
 
-def service_client(name: str, srv_type: str, session: Session | None = None) -> Any:
+def service_client(name: str, srv_type: str, session: Session | None = None) -> Client:
     """The session's client for (service, type), made once and kept: repeated calls need
     no new discovery."""
     from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
@@ -156,7 +158,7 @@ def service_client(name: str, srv_type: str, session: Session | None = None) -> 
     return cache[key]
 
 
-def wait_for_service(client: Any, timeout: float | None) -> bool:
+def wait_for_service(client: Client, timeout: float | None) -> bool:
     """True once a server of the client's service is available (False after `timeout`)."""
     found = wait_until(lambda: True if client.service_is_ready() else None,
                        1e9 if timeout is None else timeout)

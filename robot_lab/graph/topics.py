@@ -31,6 +31,10 @@ from robot_lab.messages import (
 )
 
 if TYPE_CHECKING:
+    from rclpy.publisher import Publisher
+    from rclpy.qos import QoSProfile
+    from rclpy.topic_endpoint_info import TopicEndpointInfo
+
     from robot_lab.rclpy_session import Session
 
 __all__ = [
@@ -167,7 +171,7 @@ class TopicInfo:
     subscribers: list[Endpoint] = field(default_factory=list)
 
 
-def _endpoint(info: Any) -> Endpoint:
+def _endpoint(info: TopicEndpointInfo) -> Endpoint:
     qos = info.qos_profile
     return Endpoint(
         node_name=info.node_name,
@@ -406,7 +410,7 @@ def topic_hz(topic: str, window: int = DEFAULT_WINDOW, duration: float = 5.0,
     return stats
 
 
-_PUBLISHERS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str, str], Any]] = (
+_PUBLISHERS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str, str], Publisher]] = (
     weakref.WeakKeyDictionary()
 )
 
@@ -414,7 +418,7 @@ _PUBLISHERS: weakref.WeakKeyDictionary[Session, dict[tuple[str, str, str], Any]]
 def qos_profile(profile: str = 'default', *, reliability: str | None = None,
                 durability: str | None = None, depth: int | None = None,
                 history: str | None = None, liveliness: str | None = None,
-                lease_seconds: float | None = None) -> Any:
+                lease_seconds: float | None = None) -> QoSProfile:
     """An rclpy QoSProfile from ros2cli's short keys (`--qos-profile sensor_data
     --qos-reliability reliable --qos-depth 5`), by ros2topic's rules: overrides replace the
     preset's policies; a transient-local profile of depth 0 gets depth 1."""
@@ -436,7 +440,7 @@ def qos_profile(profile: str = 'default', *, reliability: str | None = None,
                 fix=f'one of: {", ".join(kind.short_keys())}',
             ) from None
 
-    qos = copy.copy(lookup(QoSPresetProfiles, profile, 'profile'))  # never the shared preset
+    qos: QoSProfile = copy.copy(lookup(QoSPresetProfiles, profile, 'profile'))  # not shared
     if history:
         qos.history = lookup(QoSHistoryPolicy, history, 'history')
     if durability:
@@ -455,7 +459,7 @@ def qos_profile(profile: str = 'default', *, reliability: str | None = None,
 
 
 def open_publisher(name: str, msg_type: str, session: Session | None = None,
-                   qos: Any = None) -> Any:
+                   qos: QoSProfile | None = None) -> Publisher:
     """The session's publisher for (topic, type, QoS), made once and kept (default QoS:
     reliable, volatile, depth 10).
 
@@ -471,7 +475,8 @@ def open_publisher(name: str, msg_type: str, session: Session | None = None,
     return cache[key]
 
 
-def wait_for_subscribers(publisher: Any, count: int = 1, timeout: float | None = 2.0) -> bool:
+def wait_for_subscribers(publisher: Publisher, count: int = 1,
+                         timeout: float | None = 2.0) -> bool:
     """True once `count` subscriptions match `publisher` (False when `timeout` passes)."""
     deadline = None if timeout is None else time.monotonic() + timeout
     while publisher.get_subscription_count() < count:

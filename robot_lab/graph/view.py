@@ -15,7 +15,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from itertools import pairwise
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.errors import GraphError
 from robot_lab.graph.discovery import get_session, settled
@@ -23,6 +23,8 @@ from robot_lab.graph.nodes import is_hidden, node_list, split_name
 
 if TYPE_CHECKING:
     import networkx as nx
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
     from robot_lab.rclpy_session import Session
 
@@ -283,7 +285,7 @@ def _frames(graph: nx.DiGraph, placed: dict[str, _Placed]) -> list[tuple[str, Bo
     return frames
 
 
-def _draw(graph: nx.DiGraph) -> Any:
+def _draw(graph: nx.DiGraph) -> Figure:
     from matplotlib.figure import Figure
     from matplotlib.patches import Ellipse, FancyArrowPatch, FancyBboxPatch, Rectangle
 
@@ -307,11 +309,11 @@ def _draw(graph: nx.DiGraph) -> Any:
                                facecolor=_CLUSTER_COLOR, edgecolor='#9ca3af', linewidth=0.8))
         ax.text(left + 0.06, top - 0.04, namespace, ha='left', va='top', fontsize=_FONT - 2,
                 color='#4b5563', zorder=0.5)
-    shapes: dict[str, Any] = {}
+    shapes: dict[str, Patch] = {}
     for vertex in graph:
         spot = placed[vertex]
         if graph.nodes[vertex]['kind'] == 'node':
-            shape: Any = Ellipse((spot.x, spot.y), spot.width + 0.2, spot.height + 0.08,
+            shape: Patch = Ellipse((spot.x, spot.y), spot.width + 0.2, spot.height + 0.08,
                                  facecolor=_NODE_COLOR, edgecolor=_NODE_EDGE, linewidth=1.2,
                                  zorder=2)
         else:

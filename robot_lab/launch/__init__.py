@@ -9,8 +9,12 @@ from __future__ import annotations
 
 import importlib
 import sys
+from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from robot_lab.launch.api import LaunchHandle
 
 __all__ = ['describe_launch', 'launch_arguments', 'parse_launch_arguments']
 
@@ -18,11 +22,13 @@ __all__ = ['describe_launch', 'launch_arguments', 'parse_launch_arguments']
 class _CallableModule(ModuleType):
     """The module object of robot_lab.launch, made callable for `robot_lab.launch(...)`."""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        api = importlib.import_module('robot_lab.launch.api')
-        return api.launch(*args, **kwargs)
+    def __call__(self, pkg_or_path: str | Path, file: str | None = None,
+                 **args: object) -> LaunchHandle:
+        api = importlib.import_module('robot_lab.launch.api')  # by name: no import cycle
+        handle: LaunchHandle = api.launch(pkg_or_path, file, **args)
+        return handle
 
-    def __getattr__(self, name: str) -> Any:
+    def __getattr__(self, name: str) -> object:
         # describe_launch & co. live in describe.py; load it only when asked for.
         if name in __all__:
             return getattr(importlib.import_module('robot_lab.launch.resolve'), name)

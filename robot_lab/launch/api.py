@@ -18,7 +18,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
-from typing import Any
 
 from robot_lab.errors import LaunchError
 from robot_lab.launch.output import LaunchOutput, OutputLine
@@ -200,13 +199,13 @@ def _at_least(line: OutputLine, minimum: int | None) -> bool:
     return line.level is not None and _SEVERITY.get(line.level, 0) >= minimum
 
 
-def _launch_value(value: Any) -> str:
+def _launch_value(value: object) -> str:
     if isinstance(value, bool):
         return 'true' if value else 'false'
     return str(value)
 
 
-def launch(pkg_or_path: str | Path, file: str | None = None, **args: Any) -> LaunchHandle:
+def launch(pkg_or_path: str | Path, file: str | None = None, **args: object) -> LaunchHandle:
     """Start a launch file beside the kernel; a re-run replaces the previous same launch.
 
     `robot_lab.launch('robot_lab', 'robot.launch.xml', robot_name='alpha')` is

@@ -10,7 +10,6 @@ with its file and line, and the launch shuts down as launch does on an exception
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 from robot_lab.errors import RobotLabError
 from robot_lab.launch.events import (
@@ -42,7 +41,7 @@ class EventRouter:
     def wants(self, kind: EventKind) -> bool:
         return any(h.event == kind for h in self.handlers)
 
-    def emit(self, kind: EventKind, origin: Any, make_event: Callable[[], Any]) -> None:
+    def emit(self, kind: EventKind, origin: object, make_event: Callable[[], object]) -> None:
         """Queue the event; the handlers of `kind` watching `origin` (None: any) answer it
         on the supervisor's next turn, as launch's event loop does — so a handler registered
         right after the action it watches still sees that action's first events."""
@@ -55,7 +54,7 @@ class EventRouter:
         else:
             self._defer(lambda: self._dispatch(kind, origin, event))
 
-    def _dispatch(self, kind: EventKind, origin: Any, event: Any) -> None:
+    def _dispatch(self, kind: EventKind, origin: object, event: object) -> None:
         matching = [h for h in self.handlers if h.event == kind and
                     (origin is None or h.matches(origin))]
         for handler in matching:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
 
 from robot_lab.launch.action import LaunchStep
 from robot_lab.launch.substitutions import Substitution
@@ -20,7 +19,7 @@ __all__ = ['describe_value', 'format_description']
 _SKIP = {'file', 'line', 'condition', 'loader', 'options'}
 
 
-def describe_value(value: Any) -> str:
+def describe_value(value: object) -> str:
     """A value of an action as --print shows it; substitutions are never performed."""
     if isinstance(value, Substitution):
         return value.describe()
@@ -34,7 +33,7 @@ def describe_value(value: Any) -> str:
     if isinstance(value, list | tuple):
         return '[' + ', '.join(describe_value(v) for v in value) + ']'
     if type(value).__name__ in ('ParamValue', 'ParameterValue'):
-        return describe_value(value.value)
+        return describe_value(getattr(value, 'value', None))
     if hasattr(value, '__dataclass_fields__'):
         fields = ', '.join(f'{k}={describe_value(v)}' for k, v in vars(value).items()
                            if v not in (None, [], {}))

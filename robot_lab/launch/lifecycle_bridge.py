@@ -13,7 +13,7 @@ from __future__ import annotations
 import contextlib
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from lifecycle_msgs.msg import TransitionEvent
 
@@ -21,6 +21,11 @@ from robot_lab.launch.event_router import EventRouter
 from robot_lab.launch.events import StateTransition
 from robot_lab.launch.plan import LifecycleRequest, ProcessSpec
 from robot_lab.launch.process_record import ProcessRecord, domain_of
+
+if TYPE_CHECKING:
+    from rclpy.subscription import Subscription
+
+    from robot_lab.rclpy_session import Session
 
 __all__ = ['LifecycleBridge']
 
@@ -43,10 +48,10 @@ class LifecycleBridge:
         self._defer = defer  # runs a function on the supervisor's thread
         self._environment = environment
         self._log = log
-        self._subscriptions: list[tuple[Any, Any]] = []
+        self._subscriptions: list[tuple[Session, Subscription]] = []
         self._closed = False
 
-    def _session(self, domain: int) -> Any:
+    def _session(self, domain: int) -> Session:
         from robot_lab.rclpy_session import session
 
         return session(domain)
@@ -56,7 +61,7 @@ class LifecycleBridge:
         sess = self._session(domain)
         topic = f'{node_name}/transition_event'
 
-        def received(msg: Any) -> None:
+        def received(msg: TransitionEvent) -> None:
             self._defer(lambda: self._transitioned(node_name, msg))
 
         subscription = sess.node.create_subscription(TransitionEvent, topic, received, 10)
@@ -74,7 +79,7 @@ class LifecycleBridge:
                 self.request(spec.node_name, domain_of(self._environment(spec)),
                              request.transition_id)
 
-    def _transitioned(self, node_name: str, msg: Any) -> None:
+    def _transitioned(self, node_name: str, msg: TransitionEvent) -> None:
         """On the supervisor's thread: a StateTransition event for the node's handlers."""
         record = next((r for r in self._records if r.spec.node_name == node_name), None)
         if record is None:
@@ -89,7 +94,7 @@ class LifecycleBridge:
                         if s.topic_name == f'{node_name}/transition_event'), None)
         self._in_thread(lambda: self._change(node_name, domain, transition_id), watched)
 
-    def _in_thread(self, work: Callable[[], Any], subscription: Any) -> None:
+    def _in_thread(self, work: Callable[[], object], subscription: Subscription | None) -> None:
         def run() -> None:
             # the transition events must reach us: wait until our subscription is matched
             waited = threading.Event()

@@ -140,7 +140,7 @@ class PythonExpression(Substitution):
         names = ['math']
         if self.modules is not None:
             names = [n.strip() for n in perform(self.modules, context).split(',') if n.strip()]
-        scope: dict[str, Any] = {}
+        scope: dict[str, object] = {}
         for name in names:
             module = importlib.import_module(name)
             if module is math:
@@ -301,7 +301,7 @@ class LocalSubstitution(Substitution):
         self.expression, self.description = expression, description
 
     def perform(self, context: SubstitutionContext) -> str:
-        value: Any = getattr(context, 'locals', None)
+        value: object = getattr(context, 'locals', None)
         for part in self.expression.split('.'):
             if not hasattr(value, part):
                 raise SubstitutionFailure(

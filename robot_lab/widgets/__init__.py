@@ -8,7 +8,6 @@ this package is cheap; each widget loads its module (and ipywidgets) on first us
 from __future__ import annotations
 
 import importlib
-from typing import Any
 
 __all__ = ['console', 'launch_panel', 'plot', 'robot_view', 'sliders', 'turtlesim_view']
 
@@ -22,7 +21,7 @@ _HOMES = {
 }
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     home = _HOMES.get(name)
     if home is None:
         raise AttributeError(f'module robot_lab.widgets has no attribute {name!r}')

@@ -11,11 +11,17 @@ from __future__ import annotations
 
 import html
 import threading
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from robot_lab.widgets.output import WidgetLog, is_headless
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
+
+    from robot_lab.bag.play import Player
+    from robot_lab.bag.record import Recorder
 
 __all__ = ['BagPlayer', 'BagRecorder', 'player', 'recorder']
 
@@ -37,7 +43,8 @@ def _counts_html(counts: dict[str, int], types: dict[str, str] | None = None) ->
 class _Refresher:
     """Calls `refresh` a few times a second on a daemon thread while `active()` is true."""
 
-    def __init__(self, log: WidgetLog, refresh: Any, active: Any, name: str) -> None:
+    def __init__(self, log: WidgetLog, refresh: Callable[[], None], active: Callable[[], bool],
+                 name: str) -> None:
         self._log = log
         self._refresh = refresh
         self._active = active
@@ -77,10 +84,10 @@ class BagRecorder:
         self.output = output
         self.storage = storage
         self.domain_id = domain_id
-        self.recording: Any = None  # robot_lab.bag.record.Recorder of the current/last take
+        self.recording: Recorder | None = None  # of the current/last take
         self.bags: list[Path] = []
         self.log = WidgetLog(max_lines=50, height='6em')
-        self._widget: Any = None
+        self._widget: Widget | None = None
         self._refresher = _Refresher(self.log, self.refresh, lambda: self.running,
                                      'robot_lab-bag-recorder-widget')
 
@@ -100,12 +107,13 @@ class BagRecorder:
     def path(self) -> Path | None:
         return self.recording.path if self.recording is not None else None
 
-    def start(self) -> Any:
+    def start(self) -> Recorder:
         """Start a new recording (a new bag folder each time); returns the Recorder."""
         from robot_lab.bag.record import Recorder
 
-        if self.running:
-            return self.recording
+        recording = self.recording
+        if recording is not None and recording.running:
+            return recording
         output = self.output
         if output is not None and self.bags:
             output = f'{output}_{len(self.bags)}'  # a second take must not reuse the folder
@@ -145,7 +153,7 @@ class BagRecorder:
         self._stop_button.disabled = not self.running
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 
@@ -196,9 +204,9 @@ class BagPlayer:
         self.loop = loop
         self.topics = None if topics is None else list(topics)
         self.domain_id = domain_id
-        self.playback: Any = None  # robot_lab.bag.play.Player of the current/last run
+        self.playback: Player | None = None  # of the current/last run
         self.log = WidgetLog(max_lines=50, height='5em')
-        self._widget: Any = None
+        self._widget: Widget | None = None
         self._refresher = _Refresher(self.log, self.refresh, lambda: self.running,
                                      'robot_lab-bag-player-widget')
 
@@ -218,21 +226,22 @@ class BagPlayer:
     def rate(self) -> float:
         return self._rate
 
-    def play(self) -> Any:
+    def play(self) -> Player:
         """Resume if paused; otherwise start from the beginning. Returns the Player."""
         from robot_lab.bag.play import Player
 
-        if self.running:
-            self.playback.resume()
+        playback = self.playback
+        if playback is not None and self.running:
+            playback.resume()
         else:
-            self.playback = Player(
+            playback = self.playback = Player(
                 self.bag, rate=self._rate, loop=self.loop, topics=self.topics,
                 domain_id=self.domain_id, log=self.log.writeline,
             )
-            self.playback.start()
+            playback.start()
         self.refresh()
         self._refresher.kick()
-        return self.playback
+        return playback
 
     def pause(self) -> None:
         if self.playback is not None:
@@ -284,7 +293,7 @@ class BagPlayer:
         self._stop_button.disabled = not self.running
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 

@@ -13,12 +13,18 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, TypeAlias
 
 import anywidget
 import traitlets
 
-__all__ = ['SHARED_SCRIPT', 'Chart', 'Feed', 'PoseCanvas', 'StyleBeacon', 'kit_box']
+if TYPE_CHECKING:
+    from ipywidgets import VBox, Widget
+
+__all__ = ['SHARED_SCRIPT', 'Chart', 'Feed', 'Payload', 'PoseCanvas', 'StyleBeacon', 'kit_box']
+
+# A message to a canvas script: JSON, its `kind` says what to do ('reset', 'append', ...).
+Payload: TypeAlias = dict[str, object]
 
 # Shared by every robot_lab widget: a disconnected widget (kernel restarted or gone) is
 # greyed out and says so, instead of a tiny chain icon on controls that look usable.
@@ -354,7 +360,7 @@ class StyleBeacon(anywidget.AnyWidget):
     _esm = _BEACON_ESM
 
 
-def kit_box(children: list[Any], **layout: Any) -> Any:
+def kit_box(children: list[Widget], **layout: str) -> VBox:
     """A VBox of robot_lab's: greyed out and labelled when its kernel is gone."""
     import ipywidgets as widgets
 
@@ -370,8 +376,8 @@ class Feed:
     would send next, under the same lock, so a view never gets a sample twice.
     """
 
-    def __init__(self, widget: Any, full: Callable[[], dict[str, Any]],
-                 pending: Callable[[], dict[str, Any] | None], rate: float,
+    def __init__(self, widget: anywidget.AnyWidget, full: Callable[[], Payload],
+                 pending: Callable[[], Payload | None], rate: float,
                  guard: Callable[[Callable[[], None]], Callable[[], None]]) -> None:
         self.widget = widget
         self.full = full
@@ -383,7 +389,7 @@ class Feed:
         self._thread: threading.Thread | None = None
         widget.on_msg(self._on_msg)
 
-    def _on_msg(self, _widget: Any, content: Any, _buffers: Any) -> None:
+    def _on_msg(self, _widget: object, content: object, _buffers: object) -> None:
         if isinstance(content, dict) and content.get('kind') == 'ready':
             self.reset()
 

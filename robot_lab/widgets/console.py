@@ -14,10 +14,17 @@ import threading
 import time
 from collections import deque
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 from robot_lab.errors import GraphError
 from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell, scroll_box
+
+if TYPE_CHECKING:
+    from ipywidgets import Dropdown, Widget
+    from rcl_interfaces.msg import Log
+    from rclpy.subscription import Subscription
+
+    from robot_lab.launch.api import LaunchHandle
 
 __all__ = ['LEVELS', 'Console', 'LogRecord', 'console']
 
@@ -73,7 +80,8 @@ def _render(lines: list[str]) -> str:
 class Console:
     """Collects log records; `lines()` and the widget show those passing the filters."""
 
-    def __init__(self, launch: Any = None, rosout: bool | None = None, level: str = 'INFO',
+    def __init__(self, launch: LaunchHandle | None = None, rosout: bool | None = None,
+                 level: str = 'INFO',
                  node: str | None = None, max_records: int = 5000,
                  domain_id: int | None = None) -> None:
         self.level = _level(level)
@@ -83,8 +91,8 @@ class Console:
         self._lock = threading.Lock()
         self._options_lock = threading.Lock()
         self._closed = threading.Event()
-        self._widget: Any = None
-        self._subscription: Any = None
+        self._widget: Widget | None = None
+        self._subscription: Subscription | None = None
         self._thread: threading.Thread | None = None
         self.launch = launch
         if rosout is None:
@@ -113,7 +121,7 @@ class Console:
         self._subscription = self.session.run_in_executor(
             lambda: self.session.node.create_subscription(Log, '/rosout', callback, qos))
 
-    def _on_rosout(self, msg: Any) -> None:
+    def _on_rosout(self, msg: Log) -> None:
         level = int.from_bytes(msg.level, 'little') if isinstance(msg.level, bytes) \
             else int(msg.level)
         stamp = msg.stamp.sec + msg.stamp.nanosec * 1e-9
@@ -123,14 +131,16 @@ class Console:
 
     def _follow_launch(self) -> None:
         seen = 0
-        output = self.launch.output
+        launch = self.launch
+        assert launch is not None  # this thread follows a launch
+        output = launch.output
         while not self._closed.is_set():
             lines, seen = output.since(seen)
             for line in lines:
                 level = _level(line.level) if line.level else LEVELS['INFO']
                 node = line.logger or line.source
                 self._add(LogRecord(line.time, level, node, line.text, line.text))
-            if not lines and not self.launch.running:
+            if not lines and not launch.running:
                 break
             output.wait(seen, 0.2)
 
@@ -166,7 +176,7 @@ class Console:
         self.log.clear()
         for line in self.lines():
             self.log.writeline(line)
-        if self._widget is not None:
+        if self._widget is not None and self._node_box is not None:
             self._level_box.value = _NAMES.get(self.level, 'DEBUG')
             self._node_box.value = self.node or _ALL
 
@@ -193,10 +203,10 @@ class Console:
     # Both stay None until the widget is whole: /rosout callbacks run on the session's
     # threads and may arrive while it is being built (they then skip the node list).
     _node_options: list[str] | None = None
-    _node_box: Any = None
+    _node_box: Dropdown | None = None
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 
@@ -261,7 +271,7 @@ class Console:
             self._thread.join(timeout=2.0)
 
 
-def console(launch: Any = None, rosout: bool | None = None, level: str = 'INFO',
+def console(launch: LaunchHandle | None = None, rosout: bool | None = None, level: str = 'INFO',
             node: str | None = None, domain_id: int | None = None) -> Console:
     """A log console: `robot_lab.console()` over /rosout, `console(handle)` over a launch."""
     return Console(launch=launch, rosout=rosout, level=level, node=node, domain_id=domain_id)

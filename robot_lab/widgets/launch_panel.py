@@ -10,10 +10,15 @@ from __future__ import annotations
 import html
 import threading
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from robot_lab.widgets.console import Console
 from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
+
+    from robot_lab.launch.api import LaunchHandle
 
 __all__ = ['LaunchPanel', 'launch_panel']
 
@@ -30,14 +35,14 @@ def _light(state: str) -> str:
 class LaunchPanel:
     """Start/stop one launch file and watch its processes; drivable with start()/stop()."""
 
-    def __init__(self, pkg_or_path: str | Path, file: str | None = None, **args: Any) -> None:
+    def __init__(self, pkg_or_path: str | Path, file: str | None = None, **args: object) -> None:
         self.source = pkg_or_path
         self.file = file
         self.args = args
-        self.handle: Any = None
+        self.handle: LaunchHandle | None = None
         self.console: Console | None = None
         self.log = WidgetLog(max_lines=20, height='5em')
-        self._widget: Any = None
+        self._widget: Widget | None = None
         self._closed = threading.Event()
         self._poller: threading.Thread | None = None
         owned_by_cell(self)
@@ -48,7 +53,7 @@ class LaunchPanel:
         parts += [f'{k}:={v}' for k, v in self.args.items()]
         return ' '.join(parts)
 
-    def start(self) -> Any:
+    def start(self) -> LaunchHandle:
         """Launch (a running one is replaced, as a re-run launch cell does); the handle."""
         from robot_lab.launch.api import launch
 
@@ -97,7 +102,7 @@ class LaunchPanel:
 
     # -- the widget ------------------------------------------------------------------------
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 
@@ -144,7 +149,7 @@ class LaunchPanel:
 
 
 def launch_panel(pkg_or_path: str | Path, file: str | None = None, start: bool = False,
-                 **args: Any) -> LaunchPanel:
+                 **args: object) -> LaunchPanel:
     """Buttons and status lights for a launch file: `robot_lab.launch_panel('robot_lab',
     'robot.launch.xml', robot_name='robot_alpha')`; `start=True` launches at once."""
     panel = LaunchPanel(pkg_or_path, file, **args)

@@ -19,9 +19,12 @@ import weakref
 from collections import deque
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import IO, Any, ParamSpec, TypeVar
+from typing import IO, TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from robot_lab.notebook_cell import Closable, cell_owns, current_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
 
 __all__ = ['WidgetLog', 'close_widgets', 'current_cell', 'in_ci', 'is_headless', 'owned_by_cell',
            'routed_to', 'scroll_box']
@@ -59,7 +62,7 @@ def is_headless() -> bool:
     return shell is None or not hasattr(shell, 'kernel')
 
 
-_OPEN: weakref.WeakSet[Any] = weakref.WeakSet()
+_OPEN: weakref.WeakSet[Closable] = weakref.WeakSet()
 
 
 def close_widgets() -> int:
@@ -173,10 +176,10 @@ class WidgetLog:
         self._height = height
         self._render = render or self.render_plain
         self._hide_empty = hide_empty
-        self._widget: Any = None
+        self._widget: Widget | None = None
 
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         """An ipywidgets.HTML showing the last lines (created on first use)."""
         if self._widget is None:
             import ipywidgets as widgets
@@ -186,6 +189,8 @@ class WidgetLog:
         return self._widget
 
     def _show(self, lines: list[str]) -> None:
+        if self._widget is None:
+            return
         self._widget.value = self._render(lines)
         self._widget.layout.display = 'none' if self._hide_empty and not lines else None
 

@@ -27,8 +27,9 @@ from robot_lab.widgets.output import owned_by_cell
 if TYPE_CHECKING:
     from ipywidgets import ToggleButton, Widget
     from matplotlib.figure import Figure
+    from rclpy.node import Node
 
-    from robot_lab.widgets.canvas import Chart
+    from robot_lab.widgets.canvas import Chart, Payload
 
 __all__ = ['Plot', 'Series', 'plot', 'resolve_field_path']
 
@@ -54,7 +55,7 @@ class Series:
         return f'{self.topic}/{self.field}'
 
 
-def _numeric(value: Any) -> float | None:
+def _numeric(value: object) -> float | None:
     if isinstance(value, bool):
         return float(value)
     if isinstance(value, int | float):
@@ -115,7 +116,7 @@ class Plot(LiveView):
         self._chart: Chart | None = None
         self._pause_button: ToggleButton | None = None
         self._subscriptions: list[Any] = []
-        self._node: Any = None  # the plot's own node, taken from by `_taker`
+        self._node: Node | None = None  # the plot's own node, taken from by `_taker`
         self._taker: threading.Thread | None = None
         self._sending = False
         self._take_lock = threading.Lock()
@@ -365,7 +366,7 @@ class Plot(LiveView):
                 else 'time relative to now (s)')
 
     # -- the live view: the browser draws ------------------------------------------
-    def _full(self) -> dict[str, Any]:
+    def _full(self) -> Payload:
         """Every sample in the window (and forget what was pending: it is included)."""
         now = time.monotonic() - self.t0
         since = -math.inf if self.bag else now - self.window - 1.0
@@ -378,7 +379,7 @@ class Plot(LiveView):
             totals = [len(s.samples) for s in self.series]
         return {'kind': 'reset', 'points': points, 'totals': totals, 'now': now}
 
-    def _new(self) -> dict[str, Any] | None:
+    def _new(self) -> Payload | None:
         """The samples that arrived since the last send; None when nothing did or paused."""
         if self._paused_at is not None:
             return None
@@ -431,7 +432,7 @@ class Plot(LiveView):
             self._widget.add_class('robot-lab-widget')
         return self._widget
 
-    def _on_pause(self, change: dict[str, Any]) -> None:
+    def _on_pause(self, change: dict[str, object]) -> None:
         if change['new']:
             self.pause()
         else:

@@ -13,14 +13,18 @@ import math
 import threading
 import time
 from collections import deque
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from robot_lab.widgets.live_view import LiveView
 from robot_lab.widgets.output import owned_by_cell
 
 if TYPE_CHECKING:
+    from geometry_msgs.msg import Twist, TwistStamped
     from ipywidgets import Widget
     from matplotlib.figure import Figure
+    from rclpy.subscription import Subscription
+
+    from robot_lab.widgets.canvas import Payload
 
 __all__ = ['Pose', 'RobotView', 'robot_view']
 
@@ -72,7 +76,7 @@ class RobotView(LiveView):
         self._subscription = self._subscribe()
         owned_by_cell(self)
 
-    def _subscribe(self) -> Any:
+    def _subscribe(self) -> Subscription:
         from rclpy.qos import qos_profile_sensor_data
 
         from robot_lab.messages import message_class
@@ -85,7 +89,7 @@ class RobotView(LiveView):
         return self.session.run_in_executor(lambda: self.session.node.create_subscription(
             cls, self.topic, callback, qos_profile_sensor_data))
 
-    def _on_twist(self, msg: Any) -> None:
+    def _on_twist(self, msg: Twist | TwistStamped) -> None:
         twist = getattr(msg, 'twist', msg)  # TwistStamped carries its Twist inside
         now = time.monotonic()
         with self._lock:
@@ -134,14 +138,14 @@ class RobotView(LiveView):
             self._feed.reset()
 
     # -- the browser view ------------------------------------------------------------
-    def _full(self) -> dict[str, Any]:
+    def _full(self) -> Payload:
         with self._lock:
             self._pending = []
             poses = [value for pose in self._path for value in pose]
             return {'kind': 'reset', 'poses': poses, 'twist': list(self._twist),
                     'count': self.count}
 
-    def _new(self) -> dict[str, Any] | None:
+    def _new(self) -> Payload | None:
         with self._lock:
             if not self._pending:
                 return None

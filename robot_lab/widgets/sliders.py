@@ -11,11 +11,17 @@ from __future__ import annotations
 import html
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from robot_lab.errors import GraphError
 from robot_lab.widgets.output import WidgetLog, is_headless, owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import HTML, ValueWidget, Widget
+    from rcl_interfaces.msg import ParameterEvent
+    from rclpy.task import Future
 
 __all__ = ['SetResult', 'Sliders', 'sliders']
 
@@ -47,8 +53,8 @@ class _Control:
     kind: int
     read_only: bool
     description: str
-    widget: Any = None
-    status: Any = None
+    widget: ValueWidget | None = None
+    status: HTML | None = None
 
 
 def _node_name(name: str) -> str:
@@ -71,7 +77,7 @@ class Sliders:
         self.log = WidgetLog(max_lines=20, height='5em')
         self._lock = threading.Lock()
         self._updating = threading.local()
-        self._widget: Any = None
+        self._widget: Widget | None = None
         self.client = self.session.run_in_executor(
             lambda: AsyncParameterClient(self.session.node, self.node))
         if not self.client.wait_for_services(timeout_sec=timeout):
@@ -95,7 +101,7 @@ class Sliders:
                          DescribeParameters.Request(names=names)).descriptors
         got = call('get_parameters', GetParameters, GetParameters.Request(names=names)).values
         self.descriptors = dict(zip(names, described, strict=True))
-        self._values: dict[str, Any] = {
+        self._values: dict[str, object] = {
             name: parameter_value_to_python(value) for name, value in zip(names, got, strict=True)
         }
         self.controls = {
@@ -110,12 +116,12 @@ class Sliders:
                 ParameterEvent, '/parameter_events', self.log.guard(self._on_event), 100))
         owned_by_cell(self)
 
-    def _call(self, future: Any, what: str) -> Any:
+    def _call(self, future: Future, what: str) -> Any:
         return self.session.wait_future(future, self.call_timeout, f'{self.node} {what}')
 
     # -- driving from code -----------------------------------------------------------
     @property
-    def values(self) -> dict[str, Any]:
+    def values(self) -> dict[str, object]:
         """Parameter name -> value as the node last reported it."""
         with self._lock:
             return dict(self._values)
@@ -141,7 +147,7 @@ class Sliders:
         self._show(name, result)
         return result
 
-    def wait_for(self, name: str, value: Any, timeout: float = 5.0) -> bool:
+    def wait_for(self, name: str, value: object, timeout: float = 5.0) -> bool:
         """Block until the node reports `name == value` (e.g. set elsewhere); True if so."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -151,7 +157,7 @@ class Sliders:
         return False
 
     # -- following /parameter_events -------------------------------------------------
-    def _on_event(self, event: Any) -> None:
+    def _on_event(self, event: ParameterEvent) -> None:
         from rclpy.parameter import parameter_value_to_python
 
         if event.node != self.node:
@@ -159,7 +165,7 @@ class Sliders:
         for param in [*event.new_parameters, *event.changed_parameters]:
             self._take(param.name, parameter_value_to_python(param.value))
 
-    def _take(self, name: str, value: Any) -> None:
+    def _take(self, name: str, value: object) -> None:
         with self._lock:
             self._values[name] = value
         control = self.controls.get(name)
@@ -172,7 +178,7 @@ class Sliders:
 
     # -- the widget ------------------------------------------------------------------
     @property
-    def widget(self) -> Any:
+    def widget(self) -> Widget:
         if self._widget is None:
             import ipywidgets as widgets
 
@@ -229,8 +235,8 @@ class Sliders:
         common['disabled'] = True  # arrays and byte arrays: shown, set them from code
         return widgets.Text(value=repr(value), **common)
 
-    def _user_changed(self, name: str) -> Any:
-        def _changed(change: dict[str, Any]) -> None:
+    def _user_changed(self, name: str) -> Callable[[dict[str, object]], None]:
+        def _changed(change: dict[str, object]) -> None:
             if getattr(self._updating, 'active', False):
                 return
             result = self.set(name, change['new'])

@@ -28,6 +28,10 @@ from robot_lab.widgets.output import owned_by_cell
 if TYPE_CHECKING:
     from ipywidgets import Widget
     from matplotlib.figure import Figure
+    from rclpy.task import Future
+    from std_msgs.msg import String
+
+    from robot_lab.widgets.canvas import Payload
 
 __all__ = ['TurtlesimView', 'turtlesim_view']
 
@@ -154,7 +158,7 @@ class TurtlesimView(LiveView):
         owned_by_cell(self)
 
     # -- from the node ------------------------------------------------------------------
-    def _on_view(self, msg: Any) -> None:
+    def _on_view(self, msg: String) -> None:
         data = json.loads(msg.data)
         with self._lock:
             self.messages += 1
@@ -176,7 +180,7 @@ class TurtlesimView(LiveView):
         future = self._client.call_async(Trigger.Request())
         future.add_done_callback(self.log.guard(self._on_snapshot))
 
-    def _on_snapshot(self, future: Any) -> None:
+    def _on_snapshot(self, future: Future) -> None:
         try:
             data = json.loads(future.result().message)
         finally:
@@ -208,13 +212,13 @@ class TurtlesimView(LiveView):
             self._closed.wait(0.05)
         return False
 
-    def _full(self) -> dict[str, Any]:
+    def _full(self) -> Payload:
         with self._lock:
             self._pending = []
             return {'kind': 'reset', 'png': self._png, 'strokes': list(self._strokes),
                     'background': self.background, 'turtles': self.turtles}
 
-    def _new(self) -> dict[str, Any] | None:
+    def _new(self) -> Payload | None:
         with self._lock:
             strokes, self._pending = self._pending, []
             return {'kind': 'append', 'strokes': strokes, 'background': self.background,

@@ -40,7 +40,8 @@ from robot_lab.grading.notebook.answer_key import (
 )
 
 if TYPE_CHECKING:
-    pass
+    import psutil
+    from jupyter_client.manager import KernelManager
 
 __all__ = [
     'CheckResult',
@@ -163,7 +164,7 @@ def _kernel_spec_dir(work: Path) -> Path:
     return work / 'kernels'
 
 
-def leftover_processes(token: str) -> list[Any]:
+def leftover_processes(token: str) -> list[psutil.Process]:
     """Running processes whose environment carries `token` (psutil.Process objects)."""
     import psutil
 
@@ -175,7 +176,7 @@ def leftover_processes(token: str) -> list[Any]:
     return found
 
 
-def _describe(proc: Any) -> str:
+def _describe(proc: psutil.Process) -> str:
     import psutil
 
     try:
@@ -186,7 +187,7 @@ def _describe(proc: Any) -> str:
     return f'{Path(cmd[0]).name if cmd else "?"} {exe} (pid {proc.pid})'.replace('  ', ' ')
 
 
-def _reap(token: str, known: list[Any], grace: float = 1.0) -> list[str]:
+def _reap(token: str, known: list[psutil.Process], grace: float = 1.0) -> list[str]:
     """Wait for the kernel's processes to die with it; kill and name the ones that do not."""
     import psutil
 
@@ -250,7 +251,7 @@ def grade(
     def on_executed(cell: NotebookNode, cell_index: int, execute_reply: Any) -> None:
         replies[cell_index] = dict(execute_reply or {})
     started = time.monotonic()
-    known: list[Any] = []
+    known: list[psutil.Process] = []
     with _scratch(workspace) as work, tempfile.TemporaryDirectory(prefix='robot_lab_kernel_') as k:
         from jupyter_client.kernelspec import KernelSpecManager
         from jupyter_client.manager import AsyncKernelManager
@@ -362,7 +363,8 @@ def _log_tail(path: Path, lines: int = 5) -> str:
     return ('; kernel output: ' + ' | '.join(text[-lines:])) if text else ''
 
 
-def _kernel_tree(km: Any, known: list[Any] | None = None) -> list[Any]:
+def _kernel_tree(km: KernelManager,
+                 known: list[psutil.Process] | None = None) -> list[psutil.Process]:
     """The kernel and its descendants so far (remembered in case they lose their parent)."""
     import psutil
 
@@ -385,7 +387,7 @@ class _Watchdog:
     kernel surfaces as nbclient's DeadKernelError.
     """
 
-    def __init__(self, km: Any, timeout: float, grace: float) -> None:
+    def __init__(self, km: KernelManager, timeout: float, grace: float) -> None:
         self.pid: int | None = getattr(km.provisioner, 'pid', None)
         self.timeout = timeout
         self.grace = grace

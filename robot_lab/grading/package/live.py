@@ -18,7 +18,7 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.errors import ParamFileError, RobotLabError
 from robot_lab.grading.package.perturb import drive_controller
@@ -26,7 +26,9 @@ from robot_lab.grading.package.roles import infer_roles, observe
 from robot_lab.grading.package.state import JobState, ParamReading, code
 
 if TYPE_CHECKING:
+    from robot_lab.launch.api import LaunchHandle, ProcessStatus
     from robot_lab.launch.plan import LaunchPlan
+    from robot_lab.rclpy_session import Session
 
 __all__ = ['run_system']
 
@@ -122,7 +124,7 @@ def _matches(pattern: str, node: str) -> bool:
     return wanted == node or (wanted.startswith('/**/') and node.endswith(wanted[3:]))
 
 
-def _read_params_back(state: JobState, plan: LaunchPlan, sess: Any,
+def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
                       running: list[str]) -> None:
     """Which of the student's parameter files the launch passes, and the values the running
     nodes hold for each parameter in them (scored by the `params_used` check)."""
@@ -223,7 +225,7 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
     _after_the_run(state, job_dir, output)
 
 
-def _process_of(statuses: list[Any], node: str, other: str | None) -> int | None:
+def _process_of(statuses: list[ProcessStatus], node: str, other: str | None) -> int | None:
     """The pid of the running process that hosts `node` and not `other`: named so by the
     launch, given `__node:=` for it, or its executable named like the node."""
     import psutil
@@ -246,8 +248,8 @@ def _process_of(statuses: list[Any], node: str, other: str | None) -> int | None
     return None
 
 
-def _pause_sensor(state: JobState, plan: LaunchPlan, handle: Any,
-                  sess: Any) -> tuple[Callable[[], None], str] | None:
+def _pause_sensor(state: JobState, plan: LaunchPlan, handle: LaunchHandle,
+                  sess: Session) -> tuple[Callable[[], None], str] | None:
     """Take the student's sensor out of the loop: stop its process when it runs alone,
     else relaunch the system with the sensor's topic remapped away for that node only."""
     roles = state.live.roles

@@ -20,9 +20,12 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.grading.package.roles import Observation, Roles
+
+if TYPE_CHECKING:
+    from robot_lab.rclpy_session import Session
 
 __all__ = ['Response', 'drive_controller']
 
@@ -135,7 +138,7 @@ def _follows(low1: dict[str, Any], high: dict[str, Any], low2: dict[str, Any]) -
     return False
 
 
-def drive_controller(sess: Any, obs: Observation, roles: Roles,
+def drive_controller(sess: Session, obs: Observation, roles: Roles,
                      pause: Callable[[], tuple[Callable[[], None], str] | None]) -> Response:
     """Drive the sensor topic low → high → low and read the commands (see the module doc).
 

@@ -15,12 +15,16 @@ log lines per node) for a bounded time; `infer_roles()` reads the result.
 from __future__ import annotations
 
 import contextlib
+import functools
 import threading
 import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from robot_lab.rclpy_session import Session
 
 __all__ = ['NodeSeen', 'Observation', 'Roles', 'TopicSeen', 'infer_roles', 'observe']
 
@@ -95,7 +99,7 @@ def _logger_node(logger: str, nodes: list[str]) -> str | None:
 class _Watcher:
     """Subscriptions of the observer session; callbacks only count and keep samples."""
 
-    def __init__(self, sess: Any) -> None:
+    def __init__(self, sess: Session) -> None:
         self.sess = sess
         self.obs = Observation()
         self.lock = threading.Lock()
@@ -181,7 +185,7 @@ class _Watcher:
                 continue
             qos = QoSProfile(depth=50, reliability=QoSReliabilityPolicy.BEST_EFFORT)
             self.subs[topic] = node.create_subscription(
-                cls, topic, lambda m, t=topic: self._on_message(t, m), qos)
+                cls, topic, functools.partial(self._on_message, topic), qos)
         return names
 
     def start_logs(self) -> None:
@@ -207,7 +211,7 @@ def _until_samples(watcher: _Watcher, deadline: float) -> None:
         time.sleep(0.05)
 
 
-def observe(sess: Any, expected_nodes: int, startup: float, duration: float,
+def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
             alive: Callable[[], bool]) -> Observation:
     """Watch the graph: wait (≤ `startup` s) until `expected_nodes` nodes are up, then count
     messages and log lines for `duration` s. `alive()` False ends the wait early."""

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from robot_lab.grading.package.crash import Crash
     from robot_lab.grading.package.perturb import Response
     from robot_lab.grading.package.roles import Observation, Roles
+    from robot_lab.launch.api import ProcessStatus
 
 __all__ = ['LINES', 'JobState', 'LiveRun', 'ParamReading', 'Verdict', 'code', 'section']
 
@@ -85,7 +86,7 @@ class LiveRun:
     launch_name: str = ''  # the launch file run ('' when the grader started the executables)
     notes: list[str] = field(default_factory=list)
     dropped: list[str] = field(default_factory=list)  # parameter files rcl would refuse
-    statuses: list[Any] = field(default_factory=list)  # launch.api.ProcessStatus
+    statuses: list[ProcessStatus] = field(default_factory=list)
     logs: dict[str, str] = field(default_factory=dict)  # label -> last output (Markdown)
     line_rates: dict[str, float] = field(default_factory=dict)  # node -> lines/s written
     obs: Observation | None = None
@@ -105,7 +106,7 @@ class LiveRun:
             return None
         return self.obs, self.roles
 
-    def died(self) -> list[Any]:
+    def died(self) -> list[ProcessStatus]:
         return [p for p in self.statuses if p.state == 'died' or p.exit_code not in (None, 0)]
 
     def dead(self) -> str:

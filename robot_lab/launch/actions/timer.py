@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robot_lab.launch.action import LaunchStep, subs
 from robot_lab.launch.entity import Entity
@@ -12,7 +12,7 @@ from robot_lab.launch.plan import (
 )
 from robot_lab.launch.registry import parse_entity, register
 from robot_lab.launch.substitution_grammar import parse_substitution
-from robot_lab.launch.substitutions import perform
+from robot_lab.launch.substitutions import SomeSubstitutions, perform
 
 if TYPE_CHECKING:
     from robot_lab.launch.context import LaunchContext
@@ -27,7 +27,7 @@ class TimerStep(LaunchStep):
     launch_name = 'TimerAction'
     runs_children_later = True
 
-    def __init__(self, period: Any, actions: Sequence[LaunchStep]) -> None:
+    def __init__(self, period: float | SomeSubstitutions, actions: Sequence[LaunchStep]) -> None:
         self.period = period if isinstance(period, float | int) else subs(period)
         self.actions = list(actions)
 

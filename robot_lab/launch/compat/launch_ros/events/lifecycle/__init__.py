@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any, NoReturn
+from collections.abc import Callable
+from typing import NoReturn
 
 from robot_lab.launch.compat_path import unsupported
 from robot_lab.launch.events import ChangeState as _ChangeState
@@ -12,7 +13,8 @@ __all__ = ['ChangeState', 'StateTransition']
 
 
 class ChangeState(_ChangeState):
-    def __init__(self, *, lifecycle_node_matcher: Any, transition_id: int) -> None:
+    def __init__(self, *, lifecycle_node_matcher: Callable[[object], bool],
+                 transition_id: int) -> None:
         super().__init__(lifecycle_node_matcher, transition_id)
 
 
