@@ -31,7 +31,7 @@ CELL_TIMEOUT = 90
 
 PROBE = """
 import json as _j, psutil as _p
-from robot_lab import context as _c
+from robot_lab import rclpy_session as _c
 _kids = [' '.join(k.cmdline()[:4]) for k in _p.Process().children(recursive=True)
          if k.is_running() and k.status() != _p.STATUS_ZOMBIE]
 _nodes = [n.get_name() for s in _c._SESSIONS.values() if s._nodes_executor is not None

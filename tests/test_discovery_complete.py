@@ -18,8 +18,8 @@ from collections.abc import Iterator
 import pytest
 from conftest import BIN, Proc, run_reference_node
 
-from robot_lab.context import session
 from robot_lab.graph.discovery import participants_on_host, participants_seen
+from robot_lab.rclpy_session import session
 
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
 
