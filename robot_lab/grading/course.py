@@ -111,7 +111,7 @@ def _short_errors(workspace: Path) -> None:
     """Under nbgrader (Validate, autograde), a failed check or a kit error shows as its
     message alone, wrapped, with the paths the student knows: what nbgrader's feedback page
     and Validate print holds no traceback into the kit's code or the grader's folders.
-    Every other error keeps IPython's traceback (the student's own code)."""
+    Every other error keeps its traceback, cut to the student's own frames."""
     try:
         from IPython import get_ipython
     except ImportError:
@@ -120,12 +120,12 @@ def _short_errors(workspace: Path) -> None:
     if shell is None:
         return
     from robot_lab.errors import RobotLabError
+    from robot_lab.notebook_cell import show_their_error
 
     def short(shell: Any, etype: type[BaseException], value: BaseException, tb: Any,
               tb_offset: int | None = None) -> list[str]:
         if not (issubclass(etype, RobotLabError) or etype.__name__ == 'CheckError'):
-            shell.showtraceback((etype, value, tb), tb_offset=tb_offset)
-            return []
+            return show_their_error(shell, etype, value, tb)
         text = f'{etype.__name__}: {value}'.replace(str(workspace), '~/robot_lab_ws')
         home = str(Path.home())
         text = text.replace(home + '/', '~/') if home != '/' else text
@@ -133,7 +133,7 @@ def _short_errors(workspace: Path) -> None:
         shell._showtraceback(etype, value, lines)
         return lines
 
-    shell.set_custom_exc((RobotLabError, AssertionError), short)
+    shell.set_custom_exc((Exception,), short)
 
 
 def setup(notebook: str) -> Lesson:
@@ -151,6 +151,9 @@ def setup(notebook: str) -> Lesson:
 
     apply_ros_defaults()
     lesson = Lesson(notebook, domain, _workspace())
+    from robot_lab.notebook_cell import show_their_errors
+
+    show_their_errors()  # a cell's error: the student's frames and a Try: line
     if os.environ.get('NBGRADER_EXECUTION', '').strip():
         _short_errors(lesson.workspace)
     return lesson
