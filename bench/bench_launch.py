@@ -18,7 +18,14 @@ Measured in the same run, median of RUNS runs each:
   line), and alone (exec of the kit's lib/robot_lab/<node> script -> that line, with the
   CPU seconds the node had used by then), next to a bare `python -c 'import rclpy'`.
 
-    .venv/bin/python bench/bench_launch.py [--runs 5] [--idle 1] [--quick]
+    .venv/bin/python bench/bench_launch.py [--runs 5] [--idle 1] [--quiet] [--quick]
+        [--fork-server both]
+
+--quiet: nothing runs before the launch (the issue's quiet-host figure). --fork-server
+both: each run also launches with ROBOT_LAB_FORK_SERVER=1 (robot_lab/launch/fork_server.py),
+interleaved, so both see the same load. USS sums each process's private pages; pages the
+forked nodes share only with each other are in no one's USS, so the group figure (root
+only) counts the anonymous pages that only the launcher's processes map.
 
 Node start-up, measured 2026-11-22 (2-core machine shared with other work, 5 runs each,
 A/B interleaved; `OPENBLAS_NUM_THREADS=0 bench_launch.py` gives the nodes numpy's default
@@ -52,7 +59,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import psutil
-from memory import private_mb
+from memory import group_private_mb, private_mb
 
 from robot_lab.env import ros_environment
 from robot_lab.nodes import NODE_EXECUTABLES
@@ -141,7 +148,7 @@ def watcher(name: str, wanted: list[str],
 
 
 def bare_trio(env: dict[str, str], cpu: list[float] | None = None,
-              uss: list[float] | None = None) -> float:
+              uss: list[float] | None = None, group: list[float] | None = None) -> float:
     """Seconds from starting three bare rclpy processes until all three saw each other
     (and, into `cpu`, the CPU seconds the three had used by then; into `uss`, their
     private memory in MB: the floor for three nodes)."""
@@ -154,6 +161,8 @@ def bare_trio(env: dict[str, str], cpu: list[float] | None = None,
             cpu.append(sum(cpu_seconds(proc.pid) for proc, _ in started))
         if uss is not None:
             uss.append(sum(private_mb(proc.pid) for proc, _ in started))
+        if group is not None:
+            group.append(group_private_mb(proc.pid for proc, _ in started) or 0.0)
         return seen
     finally:
         for proc, _ in started:
@@ -222,6 +231,7 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
         everything = [psutil.Process(launcher.pid), *psutil.Process(launcher.pid).children(True)]
         daemons = [p for p in everything if '--robot-lab-graph-daemon' in p.cmdline()]
         system = [p for p in everything if p not in daemons]  # launcher + 3 nodes
+        servers = [p for p in system if 'robot_lab.launch.fork_server' in p.cmdline()]
         rss = sum(p.memory_info().rss for p in everything) / 2**20
         return {
             'status': status - began,
@@ -232,6 +242,8 @@ def launch_run(env: dict[str, str]) -> dict[str, float]:
             'launcher_rss': system[0].memory_info().rss / 2**20,
             'uss': sum(private_mb(p.pid) for p in system),
             'launcher_uss': private_mb(launcher.pid),
+            'fork_server_uss': sum(private_mb(p.pid) for p in servers),
+            'group': group_private_mb(p.pid for p in system) or 0.0,
             'daemon_uss': sum(private_mb(p.pid) for p in daemons),
             'launcher_to_first_spawn': first_start - began,
             'status_cpu': status_cpu,
@@ -250,6 +262,9 @@ def crowd(env: dict[str, str], idle: int) -> Iterator[int]:
     (and discovered by the daemon) before the block; yields how many participants."""
     from robot_lab.graph import daemon
 
+    if idle < 0:  # a quiet host: nothing else running
+        yield 0
+        return
     procs = [spawn([sys.executable, '-c', SESSION], env=env)]
     procs += [spawn([sys.executable, '-c', IDLE, f'idle_{n}'], env=env) for n in range(idle)]
     try:
@@ -274,6 +289,10 @@ def main() -> None:
     parser.add_argument('--runs', type=int, default=5)
     parser.add_argument('--idle', type=int, default=1,
                         help='bare participants started besides the daemon and a session')
+    parser.add_argument('--quiet', action='store_true',
+                        help='a quiet host: no daemon, session or idle participants first')
+    parser.add_argument('--fork-server', choices=('env', 'both'), default='env',
+                        help='both: also launch with ROBOT_LAB_FORK_SERVER=1, interleaved')
     parser.add_argument('--quick', action='store_true',
                         help='only the launch and the bare trio, with the kit profile')
     parser.add_argument('--compare-source', action='store_true',
@@ -297,17 +316,24 @@ def main() -> None:
         bare, launched, bare_off, launched_off = [], [], [], []
         bare_cpu: list[float] = []
         bare_uss: list[float] = []
+        bare_group: list[float] = []
+        forked: list[dict[str, float]] = []
+        if args.fork_server == 'both':
+            env['ROBOT_LAB_FORK_SERVER'] = '0'
+        env_fork = dict(env, ROBOT_LAB_FORK_SERVER='1')
         alone: dict[str, list[tuple[float, float]]] = {n: [] for n in NODE_EXECUTABLES}
         interpreter: dict[str, list[float]] = {'pass': [], 'import rclpy': []}
-        with crowd(env, args.idle) as crowded:
+        with crowd(env, -1 if args.quiet else args.idle) as crowded:
             launch_run(env)  # writes the bytecode cache; not counted
             load = os.getloadavg()[0]
             for _ in range(args.runs):
                 if args.compare_source:
                     bare_src.append(bare_trio(env_source))
                     launched_src.append(launch_run(env_source))
-                bare.append(bare_trio(env, bare_cpu, bare_uss))
+                bare.append(bare_trio(env, bare_cpu, bare_uss, bare_group))
                 launched.append(launch_run(env))
+                if args.fork_server == 'both':
+                    forked.append(launch_run(env_fork))
                 if args.quick:
                     continue
                 bare_off.append(bare_trio(env_off))
@@ -339,6 +365,10 @@ def main() -> None:
         ('private (USS) launcher + 3 nodes', f'{median(launched, "uss"):.0f} MB',
          f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
         ('  of which the launcher', f'{median(launched, "launcher_uss"):.0f} MB', ''),
+        ('  of which a fork server', f'{median(launched, "fork_server_uss"):.0f} MB', ''),
+        ('private to the group (pages shared only among them counted)',
+         f'{median(launched, "group"):.0f} MB',
+         f'(floor: 3 bare rclpy nodes {statistics.median(bare_group):.0f} MB; root only)'),
         ('  graph daemon beside them (not counted above)',
          f'{median(launched, "daemon_uss"):.0f} MB', ''),
         ('launch -> first process started', f'{median(launched, "launcher_to_first_spawn"):.2f} s',
@@ -348,6 +378,24 @@ def main() -> None:
         *[(f'{name}: process started -> "started" line, in launch',
            f'{median(launched, "up_" + name):.2f} s', '') for name in NODE_EXECUTABLES],
     ]
+    if forked:
+        rows += [
+            ('-- fork server (ROBOT_LAB_FORK_SERVER=1), interleaved with the above --', '', ''),
+            ('launch -> first Status: line', f'{median(forked, "status"):.2f} s', ''),
+            ('  ratio to bare trio', f'{median(forked, "status") / trio:.2f}', '<= 1.3'),
+            ('  CPU used by launcher + children until then',
+             f'{median(forked, "status_cpu"):.2f} s', ''),
+            ('observer (started first) sees all 3 nodes, from launch',
+             f'{median(forked, "seen_from_launch"):.2f} s', ''),
+            ('RSS launcher + fork server + 3 nodes', f'{median(forked, "rss"):.0f} MB', ''),
+            ('private (USS) launcher + fork server + 3 nodes', f'{median(forked, "uss"):.0f} MB',
+             f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
+            ('  of which the launcher', f'{median(forked, "launcher_uss"):.0f} MB', ''),
+            ('  of which the fork server', f'{median(forked, "fork_server_uss"):.0f} MB', ''),
+            ('private to the group (pages shared only among them counted)',
+             f'{median(forked, "group"):.0f} MB',
+             f'(floor: 3 bare rclpy nodes {statistics.median(bare_group):.0f} MB)'),
+        ]
     if launched_src:
         trio_src = statistics.median(bare_src)
         rows += [
@@ -385,7 +433,8 @@ def main() -> None:
     for name, value, goal in rows:
         print(f'{name:<{width}}  {value:>8}  {goal}')
     print('all runs (status / seen from launch / from nodes / after last up, s; RSS MB):')
-    for label, runs in (('profile on ', launched), ('profile off', launched_off),
+    for label, runs in (('profile on ', launched), ('fork server', forked),
+                        ('profile off', launched_off),
                         ('from source', launched_src)):
         if not runs:
             continue

@@ -37,9 +37,10 @@ from pathlib import Path
 from tempfile import TemporaryDirectory
 from typing import IO
 
+import psutil
 import yaml
-from bench_launch import Lines
-from memory import tree_memory
+from bench_launch import IDLE, SESSION, Lines
+from memory import group_private_mb, tree_memory
 
 from robot_lab.env import ros_environment
 from robot_lab.process import spawn, stop
@@ -182,6 +183,21 @@ def fleet(env: dict[str, str], robots: int, window: float) -> None:
           f'{statistics.median(node_uss):.0f} MB')
 
 
+def student_floor(env: dict[str, str]) -> tuple[float, float]:
+    """USS (summed, and private to the group) of a bare student: a kernel-like session and
+    three bare rclpy nodes, nothing of the kit's launch: what one student costs at least."""
+    procs = [spawn([sys.executable, '-c', SESSION], env=env)]
+    procs += [spawn([sys.executable, '-c', IDLE, f'bare_{n}'], env=env) for n in range(3)]
+    try:
+        for proc in procs:
+            Lines(proc).until('ready', 300)
+        pids = [p.pid for p in procs]
+        return sum(tree_memory(pid)[1] for pid in pids), group_private_mb(pids) or 0.0
+    finally:
+        for proc in procs:
+            stop(proc, 5, 5)
+
+
 def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) -> None:
     from robot_lab.domain import lease_domains
 
@@ -204,12 +220,16 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
             measured = [tree_memory(p.pid) for p in procs]
             total = sum(m[0] for m in measured)
             private = sum(m[1] for m in measured)
+            own = [group_private_mb(
+                [p.pid, *(c.pid for c in psutil.Process(p.pid).children(recursive=True))])
+                or 0.0 for p in procs]
         finally:
             for ask in asks:
                 with contextlib.suppress(OSError):
                     ask.close()  # the kernel shuts its launch down and exits
             for proc in procs:
                 stop(proc, 20, 10)
+        floor, floor_own = student_floor(dict(base_env, ROS_DOMAIN_ID=str(min(domains))))
     flat = [s for mine in answers for s in mine]
     worst = [max(mine) for mine in answers]
     print(f'class: {count} simulated kernels, each its own domain from the registry '
@@ -224,7 +244,12 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
     print(f'  RSS of all kernels + their nodes and daemons: {total:.0f} MB '
           f'({total / count:.0f} MB per student)')
     print(f'  private (USS) of the same: {private:.0f} MB ({private / count:.0f} MB per '
-          'student, what one more student adds)   goal <= 200 MB')
+          f'student, what one more student adds)   goal <= 200 MB (floor: a bare session '
+          f'+ 3 bare rclpy nodes {floor:.0f} MB)')
+    print("  private to each student's processes (pages shared only among them counted, "
+          f'root only): median {statistics.median(own):.0f} MB   (floor {floor_own:.0f} MB)')
+    how = 'forked by' if os.environ.get('ROBOT_LAB_FORK_SERVER', '0') == '1' else 'not by'
+    print(f'  nodes started {how} a fork server (ROBOT_LAB_FORK_SERVER in this environment)')
 
 
 def main() -> None:

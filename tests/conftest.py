@@ -236,9 +236,11 @@ def start(procs: list[Proc]):  # type: ignore[no-untyped-def]
 
 
 def launched_nodes(launcher_pid: int) -> list[psutil.Process]:
-    """The processes a launcher started, without the graph daemon it runs beside them."""
+    """The processes a launcher started, without the graph daemon it runs beside them
+    (nor its fork server, ROBOT_LAB_FORK_SERVER=1: the nodes are its children)."""
     return [p for p in psutil.Process(launcher_pid).children(recursive=True)
-            if '--robot-lab-graph-daemon' not in p.cmdline()]
+            if not {'--robot-lab-graph-daemon', 'robot_lab.launch.fork_server'}
+            & set(p.cmdline())]
 
 
 def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Literal
 
 from robot_lab.launch.plan import ProcessSpec
+from robot_lab.launch.fork_client import ForkedProcess
 
 __all__ = ['ProcessRecord', 'ProcessState', 'Scheduled', 'domain_of']
 
@@ -30,7 +31,7 @@ class ProcessRecord:
     pid: int | None = None
     returncode: int | None = None
     retries: int = 0
-    popen: subprocess.Popen[bytes] | None = field(default=None, repr=False)
+    popen: subprocess.Popen[bytes] | ForkedProcess | None = field(default=None, repr=False)
     generation: int = 0
     stopping: bool = False
     partial: dict[str, bytes] = field(default_factory=dict, repr=False)

@@ -29,6 +29,7 @@ from robot_lab.env import apply_ros_defaults
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
 from robot_lab.launch.event_router import EventRouter
 from robot_lab.launch.events import Shutdown
+from robot_lab.launch.fork_client import ForkedProcess, ForkServer, enabled, interpreter_of
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.plan import (
     Action,
@@ -93,6 +94,7 @@ class Supervisor:
         os.set_blocking(self._wake_w, False)
         self._sigint_seen = False
         self._closed = False
+        self._forks: ForkServer | None = None  # ROBOT_LAB_FORK_SERVER=1: see fork_client
 
     # --- requests from other threads (Ctrl-C handler, notebook handle) -------------------
 
@@ -139,6 +141,7 @@ class Supervisor:
         self._selector.register(self._wake_r, selectors.EVENT_READ, ('wake', None, ''))
         try:
             self._announce_planned()
+            self._start_fork_server()
             self._execute(self.plan.actions)
             self.started.set()
             if self.graph_daemon:
@@ -156,6 +159,8 @@ class Supervisor:
         finally:
             self.started.set()
             self._kill_leftovers()
+            if self._forks is not None:
+                self._forks.close()
             self._graph.close()
             if self._lifecycle is not None:
                 self._lifecycle.close()
@@ -271,6 +276,16 @@ class Supervisor:
         apply_ros_defaults(env)
         return env
 
+    def _start_fork_server(self) -> None:
+        """Before the first spawn, so its imports run while the launcher gets going."""
+        if not enabled():
+            return
+        for spec in self.plan.processes():
+            if interpreter_of(spec) is not None:
+                with contextlib.suppress(OSError):  # no server: every node is exec'd
+                    self._forks = ForkServer(self._environment(spec))
+                return
+
     def _start(self, record: ProcessRecord) -> None:
         if self.is_shutdown:
             return
@@ -280,9 +295,14 @@ class Supervisor:
             f"process details: cmd='{' '.join(p for p in spec.cmd if p.strip())}', "
             f"cwd='{spec.cwd}', custom_env?={'True' if spec.env else 'False'}")
         env = self._environment(spec)
+        interpreter = interpreter_of(spec) if self._forks is not None else None
         try:
-            popen = spawn(spec.cmd, env=env, cwd=spec.cwd,
-                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
+            popen: subprocess.Popen[bytes] | ForkedProcess | None = None
+            if self._forks is not None and interpreter is not None:
+                popen = self._forks.start(spec, env, spec.cwd, interpreter)
+            if popen is None:
+                popen = spawn(spec.cmd, env=env, cwd=spec.cwd,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
         except OSError as exc:
             record.state, record.returncode = 'died', None
             self.output.launcher('ERROR', record.label,
