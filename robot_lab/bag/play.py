@@ -498,7 +498,7 @@ class Player:
         self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
 
-    def _history_for(self, offered: Any, messages: int) -> Any:
+    def _history_for(self, offered: QoSProfile, messages: int) -> QoSProfile:
         """The publisher's profile: what the recorded QoS offers, with a history deep
         enough (≤ DEEP_HISTORY) that a reliable subscriber falling behind does not lose
         messages to overwriting. The depth is no part of QoS matching; a transient-local

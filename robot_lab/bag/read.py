@@ -7,13 +7,17 @@ run next (`robot-lab bag reindex` after a killed recording), not a rosbags trace
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import BagError, GraphError
+
+if TYPE_CHECKING:
+    from rosbags.interfaces import Connection
+    from rosbags.rosbag2 import Reader
 
 __all__ = [
     'STORAGE_SUFFIXES',
@@ -127,8 +131,8 @@ def open_bag(path: str | Path) -> Iterator[Any]:
         reader.close()
 
 
-def bag_messages(reader: Any, connections: Sequence[Any], start: int | None = None,
-                 stop: int | None = None) -> Iterator[tuple[Any, int, bytes]]:
+def bag_messages(reader: Reader, connections: Sequence[Connection], start: int | None = None,
+                 stop: int | None = None) -> Iterator[tuple[Connection, int, bytes]]:
     """(connection, timestamp ns, CDR bytes) of `connections`, in time order.
 
     Like rosbags' `reader.messages()`, except that a storage file's topic is matched to
@@ -156,7 +160,7 @@ def bag_messages(reader: Any, connections: Sequence[Any], start: int | None = No
                decompress(data) if decompress is not None else data)
 
 
-def _zstd_decompress() -> Any:
+def _zstd_decompress() -> Callable[[bytes], bytes]:
     """zstd.decompress as rosbags imports it (the stdlib's from 3.14, else the backport)."""
     import importlib
 
@@ -164,7 +168,8 @@ def _zstd_decompress() -> Any:
         module = importlib.import_module('compression.zstd')
     except ImportError:
         module = importlib.import_module('backports.zstd')
-    return module.decompress
+    decompress: Callable[[bytes], bytes] = module.decompress
+    return decompress
 
 
 def decode(msgtype: str, data: bytes, bag: Path | str = '', topic: str = '') -> Any:

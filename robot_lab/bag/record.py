@@ -32,6 +32,8 @@ from robot_lab.errors import BagError, GraphError
 
 if TYPE_CHECKING:
     from rclpy.qos import QoSProfile
+
+    from robot_lab.bag.info import BagInfo
     pass
 
 __all__ = ['Recorder', 'default_bag_name', 'record']
@@ -289,8 +291,8 @@ class Recorder:
     ) -> None:
         self.stop()
 
-    def info(self) -> Any:
-        """The finished bag's metadata (robot_lab.bag.info.BagInfo)."""
+    def info(self) -> BagInfo:
+        """The finished bag's metadata."""
         from robot_lab.bag.info import bag_info
 
         return bag_info(self.path)

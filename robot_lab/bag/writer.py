@@ -13,9 +13,15 @@ import os
 import sqlite3
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import BagError
+
+if TYPE_CHECKING:
+    from rclpy.duration import Duration
+    from rclpy.qos import QoSProfile
+    from rosbags.interfaces import Connection, Qos, QosTime
+    from rosbags.typesys.store import Typestore
 
 __all__ = ['STORAGE_IDS', 'BagWriter', 'TopicSpec', 'message_definition', 'qos_from_profile']
 
@@ -35,7 +41,7 @@ class TopicSpec:
     message_definition: str | None = None  # None: look it up (typestore, package share)
 
 
-def qos_from_profile(profile: Any) -> Any:
+def qos_from_profile(profile: QoSProfile) -> Qos:
     """An rclpy QoSProfile (as a publisher offers it) -> rosbags Qos, for the metadata."""
     from rosbags.interfaces import (
         Qos,
@@ -46,7 +52,7 @@ def qos_from_profile(profile: Any) -> Any:
         QosTime,
     )
 
-    def _time(duration: Any) -> Any:
+    def _time(duration: Duration) -> QosTime:
         ns = int(duration.nanoseconds)
         return QosTime(ns // 1_000_000_000, ns % 1_000_000_000)
 
@@ -69,10 +75,10 @@ def qos_from_profile(profile: Any) -> Any:
     )
 
 
-_TYPESTORE: Any = None
+_TYPESTORE: Typestore | None = None
 
 
-def _typestore() -> Any:
+def _typestore() -> Typestore:
     global _TYPESTORE
     if _TYPESTORE is None:
         from rosbags.typesys import Stores, get_typestore
@@ -81,7 +87,7 @@ def _typestore() -> Any:
     return _TYPESTORE
 
 
-def _missing_types(store: Any, msgtype: str) -> list[str]:
+def _missing_types(store: Typestore, msgtype: str) -> list[str]:
     """The message types `msgtype` uses (itself included, directly or through the
     messages it uses) that the typestore does not know yet."""
     from rosbags.interfaces import Nodetype
@@ -102,7 +108,7 @@ def _missing_types(store: Any, msgtype: str) -> list[str]:
                 pending.append(desc[1])
             elif desc[0] in (Nodetype.ARRAY, Nodetype.SEQUENCE):
                 (kind, used), _count = desc[1]
-                if kind == Nodetype.NAME:
+                if kind == Nodetype.NAME and isinstance(used, str):
                     pending.append(used)
     return missing
 
@@ -256,7 +262,7 @@ class BagWriter:
         self._specs: list[TopicSpec] = []
         self.counts: dict[str, int] = {}
         self.files: list[dict[str, Any]] = []  # per file: path, start, end, count
-        self.connections: dict[str, Any] = {}
+        self.connections: dict[str, Connection] = {}
         self.closed = False
         try:
             self.path.mkdir(parents=False)
@@ -292,7 +298,7 @@ class BagWriter:
         for spec in self._specs:
             self._add(spec)
 
-    def _add(self, spec: TopicSpec) -> Any:
+    def _add(self, spec: TopicSpec) -> Connection:
         if spec.message_definition is not None:
             msgdef, rihs01 = spec.message_definition, ''
         else:
@@ -301,7 +307,7 @@ class BagWriter:
         type_hash = spec.type_description_hash or rihs01
         spec.type_description_hash = type_hash
         self._type_hashes[spec.name] = type_hash
-        conn = self._writer.add_connection(
+        conn: Connection = self._writer.add_connection(
             spec.name,
             spec.type,
             msgdef=msgdef,
@@ -312,7 +318,7 @@ class BagWriter:
         self.connections[spec.name] = conn
         return conn
 
-    def add_topic(self, spec: TopicSpec) -> Any:
+    def add_topic(self, spec: TopicSpec) -> Connection:
         """Register a topic before its first message; returns its connection."""
         self._specs.append(spec)
         self.counts.setdefault(spec.name, 0)
@@ -334,7 +340,7 @@ class BagWriter:
         self._writer.close()
         shutil.rmtree(self._staging, ignore_errors=True)
 
-    def write(self, connection: Any, timestamp_ns: int, data: bytes) -> None:
+    def write(self, connection: Connection, timestamp_ns: int, data: bytes) -> None:
         if self._should_split(timestamp_ns):
             self._close_file()
             self._open_file()
@@ -376,7 +382,7 @@ def _qos_dicts(profiles: list[Any]) -> list[dict[str, Any]]:
             out.append(p)
             continue
 
-        def _time(t: Any) -> dict[str, int]:
+        def _time(t: QosTime) -> dict[str, int]:
             return {'sec': int(t.sec), 'nsec': int(t.nsec)}
 
         out.append({

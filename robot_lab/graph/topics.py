@@ -31,6 +31,7 @@ from robot_lab.messages import (
 )
 
 if TYPE_CHECKING:
+    from rclpy.event_handler import SubscriptionEventCallbacks
     from rclpy.publisher import Publisher
     from rclpy.qos import QoSProfile
     from rclpy.topic_endpoint_info import TopicEndpointInfo
@@ -61,7 +62,7 @@ __all__ = [
 DEFAULT_WINDOW = 10000
 
 
-def _without_qos_events() -> Any:
+def _without_qos_events() -> SubscriptionEventCallbacks:
     """No QoS event handlers on our subscriptions: rclpy races when a subscription with
     handlers is destroyed while the executor thread builds its wait set."""
     from rclpy.event_handler import SubscriptionEventCallbacks
@@ -216,7 +217,7 @@ def topic_info(name: str, verbose: bool = False, timeout: float = LOOKUP_TIMEOUT
     return settled(sess, probe, ready=endpoints_attributed(sess, topic))
 
 
-def _echo_qos(sess: Session, topic: str) -> Any:
+def _echo_qos(sess: Session, topic: str) -> QoSProfile:
     """ros2 topic echo's choice: sensor-data QoS, made reliable / transient-local only when
     every publisher offers it, so the subscription matches all of them."""
     from rclpy.qos import QoSDurabilityPolicy, QoSPresetProfiles, QoSReliabilityPolicy

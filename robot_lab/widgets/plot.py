@@ -15,7 +15,7 @@ import math
 import threading
 import time
 from collections import deque
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -28,10 +28,14 @@ if TYPE_CHECKING:
     from ipywidgets import ToggleButton, Widget
     from matplotlib.figure import Figure
     from rclpy.node import Node
+    from rclpy.subscription import Subscription
 
     from robot_lab.widgets.canvas import Chart, Payload
 
 __all__ = ['Plot', 'Series', 'plot', 'resolve_field_path']
+
+# What a plot does with one message taken: (message, when it was received in ns, or None)
+_Receive = Callable[[object, int | None], None]
 
 # Colours that stay apart for colour-blind readers (Okabe–Ito).
 _COLOURS = ['#0072B2', '#D55E00', '#009E73', '#CC79A7', '#E69F00', '#56B4E9', '#000000']
@@ -115,7 +119,7 @@ class Plot(LiveView):
         self._paused_at: float | None = None
         self._chart: Chart | None = None
         self._pause_button: ToggleButton | None = None
-        self._subscriptions: list[Any] = []
+        self._subscriptions: list[tuple[Subscription, _Receive]] = []
         self._node: Node | None = None  # the plot's own node, taken from by `_taker`
         self._taker: threading.Thread | None = None
         self._sending = False
@@ -239,10 +243,10 @@ class Plot(LiveView):
                         msg, info = taken
                         receive(msg, info.get('received_timestamp'))
 
-    def _receiver(self, group: list[Series]) -> Any:
+    def _receiver(self, group: list[Series]) -> _Receive:
         from robot_lab.messages import field_value
 
-        def _on_message(msg: Any, received_ns: int | None = None) -> None:
+        def _on_message(msg: object, received_ns: int | None = None) -> None:
             now = time.monotonic() - self.t0
             if received_ns:  # system clock, ns: when it arrived, not when it was taken
                 now -= max(0.0, time.time() - received_ns / 1e9)

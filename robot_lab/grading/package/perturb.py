@@ -36,6 +36,9 @@ _FIRST = 3.0  # s to wait for the controller's first command
 _SKIP = ('stamp', 'sec', 'nanosec', 'frame_id', 'seq')
 
 
+# One command seen: field path -> its number, or its text (a command may be a word)
+Sample = dict[str, float | str]
+
 @dataclass
 class Response:
     """What the controller did when the grader drove its input."""
@@ -43,7 +46,7 @@ class Response:
     tested: bool
     follows: bool = False
     how: str = ''  # how the sensor was taken out of the loop
-    levels: list[tuple[float, dict[str, Any], int]] = field(default_factory=list)
+    levels: list[tuple[float, Sample, int]] = field(default_factory=list)
     why: str = ''  # why it was not tested
 
     def table(self) -> str:
@@ -55,7 +58,7 @@ class Response:
         return '\n'.join(rows)
 
 
-def _leaves(data: Any, prefix: str = '') -> Iterator[tuple[str, float]]:
+def _leaves(data: object, prefix: str = '') -> Iterator[tuple[str, float]]:
     """Numeric leaves of a message dict ('linear.x', 'ranges[0]'), stamps left out."""
     if isinstance(data, dict):
         for key, value in data.items():
@@ -69,7 +72,7 @@ def _leaves(data: Any, prefix: str = '') -> Iterator[tuple[str, float]]:
         yield prefix[:-1], float(data)
 
 
-def _varying(values: list[dict[str, Any]]) -> tuple[set[str], float, float]:
+def _varying(values: list[dict[str, object]]) -> tuple[set[str], float, float]:
     """The sensor's numeric fields that changed (all of them if none did) and the range
     they covered (a span around a constant reading)."""
     seen: dict[str, list[float]] = {}
@@ -84,7 +87,7 @@ def _varying(values: list[dict[str, Any]]) -> tuple[set[str], float, float]:
     return keys, low, high
 
 
-def _set_level(data: Any, keys: set[str], level: float, prefix: str = '') -> Any:
+def _set_level(data: object, keys: set[str], level: float, prefix: str = '') -> object:
     """The template message with the varying numeric fields set to `level`."""
     if isinstance(data, dict):
         return {k: (v if k in _SKIP else _set_level(v, keys, level, f'{prefix}{k}.'))
@@ -101,7 +104,13 @@ def _set_level(data: Any, keys: set[str], level: float, prefix: str = '') -> Any
     return data
 
 
-def _texts(data: Any, prefix: str = '') -> Iterator[tuple[str, str]]:
+def _at_level(template: dict[str, object], keys: set[str], level: float) -> dict[str, object]:
+    """The template message (a message dict) with its varying numeric fields at `level`."""
+    return {k: (v if k in _SKIP else _set_level(v, keys, level, f'{k}.'))
+            for k, v in template.items()}
+
+
+def _texts(data: object, prefix: str = '') -> Iterator[tuple[str, str]]:
     """Text leaves of a message dict (a command may be a word: 'HIGH', 'fan on')."""
     if isinstance(data, dict):
         for key, value in data.items():
@@ -111,20 +120,21 @@ def _texts(data: Any, prefix: str = '') -> Iterator[tuple[str, str]]:
         yield prefix[:-1], data[:80]
 
 
-def _summary(samples: list[dict[str, Any]]) -> dict[str, Any]:
+def _summary(samples: list[Sample]) -> Sample:
     """Per field: the median of a number, the most frequent of a text."""
     keys = {k for s in samples for k in s}
-    summary: dict[str, Any] = {}
+    summary: Sample = {}
     for key in sorted(keys):
         values = [s[key] for s in samples if key in s]
-        if all(isinstance(v, float) for v in values):
-            summary[key] = statistics.median(values)
+        numbers = [v for v in values if isinstance(v, float)]
+        if len(numbers) == len(values):
+            summary[key] = statistics.median(numbers)
         else:
             summary[key] = statistics.mode(str(v) for v in values)
     return summary
 
 
-def _follows(low1: dict[str, Any], high: dict[str, Any], low2: dict[str, Any]) -> bool:
+def _follows(low1: Sample, high: Sample, low2: Sample) -> bool:
     for key in low1.keys() & high.keys() & low2.keys():
         a, b, c = low1[key], high[key], low2[key]
         if isinstance(a, str) or isinstance(b, str) or isinstance(c, str):
@@ -163,12 +173,12 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
     resume, how = paused
     node = sess.node
     lock = threading.Lock()
-    received: list[tuple[float, dict[str, Any]]] = []
+    received: list[tuple[float, Sample]] = []
 
     def on_command(msg: Any) -> None:
         with contextlib.suppress(Exception):
             data = message_to_dict(msg)
-            sample: dict[str, Any] = {**dict(_texts(data)), **dict(_leaves(data))}
+            sample: Sample = {**dict(_texts(data)), **dict(_leaves(data))}
             with lock:
                 received.append((time.monotonic(), sample))
 
@@ -178,7 +188,7 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
         QoSProfile(depth=100, reliability=QoSReliabilityPolicy.BEST_EFFORT))
     response = Response(True, how=f'{how}; the grader published on `{sensor.name}` instead')
     try:
-        messages = {lvl: message_from_yaml(in_cls, _set_level(template, keys, lvl))
+        messages = {lvl: message_from_yaml(in_cls, _at_level(template, keys, lvl))
                     for lvl in (low, high)}
 
         def hold(level: float, seconds: float, until: Callable[[], bool] | None = None) -> None:
