@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
-from robot_lab.launch.plan import ProcessSpec
 from robot_lab.launch.fork_client import ForkedProcess
+from robot_lab.launch.plan import ProcessSpec
 
 __all__ = ['ProcessRecord', 'ProcessState', 'Scheduled', 'domain_of']
 
