@@ -146,12 +146,41 @@ LADDERS: dict[str, Ladder] = {
                    'integer_range=[IntegerRange(from_value=0, to_value=5, step=1)]'),
               r'noise_level is of type double, but its range is given as integer_range.*'
               r'Try: a double takes floating_point_range'),
+        Wrong('a callback that refuses every set',
+              swap('        return SetParametersResult(successful=True)\n        ### END SOLUTION',
+                   '        return SetParametersResult()\n        ### END SOLUTION'),
+              r'/sensor_node to accept noise_level = 0\.0; observed it refused it without a '
+              r'reason: your on-set callback returned a SetParametersResult whose successful is '
+              r'False \(its default\).*Try: accept with return '
+              r'SetParametersResult\(successful=True\)'),
+        Wrong('a callback that returns nothing',
+              swap('        return SetParametersResult(successful=True)\n        ### END SOLUTION',
+                   '        ### END SOLUTION'),
+              r"observed it refused it: 'Callback returned an invalid type' — your on-set "
+              r'callback returned no SetParametersResult \(a missing return\).*Try: end the '
+              r'callback with return SetParametersResult\(successful=True\)'),
     ]),
     'nb04_controller_parameters': Ladder(PLACEHOLDER, [
         Wrong('a callback that refuses nothing',
               swap('if threshold > 30.0 and speed > 1.0:', 'if False:'),
               r'/controller_node to refuse temp_threshold = 35\.0 with a reason about '
               r'max_speed; observed it accepted it'),
+        Wrong('a callback that refuses every set',
+              swap('        return SetParametersResult(successful=True)\n        ### END SOLUTION',
+                   '        return SetParametersResult()\n        ### END SOLUTION'),
+              r'/controller_node to accept max_speed = 1\.5; observed it refused it without a '
+              r'reason: .*successful is False \(its default\)'),
+        Wrong('a refusal without a reason',
+              swap('successful=False,\n                reason=',
+                   'successful=False)\n            _unsaid = ('),
+              r'/controller_node to refuse temp_threshold = 35\.0 with a reason about max_speed; '
+              r"observed it refused it without a reason.*Try: say why: "
+              r"SetParametersResult\(successful=False, reason='…'\)"),
+        Wrong('a refusal whose reason names the wrong parameter',
+              swap("reason=f'max_speed {speed} m/s is too fast while",
+                   "reason=f'speed {speed} m/s is too fast while"),
+              r"observed it refused it with the reason 'speed 1\.5 m/s is too fast.*Try: name "
+              r'max_speed in the reason'),
     ]),
     'nb05_expected': Ladder(r'your expected_nodes filled in; observed expected_nodes is empty', [
         Wrong('executable names instead of node names',
@@ -240,7 +269,13 @@ LADDERS: dict[str, Ladder] = {
         Wrong('values under the node, without ros__parameters', swap('  ros__parameters:\n', ''),
               r'robot_params\.yaml accepted by rcl; observed it is refused'),
     ]),
-    'nb08_topic': Ladder(r"a log line matching '\[robot\]: Status: OK'; observed no such line", [
-        Wrong('the fix without a restart', keep, r'observed no such line within', rerun=[]),
+    'nb08_topic': Ladder(r'/robot to subscribe to /robot/status; observed it subscribes to '
+                         r'/robot/stauts, not /robot/status \(published by /controller\).*'
+                         r"Try: is /robot/stauts a typo\? .*'/robot/status' in the "
+                         r'create_subscription in robot_node\.py', [
+        Wrong('the fix without a restart', keep,
+              r"robot_node\.py says '/robot/status' now, but the running /robot still "
+              r'subscribes to /robot/stauts: it started before your fix.*Try: a node runs the '
+              r'code it started with: run the cell that restarts the system', rerun=[]),
     ]),
 }

@@ -16,6 +16,7 @@ from __future__ import annotations
 from robot_lab.grading.check.base import CheckError, eventually
 from robot_lab.grading.check.graph import (
     graph_matches,
+    node_subscribes,
     nodes_running,
     responds,
     topic_publishes,
@@ -65,6 +66,7 @@ __all__ = [
     'logs_contain',
     'no_errors',
     'node_starts',
+    'node_subscribes',
     'nodes_running',
     'package_built',
     'param_applied',

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import RobotLabError
@@ -18,6 +19,7 @@ from robot_lab.grading.check.base import (
 
 __all__ = [
     'graph_matches',
+    'node_subscribes',
     'nodes_running',
     'responds',
     'topic_publishes',
@@ -62,7 +64,7 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = Non
             f'missing {", ".join(missing)} (running now: {", ".join(present) or "none"})'
             + ''.join(f'; {d}' for d in deaths),
             'read why it stopped: the last line above names the cause' if deaths else
-            'start them (the launch cell above) and look at their output for errors',
+            'run the cell above that starts them, and read its output for errors',
         ) from None
     passed(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
 
@@ -100,8 +102,9 @@ def _nobody_publishes(name: str) -> tuple[str, str]:
     from robot_lab.graph.api import topic_list
 
     topics = {t: kinds for t, kinds in topic_list(settle=False)}
+    # /sensor/temperature is no typo of /sensor/temperature_avg: a topic derived from it
     near = [t for t in difflib.get_close_matches(name, list(topics), n=3, cutoff=0.6)
-            if t != name]
+            if t != name and not name.startswith(t + '_')]
     if near:
         return (f'nothing is published on {name}; there is {near[0]} '
                 f'({", ".join(topics[near[0]])})',
@@ -212,6 +215,68 @@ def graph_matches(nodes: Iterable[str], topics: Mapping[str, str], timeout: floa
                              f'{topic} is {real[0]}' if real else f'there is no topic {topic}',
                              'types are written package/msg/Type, e.g. std_msgs/msg/Float32')
     passed(f'{len(wanted)} nodes and {len(topics)} topics as you expected')
+
+
+def _subscriptions(node: str) -> list[str] | None:
+    """The topics `node` subscribes to now (None: not running), rclpy's own left out."""
+    from robot_lab.graph.api import node_info
+
+    try:
+        info = node_info(node)
+    except RobotLabError:
+        return None
+    return [name for name, _types in info.subscribers if name != '/parameter_events']
+
+
+def _in_source(path: Path, topic: str) -> bool:
+    text = path.read_text(encoding='utf-8') if path.is_file() else ''
+    return f"'{topic}'" in text or f'"{topic}"' in text
+
+
+@judged
+def node_subscribes(node: str, topic: str, source: str | Path | None = None,
+                    timeout: float = 10.0) -> None:
+    """`node` subscribes to `topic` (`ros2 node info` lists it).
+
+    Given the node's `source` file, a failure tells a name still wrong in the file from a
+    node that started before the file was fixed (it runs the old code until restarted).
+    """
+    import difflib
+
+    from robot_lab.graph.api import topic_info
+
+    full = '/' + node.lstrip('/')
+    want = f'{full} to subscribe to {topic}'
+    found = wait_until(lambda: topic in (_subscriptions(full) or []), timeout)
+    if found:
+        passed(f'{full} subscribes to {topic}')
+        return
+    subs = _subscriptions(full)
+    if subs is None:
+        raise CheckError(want, f'{full} is not running',
+                         'start the system (the launch cell above) and read its output')
+    near = difflib.get_close_matches(topic, subs, n=1, cutoff=0.6)
+    wrong = near[0] if near else None
+    try:
+        talkers = sorted(e.node_namespace.rstrip('/') + '/' + e.node_name
+                         for e in topic_info(topic).publishers)
+    except RobotLabError:
+        talkers = []
+    by = f' (published by {", ".join(talkers)})' if talkers else ''
+    if wrong is None:
+        raise CheckError(want, f'it subscribes to {", ".join(subs) or "nothing"}',
+                         f'create_subscription(…, {topic!r}, …) in its code, then restart it')
+    file = Path(source) if source is not None else None
+    if file is not None and _in_source(file, topic) and not _in_source(file, wrong):
+        raise CheckError(want, f'{file.name} says {topic!r} now, but the running {full} still '
+                         f'subscribes to {wrong}: it started before your fix',
+                         'a node runs the code it started with: run the cell that restarts '
+                         'the system (system.shutdown(), then robot_lab.launch(...)); no '
+                         'kernel restart is needed')
+    where = f' in {file.name}' if file is not None else ''
+    raise CheckError(want, f'it subscribes to {wrong}, not {topic}{by}',
+                     f'is {wrong} a typo? Topic names match exactly: use {topic!r} in the '
+                     f'create_subscription{where}, then restart the system')
 
 
 def _raised(err: BaseException) -> str:

@@ -132,16 +132,42 @@ def param_refused(node: str, name: str, value: Any, reason: str = '') -> None:
     after = param_get(full, name)
     want = f'{full} to refuse {name} = {value!r}' + (f' with a reason about {reason}'
                                                       if reason else '')
-    if result.successful or not result.reason or reason not in result.reason:
-        seen = ('it accepted it' if result.successful else
-                f'it refused it with the reason {result.reason!r}')
-        raise CheckError(want, seen, 'in your on-set callback return SetParametersResult('
-                                     "successful=False, reason='...') when the value breaks "
-                                     'the rule, before storing anything')
+    if result.successful:
+        raise CheckError(want, 'it accepted it', 'in your on-set callback return '
+                         "SetParametersResult(successful=False, reason='...') when the value "
+                         'breaks the rule, before storing anything')
+    if not result.reason:
+        raise CheckError(want, 'it refused it without a reason',
+                         "say why: SetParametersResult(successful=False, reason='…') — "
+                         '`ros2 param set` prints the reason to whoever tried')
+    if reason not in result.reason:
+        raise CheckError(want, f'it refused it with the reason {result.reason!r}',
+                         f'name {reason} in the reason: the rule is about it, and the '
+                         'person setting the value needs to know which one to change')
     if not same_value(before, after):
         raise CheckError(want, f'it refused, but {name} changed from {before!r} to {after!r}',
                          'validate every value before you store any of them')
     passed(f'{full} refuses {name} = {value!r}: {result.reason}')
+
+
+_NO_RESULT = 'Callback returned an invalid type'  # rclpy's reason when a callback returns None
+
+
+def _refusal(name: str, value: Any, reason: str) -> tuple[str, str]:
+    """(what was seen, what to try) when a set that breaks no rule is refused."""
+    if reason == _NO_RESULT:
+        return (f'it refused it: {reason!r} — your on-set callback returned no '
+                'SetParametersResult (a missing return)',
+                'end the callback with return SetParametersResult(successful=True), after '
+                'storing the values')
+    if not reason:
+        return ('it refused it without a reason: your on-set callback returned a '
+                'SetParametersResult whose successful is False (its default)',
+                'accept with return SetParametersResult(successful=True); refuse '
+                "(successful=False, reason='…') only a value that breaks your rule")
+    return (f'it refused it: {reason}',
+            f'{name} = {value!r} is in range and breaks no rule: check the condition in your '
+            'on-set callback; it must refuse only the values that break the rule')
 
 
 @judged
@@ -155,9 +181,7 @@ def param_applied(node: str, name: str, value: Any, topic: str,
     (result,) = set_parameters(full, {name: value})
     if not result.successful:
         raise CheckError(f'{full} to accept {name} = {value!r}',
-                         f'it refused: {result.reason or "(no reason given)"}',
-                         'a value in range that breaks no rule must be accepted: return '
-                         'SetParametersResult(successful=True)')
+                         *_refusal(name, value, result.reason or ''))
     try:
         topic_publishes(topic, where=where, timeout=timeout, description=description)
     except CheckError as err:
