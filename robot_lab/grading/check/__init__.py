@@ -26,6 +26,7 @@ from robot_lab.grading.check.graph import (
 )
 from robot_lab.grading.check.output import (
     bag_contains,
+    command_drives,
     command_prints,
     first_time,
     full_marks,
@@ -56,6 +57,7 @@ __all__ = [
     'CheckError',
     'answered',
     'bag_contains',
+    'command_drives',
     'command_prints',
     'eventually',
     'files_exist',

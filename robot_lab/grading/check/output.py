@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
+import signal
+import subprocess
+import threading
+import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -13,6 +19,7 @@ from robot_lab.grading.check.base import CheckError, callback_failed, judged, pa
 
 __all__ = [
     'bag_contains',
+    'command_drives',
     'command_prints',
     'first_time',
     'full_marks',
@@ -69,36 +76,115 @@ def no_errors(launch: Any) -> None:
     passed(f'{len(launch.processes)} processes running, no error messages')
 
 
+class _Terminal:
+    """A bash command as typed in a terminal: its own session, its output read line by line
+    as it comes (unbuffered, as a terminal gets it), stopped as Ctrl-C stops it."""
+
+    def __init__(self, command: str, cwd: str | Path | None) -> None:
+        env = {**os.environ, 'PYTHONUNBUFFERED': '1'}
+        self.command = command
+        self.proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, env=env,
+                                     stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, text=True,
+                                     start_new_session=True)
+        self.lines: list[str] = []
+        self._reader = threading.Thread(target=self._read, name='robot_lab-check-command',
+                                        daemon=True)
+        self._reader.start()
+
+    def _read(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip('\n'))
+
+    def printed(self, pattern: str) -> bool:
+        return any(re.search(pattern, line) for line in list(self.lines))
+
+    def wait_for(self, pattern: str, seconds: float) -> bool:
+        """Until a line matches `pattern`, the command ends, or `seconds` pass."""
+        deadline = time.monotonic() + seconds
+        while not self.printed(pattern):
+            if self.proc.poll() is not None:
+                self._reader.join(5.0)  # the lines it printed last
+                return self.printed(pattern)
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.05)
+        return True
+
+    def ended(self) -> bool:
+        return self.proc.poll() is not None
+
+    def stop(self) -> None:
+        """Ctrl-C to everything it started (its output ends when they all have), then
+        SIGKILL to what is left 5 s later."""
+        for sig in (signal.SIGINT, signal.SIGKILL):
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(self.proc.pid, sig)
+            self._reader.join(5.0)
+            if not self._reader.is_alive():
+                break
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            self.proc.wait(5.0)
+
+    def not_printed(self, pattern: str) -> CheckError:
+        lines = [line for line in self.lines if line.strip()]
+        return CheckError(f'`{self.command}` to print {_shown(pattern)}',
+                          f'it printed {lines[-1].strip()!r}' if lines else 'it printed nothing',
+                          'read the last line: it names what is missing and how to fix it',
+                          lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
+
+
+def _no_command(pattern: str) -> CheckError:
+    return CheckError(f'a command that prints {_shown(pattern)}', 'the command is empty',
+                      'write the command line in your answer cell')
+
+
 @judged
 def command_prints(command: str, pattern: str, seconds: float = 5.0,
                    cwd: str | Path | None = None) -> None:
     """`command` (bash, as typed in a terminal) prints a line matching `pattern` within
-    `seconds`; then it gets Ctrl-C, and everything it started is stopped."""
-    import os
-    import signal
-    import subprocess
+    `seconds` (waited for no longer than that line); then it gets Ctrl-C, and everything
+    it started is stopped."""
+    if not command.strip():
+        raise _no_command(pattern)
+    terminal = _Terminal(command, cwd)
+    try:
+        terminal.wait_for(pattern, seconds)
+    finally:
+        terminal.stop()
+    if not terminal.printed(pattern):
+        raise terminal.not_printed(pattern)
+    passed(f'`{command}` prints {_shown(pattern)}')
+
+
+@judged
+def command_drives(command: str, topic: str, where: Callable[[Any], bool], description: str,
+                   prints: str | None = None, seconds: float = 20.0,
+                   cwd: str | Path | None = None, hint: str | None = None) -> None:
+    """While `command` (bash, as typed in a terminal) runs, `topic` carries a message
+    `where` accepts (a pose that shows the turn): the command keeps running until one
+    comes, at most `seconds` (after it printed `prints`, if given); then Ctrl-C."""
+    from robot_lab.grading.check.graph import topic_publishes
 
     if not command.strip():
-        raise CheckError(f'a command that prints {_shown(pattern)}', 'the command is empty',
-                         'write the command line in your answer cell')
-    proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+        raise _no_command(prints or description)
+    terminal = _Terminal(command, cwd)
     try:
-        out, _ = proc.communicate(timeout=seconds)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGINT)  # the Ctrl-C a terminal would send
+        if prints is not None:
+            if not terminal.wait_for(prints, seconds):
+                terminal.stop()
+                raise terminal.not_printed(prints)
+            passed(f'`{command}` prints {_shown(prints)}')
         try:
-            out, _ = proc.communicate(timeout=5.0)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            out, _ = proc.communicate()
-    lines = out.splitlines()
-    if not any(re.search(pattern, line) for line in lines):
-        raise CheckError(f'`{command}` to print {_shown(pattern)}',
-                         f'it printed {lines[-1].strip()!r}' if lines else 'it printed nothing',
-                         'read the last line: it names what is missing and how to fix it',
-                         lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
-    passed(f'`{command}` prints {_shown(pattern)}')
+            topic_publishes(topic, where=where, timeout=seconds, description=description,
+                            hint=hint)
+        except CheckError as err:
+            seen = err.seen + ('; your command had ended' if terminal.ended() else '')
+            raise CheckError(f'{err.expected}, while `{command}` runs', seen, err.hint,
+                             err.details, err.title) from None
+    finally:
+        terminal.stop()
 
 
 @judged
