@@ -31,8 +31,9 @@ from robot_lab.bag.services import (
 from robot_lab.errors import BagError, GraphError
 
 if TYPE_CHECKING:
+    from rclpy.publisher import Publisher
     from rclpy.qos import QoSProfile
-    pass
+    from rosbags.interfaces import Connection
 
 __all__ = ['Player', 'play']
 
@@ -140,8 +141,8 @@ class Player:
         self._done = threading.Event()
         self._thread: threading.Thread | None = None
         self._node: Any = None
-        self._publishers: dict[str, Any] = {}
-        self._connections: list[Any] = []
+        self._publishers: dict[str, Publisher] = {}
+        self._connections: list[Connection] = []
         self.start_ns = 0
         self.end_ns = 0
         self.total = 0
@@ -269,7 +270,7 @@ class Player:
         with self._cond:
             return min(self._virtual_now(), self.end_ns)
 
-    def _add_sender(self, conn: Any) -> None:
+    def _add_sender(self, conn: Connection) -> None:
         if conn.topic in self._senders:
             self._connections.append(conn)
             return

@@ -32,9 +32,10 @@ from robot_lab.errors import BagError, GraphError
 
 if TYPE_CHECKING:
     from rclpy.qos import QoSProfile
+    from rclpy.subscription import Subscription
+    from rclpy.topic_endpoint_info import TopicEndpointInfo
 
     from robot_lab.bag.info import BagInfo
-    pass
 
 __all__ = ['Recorder', 'default_bag_name', 'record']
 
@@ -153,7 +154,7 @@ class Recorder:
         self._started_at: float | None = None
         self._stopped_at: float | None = None
         self._writer: BagWriter | None = None
-        self._subs: dict[str, Any] = {}
+        self._subs: dict[str, Subscription] = {}
         self._warned: set[str] = set()
         self._spin_thread: threading.Thread | None = None
         self._write_thread: threading.Thread | None = None
@@ -432,7 +433,8 @@ class Recorder:
                 continue
             self._subscribe(topic, available[topic][0], publishers)
 
-    def _subscribe(self, topic: str, msgtype: str, publishers: list[Any]) -> None:
+    def _subscribe(self, topic: str, msgtype: str,
+                   publishers: list[TopicEndpointInfo]) -> None:
         from rclpy.qos import (
             DurabilityPolicy,
             HistoryPolicy,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal
 
 if TYPE_CHECKING:
     from rclpy.node import Node
@@ -72,7 +72,7 @@ class ServiceRequestSender:
         self.client = node.create_client(self._srv, self.service)
         self.sent = 0
         self.answered = 0
-        self._pending: set[Any] = set()
+        self._pending: set[Future] = set()
         self._changed = threading.Condition()
 
     def send(self, data: bytes) -> bool:

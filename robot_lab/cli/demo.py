@@ -10,9 +10,16 @@ launch: on a loaded machine the nodes' imports alone can take longer than S.
 from __future__ import annotations
 
 import argparse
+import functools
 import threading
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rclpy.node import Node
+    from rclpy.subscription import Subscription
+    from std_msgs.msg import Float32, String
+
 
 HELP = "Run the kit's robot system for a few seconds and summarise what it did"
 
@@ -33,31 +40,31 @@ class _Observer:
     """Counts what the system publishes, from a participant started before the launch."""
 
     counts: dict[str, int] = field(default_factory=dict)
-    last: dict[str, Any] = field(default_factory=dict)
+    last: dict[str, object] = field(default_factory=dict)
     nodes: list[str] = field(default_factory=list)
     lock: threading.Lock = field(default_factory=threading.Lock)
 
-    def subscribe(self, node: Any) -> list[Any]:
+    def subscribe(self, node: Node) -> list[Subscription]:
         from std_msgs.msg import Float32, String
 
         subs = []
         for topic, msg_type in (('/sensor/temperature', Float32), ('/robot/status', String)):
             subs.append(node.create_subscription(
-                msg_type, topic, lambda msg, topic=topic: self._count(topic, msg.data), 10))
+                msg_type, topic, functools.partial(self._count, topic), 10))
         return subs
 
-    def _count(self, topic: str, value: Any) -> None:
+    def _count(self, topic: str, msg: Float32 | String) -> None:
         with self.lock:
             self.counts[topic] = self.counts.get(topic, 0) + 1
-            self.last[topic] = value
+            self.last[topic] = msg.data
 
-    def snapshot_nodes(self, node: Any) -> None:
+    def snapshot_nodes(self, node: Node) -> None:
         names = node.get_node_names_and_namespaces()
         self.nodes = sorted(
             (ns.rstrip('/') + '/' + name) for name, ns in names if not name.startswith('_')
         )
 
-    def wait_for_nodes(self, node: Any, ended: threading.Event, timeout: float) -> bool:
+    def wait_for_nodes(self, node: Node, ended: threading.Event, timeout: float) -> bool:
         """Until the graph shows all of the system's nodes (True), or the launch ended or
         `timeout` passed (False)."""
         from robot_lab.graph.discovery import wait_until

@@ -29,7 +29,7 @@ class _CallableModule(ModuleType):
         return handle
 
     def __getattr__(self, name: str) -> object:
-        # describe_launch & co. live in describe.py; load it only when asked for.
+        # describe_launch & co. live in resolve.py; load it only when asked for.
         if name in __all__:
             return getattr(importlib.import_module('robot_lab.launch.resolve'), name)
         raise AttributeError(f'module {self.__name__!r} has no attribute {name!r}')
