@@ -219,8 +219,12 @@ def test_respawn_stops_at_shutdown(run_plan) -> None:  # type: ignore[no-untyped
 
 
 def test_on_exit_shutdown_stops_the_others(run_plan) -> None:  # type: ignore[no-untyped-def]
+    # The required process ends once the sensor is up: a SIGINT that reached the sensor
+    # while Python was still importing would end it 'died' (a KeyboardInterrupt), as it
+    # would any Python node (CI under load: after a fixed 1 s sleep it sometimes did).
     run = run_plan(node_spec('sensor_node', 'sensor', 1),
-                   py_spec('import time; time.sleep(1.0)', 2, on_exit='shutdown'))
+                   py_spec("import robot_lab; robot_lab.wait_for_nodes(['/sensor'], "
+                           'timeout=60)', 2, on_exit='shutdown'))
     assert run.join() == 0
     assert '[INFO] [launch]: process[python-2] was required: shutting down launched system' \
         in run.text
