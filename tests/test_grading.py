@@ -346,6 +346,10 @@ def test_unanswered_exercises_score_zero(unanswered: Any) -> None:
         assert result['status'] == 'completed', (name, result['detail'])
         assert result['checks'] and result['score'] == 0, (name, result['checks'])
         assert all(c['message'] for c in result['checks']), (name, result['checks'])
+        # a message that helps: no Python error from a missing answer or a kit call
+        raw = [c['message'] for c in result['checks']
+               if c['message'].startswith(('NameError', 'TypeError', 'GraphError', 'BagError'))]
+        assert raw == [], (name, raw)
         assert result['leftovers'] == [], (name, result['leftovers'])
     assert [p for p in started if p.is_running() and p.status() != psutil.STATUS_ZOMBIE] == []
 

@@ -25,6 +25,7 @@ from robot_lab.grading.check.graph import (
     wiring_is,
 )
 from robot_lab.grading.check.output import (
+    answer_is,
     bag_contains,
     command_drives,
     command_prints,
@@ -55,6 +56,7 @@ from robot_lab.grading.check.parameters import (
 
 __all__ = [
     'CheckError',
+    'answer_is',
     'answered',
     'bag_contains',
     'command_drives',

@@ -15,9 +15,17 @@ from pathlib import Path
 from typing import Any
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.check.base import CheckError, callback_failed, judged, passed, wait_until
+from robot_lab.grading.check.base import (
+    CheckError,
+    callback_failed,
+    judged,
+    passed,
+    same_value,
+    wait_until,
+)
 
 __all__ = [
+    'answer_is',
     'bag_contains',
     'command_drives',
     'command_prints',
@@ -255,6 +263,34 @@ def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float],
         raise CheckError(what, seen, 'take the time (`.t`) of the first message that matches, '
                                      'not the last or a count')
     passed(f'that is the time of the first {topic} message whose {field} matches')
+
+
+@judged
+def answer_is(name: str, answer: Any, actual: Any, hint: str, tolerance: float | None = None,
+              any_order: bool = False) -> None:
+    """The student's variable `name` holds `actual` (what the graph or the bag says).
+
+    `tolerance`: relative, for measured numbers; `any_order`: lists compared as sets. A
+    None answer is an answer cell that has not got past its placeholder.
+    """
+    if answer is None:
+        raise CheckError(f'your answer in `{name}`', f'{name} is None: its answer cell has not '
+                         'set it', 'replace the placeholder (raise NotImplementedError()) in the '
+                         'answer cell with your code, then run that cell and this one')
+    if tolerance is not None:
+        right = (isinstance(answer, int | float) and not isinstance(answer, bool)
+                 and abs(float(answer) - float(actual)) <= tolerance * abs(float(actual)))
+        want = f'{name} within {tolerance:.0%} of {actual:.3g}' if tolerance >= 0.01 else \
+            f'{name} = {actual!r}'
+    else:
+        given, real = answer, actual
+        if any_order and isinstance(answer, list | tuple | set):
+            given, real = sorted(answer), sorted(actual)
+        right = same_value(given, real)
+        want = f'{name} = {actual!r}'
+    if not right:
+        raise CheckError(want, f'you answered {answer!r}', hint)
+    passed(want if tolerance is None or tolerance < 0.01 else f'{name} agrees with {actual:.3g}')
 
 
 @judged
