@@ -19,7 +19,7 @@ Measured in the same run, median of RUNS runs each:
   CPU seconds the node had used by then), next to a bare `python -c 'import rclpy'`.
 
     .venv/bin/python bench/bench_launch.py [--runs 5] [--idle 1] [--quiet] [--quick]
-        [--fork-server both]
+        [--fork-server both] [--busy 2]
 
 --quiet: nothing runs before the launch (the issue's quiet-host figure). --fork-server
 both: each run also launches with ROBOT_LAB_FORK_SERVER=1 (robot_lab/launch/fork_server.py),
@@ -37,6 +37,17 @@ Status 0.82 s (1.55 x bare trio) -> 0.65 s (1.42 x).
 Measured 2026-11-23 (idle, --runs 5, kit profile): launch -> first Status 0.83 s, 1.27x the
 bare trio; observer sees all three 0.72 s after launch start, 0.59 s after the nodes' start
 (profile off: 0.99 / 0.85 s); RSS launcher + 3 nodes 223 MB.
+
+Measured 2026-11-26 (--quick --runs 5-7 --fork-server both, exec vs fork interleaved; a
+host shared with five other engineers, load average 19-26 on 2 cores, so no run is quiet):
+- --quiet: launch -> first Status 3.90 -> 2.21 s (bare trio 3.85 s: 1.01x -> 0.57x); CPU to
+  it 1.11 -> 0.56 s; USS launcher + 3 nodes 104 -> 60 MB (fork server 8 MB of it);
+  private to the group 102 -> 78 MB (3 bare nodes 84 MB).
+- crowded (--idle 1): 3.30 -> 1.68 s (bare trio 2.01 s: 1.64x -> 0.84x); CPU 0.97 ->
+  0.53 s; USS 104 -> 61 MB; group 103 -> 78 MB.
+- crowded + 2 busy loops + a test run (load 26): 7.67 -> 8.34 s (0.94x -> 1.02x): with
+  the host this oversubscribed, three exec'd nodes importing at once get three shares of
+  the CPU, the one fork server one; CPU 1.03 -> 0.58 s, USS 104 -> 61 MB.
 
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
@@ -289,6 +300,8 @@ def main() -> None:
     parser.add_argument('--runs', type=int, default=5)
     parser.add_argument('--idle', type=int, default=1,
                         help='bare participants started besides the daemon and a session')
+    parser.add_argument('--busy', type=int, default=0,
+                        help='busy loops (`while True: pass`) running beside the runs')
     parser.add_argument('--quiet', action='store_true',
                         help='a quiet host: no daemon, session or idle participants first')
     parser.add_argument('--fork-server', choices=('env', 'both'), default='env',
@@ -323,7 +336,12 @@ def main() -> None:
         env_fork = dict(env, ROBOT_LAB_FORK_SERVER='1')
         alone: dict[str, list[tuple[float, float]]] = {n: [] for n in NODE_EXECUTABLES}
         interpreter: dict[str, list[float]] = {'pass': [], 'import rclpy': []}
-        with crowd(env, -1 if args.quiet else args.idle) as crowded:
+        busy = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
+                for _ in range(args.busy)]
+        with contextlib.ExitStack() as loops:
+            for proc in busy:
+                loops.callback(proc.kill)
+            crowded = loops.enter_context(crowd(env, -1 if args.quiet else args.idle))
             launch_run(env)  # writes the bytecode cache; not counted
             load = os.getloadavg()[0]
             for _ in range(args.runs):
@@ -429,7 +447,8 @@ def main() -> None:
     width = max(len(r[0]) for r in rows)
     print(f'robot-lab launch robot_lab robot.launch.xml, median of {args.runs} runs '
           f'(ROS_DOMAIN_ID={env["ROS_DOMAIN_ID"]}; {crowded} participants already up + '
-          f'observer + 3 nodes; load average {load:.1f} on {os.cpu_count()} cores)')
+          f'observer + 3 nodes; {args.busy} busy loops; load average {load:.1f} on '
+          f'{os.cpu_count()} cores)')
     for name, value, goal in rows:
         print(f'{name:<{width}}  {value:>8}  {goal}')
     print('all runs (status / seen from launch / from nodes / after last up, s; RSS MB):')

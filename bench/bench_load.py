@@ -20,6 +20,10 @@ many kernels answered every request within --answer-within seconds, and the memo
     .venv/bin/python bench/bench_load.py [--kernels 20] [--skip-fleet]
         [--skip-class] [--window 20] [--rounds 5]
 
+Measured 2026-11-26, --skip-fleet --kernels 3 --rounds 3 (load average ~8 on 2 cores):
+USS per student 143 MB exec'd -> 90 MB with ROBOT_LAB_FORK_SERVER=1 (floor: a bare session +
+3 bare rclpy nodes 114 MB); private to each student's processes 141 -> 118 MB (floor 112).
+
 Uses ROS_DOMAIN_ID (default 29) for the fleet; loopback-only discovery, like the kit.
 """
 

@@ -7,11 +7,17 @@ server only if it is a `#!<this interpreter>` script of a package known to be sa
 in everything the interpreter reads when it starts (only ROS's own variables, read at
 `rclpy.init`, may differ). Anything else, and any failure of the server, is exec'd as
 before. The handle reports what the server saw when it reaped the node, in Popen's terms.
+
+Why opt-in (bench/bench_launch.py, 2026-11-26): it halves the CPU to a running system and
+cuts private memory by ~25 MB per launch, and is faster on a moderately loaded host; but on
+an oversubscribed one, the server's imports run in one process where three exec'd nodes
+would get three shares of the CPU (slower to the first Status: line), and some tests count
+a launcher's direct children (tests/test_graph_daemon.py). A node's parent is the server,
+not the launcher (`ps -o ppid`); forked nodes share the server's hash seed.
 """
 
 from __future__ import annotations
 
-import array
 import contextlib
 import json
 import os
@@ -139,8 +145,7 @@ class ForkServer:
         request = {'script': spec.cmd[0], 'argv': spec.cmd[1:], 'env': env,
                    'cmdline': [interpreter, *spec.cmd], 'cwd': cwd or os.getcwd()}
         try:
-            self._ours.sendmsg([json.dumps(request).encode()], [
-                (socket.SOL_SOCKET, socket.SCM_RIGHTS, array.array('i', [null, out_w, err_w]))])
+            socket.send_fds(self._ours, [json.dumps(request).encode()], [null, out_w, err_w])
             reply = self._reply()
         except OSError as exc:
             self._fail(f'{exc}')
@@ -179,11 +184,7 @@ class ForkServer:
             if not ready:
                 return
             timeout = 0.0
-            fds = array.array('i')
-            data, ancdata, _, _ = self._ours.recvmsg(_MESSAGE, socket.CMSG_SPACE(4))
-            for level, kind, payload in ancdata:
-                if level == socket.SOL_SOCKET and kind == socket.SCM_RIGHTS:
-                    fds.frombytes(payload[: len(payload) - len(payload) % fds.itemsize])
+            data, fds, _, _ = socket.recv_fds(self._ours, _MESSAGE, 1)
             if not data:
                 self._fail('the fork server ended')
                 return

@@ -26,7 +26,6 @@ SOCK_SEQPACKET socket to the launcher (robot_lab/launch/fork_client.py speaks to
 
 from __future__ import annotations
 
-import array
 import builtins
 import contextlib
 import ctypes
@@ -236,9 +235,7 @@ class _Server:
         self.selector.register(sock, selectors.EVENT_READ, 'request')
 
     def send(self, message: dict[str, Any], fds: Sequence[int] = ()) -> None:
-        ancillary = [(socket.SOL_SOCKET, socket.SCM_RIGHTS, array.array('i', fds))] \
-            if fds else []
-        self.sock.sendmsg([json.dumps(message).encode()], ancillary)
+        socket.send_fds(self.sock, [json.dumps(message).encode()], list(fds))
 
     def serve(self) -> None:
         self.send({'ready': os.getpid()})
@@ -251,11 +248,7 @@ class _Server:
                     return
 
     def request(self) -> bool:
-        fds = array.array('i')
-        data, ancdata, _, _ = self.sock.recvmsg(MAX_MESSAGE, socket.CMSG_SPACE(16))
-        for level, kind, payload in ancdata:
-            if level == socket.SOL_SOCKET and kind == socket.SCM_RIGHTS:
-                fds.frombytes(payload[: len(payload) - len(payload) % fds.itemsize])
+        data, fds, _, _ = socket.recv_fds(self.sock, MAX_MESSAGE, 4)
         if not data:
             return False
         try:
@@ -265,7 +258,7 @@ class _Server:
             server = os.getpid()
             pid = _fork()
             if pid == 0:
-                _become(request, list(fds), server)
+                _become(request, fds, server)
             self.children.add(pid)
             pidfd = os.pidfd_open(pid)
             try:
