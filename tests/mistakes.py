@@ -34,6 +34,15 @@ def swap(*pairs: str) -> Callable[[str], str]:
     return edit
 
 
+def between_markers(answer: str) -> Callable[[str], str]:
+    """Replace what stands between the solution markers by `answer`."""
+    def edit(text_: str) -> str:
+        begin, end = '### BEGIN SOLUTION\n', '### END SOLUTION'
+        assert begin in text_ and end in text_, 'no solution markers in the answer'
+        return text_[:text_.index(begin) + len(begin)] + answer + text_[text_.index(end):]
+    return edit
+
+
 def keep(text_: str) -> str:
     return text_
 
@@ -218,6 +227,19 @@ LADDERS: dict[str, Ladder] = {
               swap('min(max(margin, 0.0), 1.0)', 'max(margin, 0.0)'),
               r'/cmd_vel at 0\.5 m/s for an obstacle at 3\.0 m .*observed within 5 s the last '
               r"one was \{'linear': \{'x': 1\.25"),
+    ]),
+    'nb07_test': Ladder(PLACEHOLDER, rerun=[], wrong=[  # its check runs colcon test itself
+        Wrong('a test that cannot fail',
+              between_markers('def test_runs(command_for):\n'
+                              '    assert command_for(3.0) is not None\n'),
+              r'tests in test/test_controller\.py to fail for a node that never stops.*'
+              r'observed they all pass for it.*Try: assert the exact value'),
+        Wrong('a wrong expected speed', swap('pytest.approx(0.25)', 'pytest.approx(0.3)'),
+              r'observed 1 of 3 failed.*Try: .*disagree.*test_slower_closer'),
+        Wrong('only the stop tested',
+              between_markers('def test_stops(command_for):\n'
+                              '    assert command_for(0.2).linear.x == 0.0\n'),
+              r'fail for a node that never drives .*observed they all pass for it'),
     ]),
     'nb07_actuator': Ladder(PLACEHOLDER, [
         Wrong('one decimal instead of two', swap('{msg.linear.x:.2f}', '{msg.linear.x:.1f}'),

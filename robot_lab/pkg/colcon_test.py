@@ -42,12 +42,15 @@ class TestRun:
 
 
 def colcon_test(workspace: str | Path, packages: Sequence[str] = (),
-                timeout: float = 300.0) -> TestRun:
+                timeout: float = 300.0, pytest_args: Sequence[str] = ()) -> TestRun:
     """Run `colcon test` (only `packages`, if given) in a built workspace, then read
-    `colcon test-result --verbose`; at most `timeout` seconds in all."""
+    `colcon test-result --verbose`; at most `timeout` seconds in all. `pytest_args` go to
+    pytest as `--pytest-args` (a test file: only that file's tests, linters left out)."""
     root = Path(workspace).resolve()
     colcon = str(colcon_executable())
     select = ['--packages-select', *packages] if packages else []
+    if pytest_args:
+        select += ['--pytest-args', *pytest_args]
     env = ros_environment()
     run = TestRun()
     try:

@@ -6,9 +6,10 @@ otherwise raises CheckError: what was expected, what was seen, what to try. A fa
 check is a failing cell, so nbval fails with it. Checks return nothing: a check cell's
 output is only its ✓ lines, the same on every run (nbval compares it).
 
-One module per thing checked (`graph`, `parameters`, `package`, `output`; `base` holds
-the error and the bounded wait); notebooks use them all as `check.<name>`. The grader
-loads this package afresh from the kit's files for each check cell (answer_key).
+One module per thing checked (`graph`, `parameters`, `package`, `output`, `unit_tests`
+with its pytest plugin `wrong_node`; `base` holds the error and the bounded wait);
+notebooks use them all as `check.<name>`. The grader loads this package afresh from the
+kit's files for each check cell (answer_key).
 """
 
 from __future__ import annotations
@@ -53,6 +54,7 @@ from robot_lab.grading.check.parameters import (
     param_file_accepted,
     param_refused,
 )
+from robot_lab.grading.check.unit_tests import tests_catch, tests_pass
 
 __all__ = [
     'CheckError',
@@ -84,6 +86,8 @@ __all__ = [
     'responds',
     'setup_py',
     'stop_node',
+    'tests_catch',
+    'tests_pass',
     'topic_publishes',
     'topic_rate',
     'topics_exist',
