@@ -4,11 +4,13 @@ and real node processes that are always stopped (and die with pytest if it is ki
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
 import queue
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Iterator, Sequence
@@ -39,16 +41,19 @@ apply_ros_defaults()
 os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
 
 # Where each run's domains go (offsets from the base; `./kit test` uses base 0). Modules run
-# two at a time (`./kit test` runs pytest-xdist workers), so every module has a domain of its
-# own for the whole run, and so has everything else that runs ROS beside them:
-#   1-50, 53-60, 71-79, 91-92   test modules, in sorted order
+# a few at a time (`./kit test` runs pytest-xdist workers), so a module leases a domain of
+# its own for as long as it runs, and so has everything else that runs ROS beside them:
+#   1-50, 53-60, 71-79, 91-92   test modules (leased, see `_lease_domain`)
 #   51-52   nbval's notebooks 09 and 10 (robot_lab/grading/course.py)
 #   61-69   nbval's notebooks 00-08 (lesson n: 61 + n, robot_lab/grading/course.py)
 #   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
 #   80-90   the browser tests' JupyterLab kernels (80 + lesson)
 #   93-101  the Unix users of tests/test_domains.py (their registry's pool)
 _MODULE_SLOTS = [*range(1, 51), *range(53, 61), *range(71, 80), *range(91, 93)]
-_modules: dict[str, int] = {}
+# Leases are file locks, shared by every pytest on this host (and /tmp): two runs at once
+# take different domains too. A lock dies with its process, even after kill -9.
+_LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
+_ros_modules: set[str] = set()
 
 
 def domain_at(offset: int) -> int:
@@ -91,34 +96,64 @@ def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Slow groups first; module domains by sorted name, which every worker computes alike."""
-    modules = sorted({item.module.__name__ for item in items
-                      if isinstance(item, pytest.Function) and item.module is not None
-                      and item.get_closest_marker('no_ros') is None})
-    if len(modules) > len(_MODULE_SLOTS):
-        raise pytest.UsageError(f'tests/conftest.py: {len(modules)} test modules but '
-                                f'{len(_MODULE_SLOTS)} domain slots; add slots to _MODULE_SLOTS')
-    _modules.update({name: domain_at(_MODULE_SLOTS[i]) for i, name in enumerate(modules)})
+    """Slow groups first; note which modules run ROS (they lease a domain when they start)."""
+    _ros_modules.update(item.module.__name__ for item in items
+                        if isinstance(item, pytest.Function) and item.module is not None
+                        and item.get_closest_marker('no_ros') is None)
     rank = {name: i for i, name in enumerate(_SLOW_FIRST)}
     items.sort(key=lambda item: rank.get(_group(item.nodeid), len(rank)))
+
+
+def _lease_domain() -> tuple[int, Any]:
+    """A module domain no other running module holds, and the lock that holds it.
+
+    Handed out round robin from a counter shared by the workers: a domain comes back only
+    after every other slot has been used, long after the processes (and the DDS leases) of
+    its last module are gone. More modules than slots are fine: at most one per worker
+    holds one at a time.
+    """
+    _LEASES.mkdir(mode=0o700, exist_ok=True)
+    with open(_LEASES / 'next', 'a+') as counter:
+        fcntl.flock(counter, fcntl.LOCK_EX)
+        counter.seek(0)
+        text = counter.read().strip()
+        start = int(text) if text.isdigit() else 0
+        for step in range(len(_MODULE_SLOTS)):
+            index = (start + step) % len(_MODULE_SLOTS)
+            domain = domain_at(_MODULE_SLOTS[index])
+            lock = open(_LEASES / f'{domain}.lock', 'w')  # noqa: SIM115 - held by the module
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                lock.close()
+                continue
+            counter.seek(0)
+            counter.truncate()
+            counter.write(str(index + 1))
+            return domain, lock
+    raise pytest.UsageError(f'tests/conftest.py: all {len(_MODULE_SLOTS)} module domains are '
+                            f'leased (other pytest runs?); see {_LEASES}')
 
 
 @pytest.fixture(autouse=True, scope='module')
 def ros_domain(request: pytest.FixtureRequest) -> Iterator[int]:
     """A ROS_DOMAIN_ID of this module's own, so modules never hear each other (a module
-    marked `no_ros` reads files only and takes no slot)."""
-    if request.module.__name__ not in _modules:
+    marked `no_ros` reads files only and takes no domain)."""
+    if request.module.__name__ not in _ros_modules:
         assert request.node.get_closest_marker('no_ros') is not None
         yield -1
         return
-    domain = _modules[request.module.__name__]  # laid out at collection, above
+    domain, lease = _lease_domain()
     old = os.environ.get('ROS_DOMAIN_ID')
     os.environ['ROS_DOMAIN_ID'] = str(domain)
-    yield domain
-    if old is None:
-        os.environ.pop('ROS_DOMAIN_ID', None)
-    else:
-        os.environ['ROS_DOMAIN_ID'] = old
+    try:
+        yield domain
+    finally:
+        if old is None:
+            os.environ.pop('ROS_DOMAIN_ID', None)
+        else:
+            os.environ['ROS_DOMAIN_ID'] = old
+        lease.close()
 
 
 class Proc:

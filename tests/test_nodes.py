@@ -35,8 +35,10 @@ def test_ros_args_override_rate_and_noise(start) -> None:
     proc.wait_for(r'Sensor node started \(rate: 50 Hz\)')
     msgs = temps.wait_count(151, timeout=15)
     assert {m.data for _, m in msgs} == {22.5}
-    # Receive-side rate over 3 s; the precise figure (±0.3 %) is in bench/bench_node_rates.py.
-    assert 45.0 < rate_of(msgs[1:]) < 55.0
+    # Receive-side rate over 3 s: 50 Hz, not the default 10. On a loaded host the first and
+    # last messages can each arrive ~0.5 s late (CI once measured 45 Hz), so the bounds only
+    # tell the two apart; the precise figure (±0.3 %) is in bench/bench_node_rates.py.
+    assert 35.0 < rate_of(msgs[1:]) < 65.0
 
 
 def test_params_file_overrides_defaults(start, tmp_path: Path) -> None:
