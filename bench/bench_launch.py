@@ -295,6 +295,20 @@ def median(runs: list[dict[str, float]], key: str) -> float:
     return statistics.median(r[key] for r in runs)
 
 
+def memory_rows(runs: list[dict[str, float]], bare_uss: list[float],
+                bare_group: list[float]) -> list[tuple[str, str, str]]:
+    """Private memory of launcher (+ fork server) + 3 nodes, each next to its floor."""
+    return [
+        ('private (USS) launcher (+ fork server) + 3 nodes', f'{median(runs, "uss"):.0f} MB',
+         f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
+        ('  of which the launcher', f'{median(runs, "launcher_uss"):.0f} MB', ''),
+        ('  of which a fork server', f'{median(runs, "fork_server_uss"):.0f} MB', ''),
+        ('private to the group (pages shared only among them counted)',
+         f'{median(runs, "group"):.0f} MB',
+         f'(floor: 3 bare rclpy nodes {statistics.median(bare_group):.0f} MB; root only)'),
+    ]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--runs', type=int, default=5)
@@ -380,13 +394,7 @@ def main() -> None:
          f'{median(launched, "seen_from_last_up"):.2f} s', ''),
         ('RSS launcher + 3 nodes', f'{median(launched, "rss"):.0f} MB', '<= 230 MB'),
         ('  of which the launcher', f'{median(launched, "launcher_rss"):.0f} MB', ''),
-        ('private (USS) launcher + 3 nodes', f'{median(launched, "uss"):.0f} MB',
-         f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
-        ('  of which the launcher', f'{median(launched, "launcher_uss"):.0f} MB', ''),
-        ('  of which a fork server', f'{median(launched, "fork_server_uss"):.0f} MB', ''),
-        ('private to the group (pages shared only among them counted)',
-         f'{median(launched, "group"):.0f} MB',
-         f'(floor: 3 bare rclpy nodes {statistics.median(bare_group):.0f} MB; root only)'),
+        *memory_rows(launched, bare_uss, bare_group),
         ('  graph daemon beside them (not counted above)',
          f'{median(launched, "daemon_uss"):.0f} MB', ''),
         ('launch -> first process started', f'{median(launched, "launcher_to_first_spawn"):.2f} s',
@@ -406,13 +414,7 @@ def main() -> None:
             ('observer (started first) sees all 3 nodes, from launch',
              f'{median(forked, "seen_from_launch"):.2f} s', ''),
             ('RSS launcher + fork server + 3 nodes', f'{median(forked, "rss"):.0f} MB', ''),
-            ('private (USS) launcher + fork server + 3 nodes', f'{median(forked, "uss"):.0f} MB',
-             f'<= 80 MB (floor: 3 bare rclpy nodes {statistics.median(bare_uss):.0f} MB)'),
-            ('  of which the launcher', f'{median(forked, "launcher_uss"):.0f} MB', ''),
-            ('  of which the fork server', f'{median(forked, "fork_server_uss"):.0f} MB', ''),
-            ('private to the group (pages shared only among them counted)',
-             f'{median(forked, "group"):.0f} MB',
-             f'(floor: 3 bare rclpy nodes {statistics.median(bare_group):.0f} MB)'),
+            *memory_rows(forked, bare_uss, bare_group),
         ]
     if launched_src:
         trio_src = statistics.median(bare_src)
