@@ -1,10 +1,19 @@
-"""The mistake path: every answer cell of 01–08 answered as a student does, in one kernel.
+"""The mistake path: every answer cell of 01–08 answered as a student does, in one kernel,
+then Run All once more in that kernel (every cell is safe to run again).
 
 For each answer cell: the student's copy as released (unanswered), then one or two plausible
 wrong answers, then the right one, each followed by its check, in the notebook's own kernel
 (nbclient). Each failing check must name its mistake (tests/mistakes.py is the course's
-table of mistakes and messages); the right answer must pass with no restart; nothing may
-be left running at the end (no child process, no node spinning in the kernel).
+table of mistakes and messages); the right answer must pass with no restart. Then every cell
+of the notebook runs again in the same kernel, in course order, and 01 once more after 08
+(the order a student who goes back meets): no cell of the course may end in an error on any
+run, a cell that hangs fails the run (no cell needs a minute), and nothing may be left
+running at the end (no child process, no node spinning in the kernel). Seen before:
+re-running 01 after 02 hung on `ros2 run … | tail -n 1`, which ran the sensor for ever once
+02 had written it.
+
+One kernel does both (a ladder, then Run All) so the course starts once per notebook here;
+nbval (`./kit test`) runs each notebook once from a fresh kernel.
 """
 
 from __future__ import annotations
@@ -95,9 +104,10 @@ def _one_line(shown: str) -> None:
 
 
 @pytest.mark.parametrize('name', COURSE)
-def test_every_answer_cell_walks_its_ladder(course: Course, name: str) -> None:
+def test_every_answer_cell_walks_its_ladder_then_runs_again(course: Course, name: str) -> None:
     cells, rungs = ladder_notebook(name)
-    left = course.run(name, cells)
+    again = list(source(name).cells)  # Run All once more, after the right answers
+    left = course.run(name, cells + again)
     ran = course.cells
     for rung in rungs:
         cell = ran[rung.check_at]
@@ -111,9 +121,21 @@ def test_every_answer_cell_walks_its_ladder(course: Course, name: str) -> None:
         _one_line(shown)
         assert re.search(rung.says, _plain(shown), re.S), \
             f'{rung.answer} ({rung.mistake}): the check said\n{shown}'
-    errors = [(i, text(c)) for i, c in enumerate(ran)
+    errors = [(_where(i, len(cells)), text(c)) for i, c in enumerate(ran)
               if error(c) is not None and not c.get('metadata', {}).get('ladder')]
     assert not errors, errors
+    assert left == {'children': [], 'nodes': []}, left
+
+
+def _where(index: int, ladder: int) -> str:
+    return f'cell {index}' if index < ladder else f'Run All again, cell {index - ladder}'
+
+
+def test_01_again_after_08(course: Course) -> None:
+    left = course.run('01_create_package', list(source('01_create_package').cells))
+    failed = [f'cell {i}:\n{c.source}\n{text(c)}'
+              for i, c in enumerate(course.cells[:-1]) if error(c) is not None]
+    assert not failed, '\n\n'.join(failed)
     assert left == {'children': [], 'nodes': []}, left
 
 
