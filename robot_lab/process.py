@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ['spawn', 'stop']
+__all__ = ['child_setup', 'spawn', 'stop']
 
 _PR_SET_PDEATHSIG = 1
 _LIBC: ctypes.CDLL | None = None
@@ -27,7 +27,9 @@ if os.name == 'posix':
         _LIBC = None
 
 
-def _child_setup() -> None:
+def child_setup() -> None:
+    """`preexec_fn` for a child that dies with this process and takes Ctrl-C as a fresh
+    process does, even when this one was started with SIGINT ignored (`cmd &`, nohup)."""
     # Runs in the child between fork and exec: only async-signal-safe work here.
     if _LIBC is not None:
         _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
@@ -62,7 +64,7 @@ def spawn(
         stderr=stderr,
         shell=shell,
         pass_fds=tuple(pass_fds),
-        preexec_fn=_child_setup,
+        preexec_fn=child_setup,
     )
 
 

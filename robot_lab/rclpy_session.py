@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import functools
 import os
 import re
 import sys
@@ -83,6 +84,7 @@ class Session:
         import rclpy
 
         apply_ros_defaults()
+        guard_action_clients()
         self.domain_id = domain_id
         self._closing = False  # close() has begun: a dying spin thread is expected
         self.context, self._owns_context = self._context_for(domain_id)
@@ -305,3 +307,42 @@ def shutdown_sessions() -> None:
         for sess in list(_SESSIONS.values()):
             sess.close()
         _SESSIONS.clear()
+
+
+def guard_action_clients() -> None:
+    """Close a window in rclpy's (Jazzy) ActionClient where an answer gets lost.
+
+    It sends a goal (result, cancel) request and only then notes its sequence number; an
+    executor on another thread (the kit's, a kernel's) that takes the answer in between
+    drops it ("Ignoring unexpected goal response. There may be more than one action
+    server"), and the goal's future never completes (CI: `send_goal --feedback` printed
+    nothing more). One lock per client around sending-and-noting and around handling an
+    answer closes it, as later rclpy releases do. Applied once, to every ActionClient of
+    the process, students' own included.
+    """
+    from rclpy.action.client import ActionClient
+
+    if getattr(ActionClient, '_robot_lab_guarded', False):
+        return
+
+    def lock_of(client: Any) -> threading.RLock:
+        return client.__dict__.setdefault('_robot_lab_lock', threading.RLock())  # type: ignore[no-any-return]
+
+    def sending(method: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(method)
+        def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+            with lock_of(self):
+                return method(self, *args, **kwargs)
+        return wrapper
+
+    def handling(method: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(method)
+        async def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+            with lock_of(self):
+                return await method(self, *args, **kwargs)
+        return wrapper
+
+    for name in ('send_goal_async', '_get_result_async', '_cancel_goal_async'):
+        setattr(ActionClient, name, sending(getattr(ActionClient, name)))
+    ActionClient.execute = handling(ActionClient.execute)  # type: ignore[method-assign]
+    ActionClient._robot_lab_guarded = True  # type: ignore[attr-defined]

@@ -23,6 +23,7 @@ from robot_lab.grading.check.base import (
     same_value,
     wait_until,
 )
+from robot_lab.process import child_setup
 
 __all__ = [
     'answer_is',
@@ -94,7 +95,7 @@ class _Terminal:
         self.proc = subprocess.Popen(['bash', '-c', command], cwd=cwd, env=env,
                                      stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                      stderr=subprocess.STDOUT, text=True,
-                                     start_new_session=True)
+                                     start_new_session=True, preexec_fn=child_setup)
         self.lines: list[str] = []
         self._reader = threading.Thread(target=self._read, name='robot_lab-check-command',
                                         daemon=True)
