@@ -225,8 +225,20 @@ def test_teleop_key_in_a_terminal(sim: Proc) -> None:
                           robot_lab.topic_info('/turtle1/cmd_vel').publishers),
               'teleop publishes /turtle1/cmd_vel')
         start = pose()
-        os.write(main, b'\x1b[A')  # the up arrow: forward at scale_linear (2.0)
-        until(lambda: pose().linear_velocity == 2.0, 'the up arrow drives turtle1')
+        # The up arrow: forward at scale_linear (2.0). The graph showing teleop's publisher
+        # does not mean turtlesim's subscription has matched it, and a key's one message
+        # sent before that is lost (CI once saw the turtle never move), as a student's first
+        # key press can be; so press it again, as they would, every half second until the
+        # turtle moves.
+        pressed = [0.0]
+
+        def up_drives() -> bool:
+            if time.monotonic() - pressed[0] >= 0.5:
+                os.write(main, b'\x1b[A')
+                pressed[0] = time.monotonic()
+            return bool(pose().linear_velocity == 2.0)
+
+        until(up_drives, 'the up arrow drives turtle1')
         until(lambda: pose().linear_velocity == 0.0, 'and stops after a second')
         assert pose().x > start.x + 1.0
         os.write(main, b'r')  # rotate to 1.5708
