@@ -469,3 +469,24 @@ def test_notebook_kernel_end_leaves_no_node(start, tmp_path: Path, how: str) -> 
     assert not alive, [p.pid for p in alive]
     if how == 'exit':
         assert kernel.popen.returncode == 0
+
+
+def test_ctrl_c_while_a_request_is_being_queued(run_plan) -> None:  # type: ignore[no-untyped-def]
+    """A signal handler runs in the main thread between two bytecodes, possibly while that
+    thread holds the request lock (draining, or queuing the previous Ctrl-C): the handler's
+    own request must not wait for it (a plain Lock deadlocked the launcher)."""
+    run = run_plan(py_spec('import time; time.sleep(60)', 1))
+    run.wait_for(r'\[INFO\] \[python-1\]: process started')
+    sup = run.supervisor
+    queued = threading.Event()
+
+    def nested_ctrl_c() -> None:
+        with sup._requests_lock:  # as if the handler interrupted the main thread here
+            sup.interrupt()
+        queued.set()
+
+    worker = threading.Thread(target=nested_ctrl_c, daemon=True)
+    worker.start()
+    assert queued.wait(10), 'a Ctrl-C queued while the request lock was held hangs'
+    assert run.join() == 0
+    assert 'user interrupted with ctrl-c (SIGINT)' in run.text

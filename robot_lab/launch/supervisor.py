@@ -88,7 +88,12 @@ class Supervisor:
         self._seq = itertools.count()
         self._selector = selectors.DefaultSelector()
         self._requests: list[Callable[[], None]] = []
-        self._requests_lock = threading.Lock()
+        # Re-entrant: Ctrl-C's handler takes it in the main thread, which may hold it already
+        # (draining requests) or be running that handler for an earlier signal. `timeout -s
+        # INT` signals the launcher twice (it and its group); with a plain Lock the second
+        # handler waited on the first forever (CI: a launcher hung with its nodes reaped
+        # by nobody, after its kernel was gone).
+        self._requests_lock = threading.RLock()
         self._wake_r, self._wake_w = os.pipe()
         os.set_blocking(self._wake_r, False)
         os.set_blocking(self._wake_w, False)
