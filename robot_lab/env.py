@@ -5,6 +5,7 @@ Defaults, each overridable by what the user already set:
   students on one machine never see each other's nodes.
 - ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST: DDS never sends a packet off loopback.
 - FASTRTPS_DEFAULT_PROFILES_FILE: the kit's fast-discovery profile (see data/).
+- CMAKE_C/CXX_COMPILER_LAUNCHER: the kit's ccache, when installed (compiler_cache.py).
 
 And the library path the ROS wheels need, so a Python child does not start twice: the
 wheels' bootstrapper (a .pth file) re-executes the interpreter with LD_LIBRARY_PATH set
@@ -86,6 +87,11 @@ def apply_ros_defaults(env: MutableMapping[str, str] | None = None) -> MutableMa
 
     target['AMENT_PREFIX_PATH'] = os.pathsep.join(str(p) for p in ament_prefixes(target))
     _add_wheel_libraries(target)
+    # colcon builds started from here (a notebook's `!colcon build`, robot_lab.build) compile
+    # through the kit's warmed compiler cache when ccache is installed.
+    from robot_lab.compiler_cache import apply_compiler_cache
+
+    apply_compiler_cache(target)
     return target
 
 
