@@ -132,3 +132,21 @@ def test_the_warmed_package_is_what_notebook_09_writes(tmp_path: Path) -> None:
         relative = path.relative_to(ifaces)
         assert (warmed / relative).read_text() == path.read_text(), relative
     assert 'action/Drive.action' in (warmed / 'CMakeLists.txt').read_text()
+
+
+@needs_ccache
+def test_jupyterlab_terminals_get_the_compiler_cache() -> None:
+    """The server's environment is its terminals': their `colcon build` hits the cache too."""
+    config = ROOT / 'config' / 'jupyter' / 'jupyter_server_config.py'
+    code = ('import os\nfrom traitlets.config import Config\n'
+            f'path = {str(config)!r}\n'
+            'exec(open(path).read(), {"get_config": Config, "__file__": path})\n'
+            'print(os.environ.get("CMAKE_CXX_COMPILER_LAUNCHER", "none"))')
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(('CCACHE_', 'CMAKE_C_COMPILER_LAUNCHER',
+                                'CMAKE_CXX_COMPILER_LAUNCHER', 'ROBOT_LAB_CCACHE'))}
+    done = subprocess.run([sys.executable, '-c', code], env=env, capture_output=True,
+                          text=True, timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    launcher = done.stdout.strip()
+    assert launcher.split(';')[1:] == [str(LAUNCHER), str(ccache_program())], launcher

@@ -24,6 +24,14 @@ _here = os.path.dirname(os.path.abspath(__file__))
 # The venv whose jupyter runs this server is the kit's: terminals activate it.
 os.environ.setdefault('ROBOT_LAB_VENV', sys.prefix)
 os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+# Its terminals' `colcon build` compiles through the kit's warmed compiler cache, as its
+# kernels' does (robot_lab/compiler_cache.py; nothing is set without ccache).
+try:
+    from robot_lab.compiler_cache import apply_compiler_cache
+except ImportError:  # a server outside the kit's venv
+    pass
+else:
+    apply_compiler_cache(os.environ)
 # nbgrader's Validate handler reads the Jupyter config path at each request: this folder's
 # nbgrader_config.py makes a cell that times out fail Validate (it said "Success!").
 os.environ['JUPYTER_CONFIG_PATH'] = os.pathsep.join(
