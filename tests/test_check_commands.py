@@ -47,6 +47,20 @@ def test_prints_says_what_the_command_printed_when_it_ends_without_the_line() ->
     assert failed.value.seen == '''it printed "Package 'broken' not found"'''
 
 
+def test_prints_several_lines_from_one_run_and_names_the_missing_one(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    runs = tmp_path / 'runs'
+    command = f"echo run >> {runs}; echo 'remaining: 0.4'; echo 'SUCCEEDED'; sleep 3600"
+    check.command_prints(command, [r'^remaining: 0\.4$', r'^SUCCEEDED$'], seconds=LONG)
+    assert runs.read_text() == 'run\n'  # one run for both lines
+    assert capsys.readouterr().out.count('✓ ') == 2  # each judged
+    with pytest.raises(CheckError) as failed:
+        check.command_prints("echo 'remaining: 0.4'", [r'remaining', r'SUCCEEDED'],
+                             seconds=LONG)
+    assert failed.value.expected.endswith("to print 'SUCCEEDED'")
+    assert not _left('sleep 3600')
+
+
 def test_prints_refuses_an_empty_command() -> None:
     with pytest.raises(CheckError, match='the command is empty'):
         check.command_prints('  ', 'x')

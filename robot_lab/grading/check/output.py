@@ -10,7 +10,7 @@ import signal
 import subprocess
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -150,21 +150,26 @@ def _no_command(pattern: str) -> CheckError:
 
 
 @judged
-def command_prints(command: str, pattern: str, seconds: float = 5.0,
+def command_prints(command: str, pattern: str | Sequence[str], seconds: float = 5.0,
                    cwd: str | Path | None = None) -> None:
     """`command` (bash, as typed in a terminal) prints a line matching `pattern` within
     `seconds` (waited for no longer than that line); then it gets Ctrl-C, and everything
-    it started is stopped."""
+    it started is stopped. Several patterns: one run of the command prints them all (each
+    within `seconds` of the one before), each judged on its own."""
+    patterns = [pattern] if isinstance(pattern, str) else list(pattern)
     if not command.strip():
-        raise _no_command(pattern)
+        raise _no_command(patterns[0])
     terminal = _Terminal(command, cwd)
     try:
-        terminal.wait_for(pattern, seconds)
+        for each in patterns:
+            if not terminal.wait_for(each, seconds):
+                break
     finally:
         terminal.stop()
-    if not terminal.printed(pattern):
-        raise terminal.not_printed(pattern)
-    passed(f'`{command}` prints {_shown(pattern)}')
+    for each in patterns:
+        if not terminal.printed(each):
+            raise terminal.not_printed(each)
+        passed(f'`{command}` prints {_shown(each)}')
 
 
 @judged
