@@ -33,6 +33,15 @@ def specs_json(*extra: str) -> str:
     return json.dumps([vars(s) for s in specs])
 
 
+def forked_from(pid: int, server: int) -> bool:
+    """Whether `pid` was forked from `server`: it maps libc where the server does (an
+    exec'd process gets its own random layout)."""
+    def libc(p: int) -> set[str]:
+        return {line.split('-')[0] for line in Path(f'/proc/{p}/maps').read_text().splitlines()
+                if '/libc.so' in line}
+    return libc(pid) == libc(server)
+
+
 def status_fields(pid: int) -> dict[str, str]:
     fields = dict(line.split(':', 1) for line in Path(f'/proc/{pid}/status').read_text()
                   .splitlines() if ':' in line)
@@ -101,7 +110,9 @@ def test_forked_nodes_look_exactly_like_execd_ones(start, tmp_path: Path) -> Non
         server = by_name.get('server')
         if fork:  # the fork path was taken for the nodes, not for the plain python child
             assert server is not None and server.ppid() == launcher
-            assert all(by_name[n].ppid() == server.pid for n in nodes)
+            assert all(forked_from(by_name[n].pid, server.pid) for n in nodes)
+            assert not forked_from(by_name['python'].pid, server.pid)
+            assert all(by_name[n].ppid() == launcher for n in nodes)  # as exec'd
             listed = run_cli('node', 'list', env={'ROS_LOG_DIR': str(log_dir)}).stdout.split()
             assert {'/sensor', '/controller', '/robot'} <= set(listed), listed
         else:
@@ -137,6 +148,13 @@ def test_crash_prints_and_exits_as_execd(start, tmp_path: Path) -> None:  # type
         proc = launch(start, tmp_path / str(fork), fork, '-p', 'sensor_rate:=1000')
         proc.wait_for(r'sensor_node-1\]: process has died', 60)
         proc.wait_for(r'\[python-4\] plain')
+        if fork:  # the server forked in this run (the sensor is gone: look at a sibling)
+            proc.wait_for('Controller node started', 60)
+            server = next(p for p in psutil.Process(proc.popen.pid).children()
+                          if SERVER in p.cmdline())
+            controller = next(p for p in launched_nodes(proc.popen.pid)
+                              if '__node:=controller' in p.cmdline())
+            assert forked_from(controller.pid, server.pid)
         stop(proc)
         text = proc.output
         died = re.search(r'sensor_node-1\]: process has died \[pid \d+, (exit code \d+)', text)
@@ -167,6 +185,8 @@ def test_a_signal_to_a_forked_node_acts_as_on_a_fresh_one(start, tmp_path: Path,
     for fork in (False, True):
         proc, by_name = running(start, tmp_path / str(fork), fork)
         assert 'sensor_node' in by_name, {k: p.cmdline() for k, p in by_name.items()}
+        assert fork == ('server' in by_name and
+                        forked_from(by_name['sensor_node'].pid, by_name['server'].pid))
         os.kill(by_name['sensor_node'].pid, signum)
         codes[fork] = proc.wait_for(r'sensor_node-1\]: process has (finished cleanly|died)',
                                     20).group(0)

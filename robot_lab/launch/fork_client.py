@@ -1,19 +1,22 @@
 """The launcher's side of the fork server (fork_server.py): which nodes it may start, and a
 Popen-like handle for each node it forked.
 
-Opt-in: `ROBOT_LAB_FORK_SERVER=1` in the launcher's environment. A node goes through the
-server only if it is a `#!<this interpreter>` script of a package known to be safe to fork
-(the kit's own nodes), not run through a shell, and its environment matches the server's
-in everything the interpreter reads when it starts (only ROS's own variables, read at
-`rclpy.init`, may differ). Anything else, and any failure of the server, is exec'd as
-before. The handle reports what the server saw when it reaped the node, in Popen's terms.
+On by default; `ROBOT_LAB_FORK_SERVER=0` in the launcher's environment execs every node.
+A node goes through the server only if it is a `#!<this interpreter>` script of a package
+known to be safe to fork (the kit's own nodes), not run through a shell, and its
+environment matches the server's in everything the interpreter reads when it starts (only
+ROS's own variables, read at `rclpy.init`, may differ). Anything else, and any failure of
+the server, is exec'd as before. A forked node is this process's child, as an exec'd one
+is; the handle waits for it through a pidfd, in Popen's terms.
 
-Why opt-in (bench/bench_launch.py, 2026-11-26): it halves the CPU to a running system and
-cuts private memory by ~25 MB per launch, and is faster on a moderately loaded host; but on
-an oversubscribed one, the server's imports run in one process where three exec'd nodes
-would get three shares of the CPU (slower to the first Status: line), and some tests count
-a launcher's direct children (tests/test_graph_daemon.py). A node's parent is the server,
-not the launcher (`ps -o ppid`); forked nodes share the server's hash seed.
+The server is started before the first node and imports what the nodes will; every node
+waits for it rather than being exec'd meanwhile. Measured (bench/bench_launch.py --quick
+--quiet --fork-server both, 2 cores, 2026-11-26), launch -> first Status as a multiple of
+three bare rclpy processes: exec 1.35-1.51x; the first node exec'd while the server imports
+and the rest forked 1.02-1.07x, 78 MB USS; all forked 0.78-0.80x, 61 MB. With two busy
+loops: exec 1.37-1.90x, first exec'd 1.76x, all forked 1.27x. An exec'd node importing
+beside the server takes CPU from it, and the first Status needs all three nodes.
+What still differs from exec: forked nodes share the server's str hash seed.
 """
 
 from __future__ import annotations
@@ -44,8 +47,8 @@ _MESSAGE = 1 << 16
 
 
 def enabled(environ: Mapping[str, str] | None = None) -> bool:
-    """Whether launches here fork their Python nodes (ROBOT_LAB_FORK_SERVER=1)."""
-    return (os.environ if environ is None else environ).get(ENABLE, '0') == '1'
+    """Whether launches here fork their Python nodes (yes unless ROBOT_LAB_FORK_SERVER=0)."""
+    return (os.environ if environ is None else environ).get(ENABLE, '1') != '0'
 
 
 def _startup(env: Mapping[str, str]) -> dict[str, str]:
@@ -72,40 +75,42 @@ def interpreter_of(spec: ProcessSpec) -> str | None:
 
 
 class ForkedProcess:
-    """A node the server forked: the parts of subprocess.Popen the supervisor uses."""
+    """A node the server forked as this process's child: the parts of subprocess.Popen the
+    supervisor uses, waiting through a pidfd (never a reused pid)."""
 
-    def __init__(self, server: ForkServer, pid: int, pidfd: int, args: list[str],
-                 stdout: IO[bytes], stderr: IO[bytes]) -> None:
-        self._server = server
+    def __init__(self, pid: int, args: list[str], stdout: IO[bytes],
+                 stderr: IO[bytes]) -> None:
         self.pid = pid
         self.args = args
         self.stdout: IO[bytes] | None = stdout
         self.stderr: IO[bytes] | None = stderr
         self.returncode: int | None = None
-        self._pidfd: int | None = pidfd  # signals reach this process, never a reused pid
-
-    def _exited(self, status: int) -> None:
-        self.returncode = os.waitstatus_to_exitcode(status)
-        if self._pidfd is not None:
-            os.close(self._pidfd)
-            self._pidfd = None
+        self._pidfd = os.pidfd_open(pid)  # it is our child: the pid is ours until reaped
 
     def poll(self) -> int | None:
         if self.returncode is None:
-            self._server.pump(0.0)
+            try:
+                result = os.waitid(os.P_PIDFD, self._pidfd, os.WEXITED | os.WNOHANG)
+            except ChildProcessError:  # reaped by someone else: as Popen, code 0
+                result, self.returncode = None, 0
+            if result is not None and result.si_pid:
+                exited = result.si_code == os.CLD_EXITED
+                self.returncode = result.si_status if exited else -result.si_status
+            if self.returncode is not None:
+                os.close(self._pidfd)
         return self.returncode
 
     def wait(self, timeout: float | None = None) -> int:
         deadline = None if timeout is None else time.monotonic() + timeout
-        while self.returncode is None:
+        while (code := self.poll()) is None:
             left = None if deadline is None else deadline - time.monotonic()
             if left is not None and left <= 0:
                 raise subprocess.TimeoutExpired(self.args, timeout or 0.0)
-            self._server.pump(left)
-        return self.returncode
+            select.select([self._pidfd], [], [], left)
+        return code
 
     def send_signal(self, sig: int) -> None:
-        if self.poll() is None and self._pidfd is not None:
+        if self.poll() is None:
             signal.pidfd_send_signal(self._pidfd, sig)
 
     def kill(self) -> None:
@@ -113,14 +118,12 @@ class ForkedProcess:
 
 
 class ForkServer:
-    """One fork server for one launch, started from the supervisor's thread (its parent-
-    death signal is tied to that thread, like every child's)."""
+    """One fork server for one launch, started from the supervisor's thread (the nodes it
+    forks are that thread's children, as exec'd ones are)."""
 
     def __init__(self, env: Mapping[str, str]) -> None:
         self._env = _startup(env)
         self._ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
-        self._children: dict[int, ForkedProcess] = {}
-        self._exits: dict[int, int] = {}
         self._replies: list[dict[str, Any]] = []
         self.error: str | None = None
         self._ready = False
@@ -137,7 +140,7 @@ class ForkServer:
     def start(self, spec: ProcessSpec, env: dict[str, str], cwd: str | None,
               interpreter: str) -> ForkedProcess | None:
         """Fork the node `spec` describes; None when it must be exec'd instead."""
-        if not self.accepts(env) or not self._wait_ready():
+        if not self.accepts(env) or not self._warm():
             return None
         out_r, out_w = os.pipe()
         err_r, err_w = os.pipe()
@@ -148,8 +151,7 @@ class ForkServer:
             socket.send_fds(self._ours, [json.dumps(request).encode()], [null, out_w, err_w])
             reply = self._reply()
         except OSError as exc:
-            self._fail(f'{exc}')
-            reply = {}
+            self.error, reply = f'{exc}', {}
         finally:
             for fd in (null, out_w, err_w):
                 os.close(fd)
@@ -159,14 +161,12 @@ class ForkServer:
             if 'error' in reply:
                 self.error = str(reply['error'])
             return None
-        child = ForkedProcess(self, reply['pid'], reply['pidfd'], list(spec.cmd),
-                              os.fdopen(out_r, 'rb'), os.fdopen(err_r, 'rb'))
-        self._children[child.pid] = child
-        if child.pid in self._exits:
-            child._exited(self._exits.pop(child.pid))
-        return child
+        return ForkedProcess(reply['pid'], list(spec.cmd), os.fdopen(out_r, 'rb'),
+                             os.fdopen(err_r, 'rb'))
 
-    def _wait_ready(self) -> bool:
+    def _warm(self) -> bool:
+        """Whether to fork this node: once the server has imported (see the module's
+        docstring for why a node waits for that rather than being exec'd meanwhile)."""
         deadline = time.monotonic() + _READY_TIMEOUT
         while not self._ready and self.error is None and time.monotonic() < deadline:
             self.pump(deadline - time.monotonic())
@@ -178,41 +178,26 @@ class ForkServer:
         return self._replies.pop(0) if self._replies else {}
 
     def pump(self, timeout: float | None) -> None:
-        """Take the server's messages: readiness, replies, exits (waiting up to timeout)."""
+        """Take the server's messages: readiness and replies (waiting up to timeout)."""
         while self.error is None:
             ready, _, _ = select.select([self._ours], [], [], timeout)
             if not ready:
                 return
             timeout = 0.0
-            data, fds, _, _ = socket.recv_fds(self._ours, _MESSAGE, 1)
+            data = self._ours.recv(_MESSAGE)
             if not data:
-                self._fail('the fork server ended')
+                self.error = 'the fork server ended'
                 return
             message = json.loads(data)
             if 'ready' in message:
                 self._ready = True
-            elif 'exit' in message:
-                child = self._children.get(message['exit'])
-                if child is None:
-                    self._exits[message['exit']] = message['status']
-                else:
-                    child._exited(message['status'])
+            elif not self._ready:  # an error before it was ready: it cannot fork
+                self.error = str(message.get('error', 'not ready'))
             else:
-                if fds:
-                    message['pidfd'] = fds[0]
-                if not self._ready:  # an error before it was ready: it cannot fork
-                    self.error = str(message.get('error', 'not ready'))
                 self._replies.append(message)
 
-    def _fail(self, reason: str) -> None:
-        """The server is gone: its children died with it (parent-death signal)."""
-        self.error = reason
-        for child in self._children.values():
-            if child.returncode is None:
-                child._exited(signal.SIGKILL)  # a wait status: killed by SIGKILL
-
     def close(self) -> None:
-        """Once every node has ended: the server exits (killing any node still there)."""
+        """The server exits once its socket closes (the nodes are ours, not its)."""
         with contextlib.suppress(OSError):
             self._ours.close()
         try:

@@ -13,15 +13,18 @@ node's script as `python SCRIPT ARGS` would:
 - takes the node's stdin/stdout/stderr, cwd and environment (os.environ, so C sees it too),
   closes every other descriptor, and resets SIGINT/SIGTERM/SIGCHLD as a fresh process has
   them; it stays in the launcher's process group and session;
-- dies with the server (PR_SET_PDEATHSIG), which dies with the launcher: no node outlives
-  its launcher, even after `kill -9`;
+- is the launcher's child, not the server's (clone with CLONE_PARENT): `ps`, its parent
+  pid, the launcher's wait for its exit status are an exec'd node's; and it dies with the
+  launcher (PR_SET_PDEATHSIG, tied to the launcher's thread as an exec'd node's is): no
+  node outlives its launcher, even after `kill -9`;
 - exits as the interpreter would: the exit code of SystemExit, 1 after a traceback, or
   killed by SIGINT after an uncaught KeyboardInterrupt.
 
 The server ignores SIGINT/SIGTERM (a terminal's Ctrl-C reaches the whole process group,
-and the nodes must outlive it to shut down cleanly), reaps its children and reports each
-exit status to the launcher. Run as `python -m robot_lab.launch.fork_server FD`, FD a
-SOCK_SEQPACKET socket to the launcher (robot_lab/launch/fork_client.py speaks to it).
+and the nodes must outlive it to shut down cleanly) and answers each request with the
+node's pid; it exits when the launcher closes its socket. Run as
+`python -m robot_lab.launch.fork_server FD`, FD a SOCK_SEQPACKET socket to the launcher
+(robot_lab/launch/fork_client.py speaks to it).
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ import importlib
 import io
 import json
 import os
-import selectors
+import platform
 import signal
 import socket
 import sys
@@ -60,8 +63,13 @@ _PR_SET_PDEATHSIG = 1
 _PR_SET_NAME = 15
 _PR_SET_MM = 35
 _PR_SET_MM_MAP = 14
+_CLONE_PARENT = 0x00008000
+_CLONE_CHILD_SETTID = 0x01000000
+_SYS_CLONE = {'x86_64': 56, 'aarch64': 220}
 _LIBC = ctypes.CDLL(None, use_errno=True)
 _LIBC.sbrk.restype = ctypes.c_void_p
+_LIBC_GIL = ctypes.PyDLL(None, use_errno=True)  # holds the GIL across the call, as os.fork
+_LIBC_GIL.syscall.restype = ctypes.c_long
 _KEEP: list[Any] = []  # the child's new argv/environ block must live as long as it does
 
 
@@ -157,17 +165,17 @@ def _run_script(cmdline: list[str], script: str, argv: list[str]) -> int:
     return status
 
 
-def _become(request: dict[str, Any], fds: list[int], server: int) -> None:
-    """In the forked child: turn into the node the request describes, run it, exit."""
+def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
+    """In the forked child (the launcher's): turn into the node the request describes, run
+    it, exit."""
     code = 1
     try:
         _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-        if os.getppid() != server:
-            os._exit(1)  # the server died before the parent-death signal was armed
+        if os.getppid() != launcher:
+            os._exit(1)  # the launcher died before the parent-death signal was armed
         for target, fd in enumerate(fds):
             os.dup2(fd, target)
         os.closerange(3, os.sysconf('SC_OPEN_MAX'))
-        signal.set_wakeup_fd(-1)
         signal.signal(signal.SIGINT, signal.default_int_handler)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         signal.signal(signal.SIGCHLD, signal.SIG_DFL)
@@ -207,47 +215,79 @@ def _lttng_libraries() -> list[ctypes.CDLL]:
     return libraries
 
 
-def _fork() -> int:
-    """os.fork() wrapped in LTTng-UST's fork hooks, as liblttng-ust-fork.so would: its
-    locks are not held across the fork, and the child starts its own listener threads,
-    as an exec'd node has them."""
-    libraries = _lttng_libraries()
-    saved = [ctypes.create_string_buffer(128) for _ in libraries]  # sigset_t
-    for library, mask in zip(libraries, saved, strict=True):
-        library.ust_before_fork(mask)
-    pid = os.fork()
-    for library, mask in zip(reversed(libraries), reversed(saved), strict=True):
-        (library.ust_after_fork_child if pid == 0 else library.ust_after_fork_parent)(mask)
-    return pid
+def _tid_offset() -> int | None:
+    """Where glibc keeps a thread's kernel tid in its `struct pthread` (pthread_self()):
+    the one offset at which both this thread and a second one find their own tid."""
+    _LIBC.pthread_self.restype = ctypes.c_void_p
+
+    def offsets() -> set[int]:
+        raw = ctypes.string_at(_LIBC.pthread_self(), 2048)
+        tid = threading.get_native_id().to_bytes(4, sys.byteorder)
+        return {at for at in range(0, len(raw), 4) if raw[at:at + 4] == tid}
+
+    found = [offsets()]
+    other = threading.Thread(target=lambda: found.append(offsets()))
+    other.start()
+    other.join()
+    common = found[0] & found[-1] if len(found) == 2 else set()
+    return common.pop() if len(common) == 1 else None
+
+
+class _Forker:
+    """fork() whose child is the launcher's, not the server's (clone with CLONE_PARENT):
+    `ps`, psutil's children(), exit statuses and the parent-death signal are then exactly
+    an exec'd node's. What glibc's fork does besides the system call, we do: the child's
+    tid in its thread descriptor (CLONE_CHILD_SETTID), Python's own before/after hooks
+    (PyOS_*Fork*, as os.fork calls them), LTTng-UST's fork hooks. pthread_atfork handlers
+    do not run; the server is single-threaded, so no lock they guard can be held."""
+
+    def __init__(self) -> None:
+        number = _SYS_CLONE.get(platform.machine())
+        offset = _tid_offset()
+        if number is None or offset is None:
+            raise OSError(f'cannot fork as the launcher on {platform.machine()} (glibc tid)')
+        self.number = number
+        self.tid = _LIBC.pthread_self() + offset
+
+    def fork(self) -> int:
+        libraries = _lttng_libraries()  # loaded by the preload, after __init__
+        masks = [ctypes.create_string_buffer(128) for _ in libraries]  # sigset_t
+        api = ctypes.pythonapi
+        api.PyOS_BeforeFork()
+        for library, mask in zip(libraries, masks, strict=True):
+            library.ust_before_fork(mask)
+        flags = _CLONE_PARENT | _CLONE_CHILD_SETTID | signal.SIGCHLD
+        # x86_64 takes (flags, stack, parent_tid, child_tid, tls); arm64 swaps the last two
+        tail = (self.tid, 0) if self.number == _SYS_CLONE['x86_64'] else (0, self.tid)
+        args = (self.number, flags, 0, 0, *tail)
+        pid = _LIBC_GIL.syscall(*(ctypes.c_long(arg) for arg in args))
+        errno = ctypes.get_errno()
+        for library, mask in zip(reversed(libraries), reversed(masks), strict=True):
+            (library.ust_after_fork_child if pid == 0 else library.ust_after_fork_parent)(mask)
+        if pid == 0:
+            api.PyOS_AfterFork_Child()
+        else:
+            api.PyOS_AfterFork_Parent()
+        if pid < 0:
+            raise OSError(errno, f'clone: {os.strerror(errno)}')
+        return int(pid)
 
 
 class _Server:
-    def __init__(self, sock: socket.socket) -> None:
+    def __init__(self, sock: socket.socket, forker: _Forker) -> None:
         self.sock = sock
-        self.children: set[int] = set()
-        self.selector = selectors.DefaultSelector()
-        self.wake_r, wake_w = os.pipe()
-        os.set_blocking(self.wake_r, False)
-        os.set_blocking(wake_w, False)
-        signal.set_wakeup_fd(wake_w)
-        signal.signal(signal.SIGCHLD, lambda signum, frame: None)
-        self.selector.register(self.wake_r, selectors.EVENT_READ, 'child')
-        self.selector.register(sock, selectors.EVENT_READ, 'request')
+        self.forker = forker
 
-    def send(self, message: dict[str, Any], fds: Sequence[int] = ()) -> None:
-        socket.send_fds(self.sock, [json.dumps(message).encode()], list(fds))
+    def send(self, message: dict[str, Any]) -> None:
+        self.sock.send(json.dumps(message).encode())
 
     def serve(self) -> None:
         self.send({'ready': os.getpid()})
-        while True:
-            for key, _ in self.selector.select():
-                if key.data == 'child':
-                    self.reap()
-                elif not self.request():
-                    self.close()
-                    return
+        while self.request():
+            pass
 
     def request(self) -> bool:
+        """Fork one node; False once the launcher has closed its end."""
         data, fds, _, _ = socket.recv_fds(self.sock, MAX_MESSAGE, 4)
         if not data:
             return False
@@ -255,43 +295,17 @@ class _Server:
             request = json.loads(data)
             if threading.active_count() != 1:
                 raise RuntimeError('the fork server has threads: forking it is unsafe')
-            server = os.getpid()
-            pid = _fork()
+            launcher = os.getppid()
+            pid = self.forker.fork()
             if pid == 0:
-                _become(request, fds, server)
-            self.children.add(pid)
-            pidfd = os.pidfd_open(pid)
-            try:
-                self.send({'pid': pid}, [pidfd])
-            finally:
-                os.close(pidfd)
+                _become(request, fds, launcher)
+            self.send({'pid': pid})
         except Exception as exc:  # the launcher execs the node instead
             self.send({'error': f'{type(exc).__name__}: {exc}'})
         finally:
             for fd in fds:
                 os.close(fd)
         return True
-
-    def reap(self) -> None:
-        try:
-            while os.read(self.wake_r, 4096):
-                pass
-        except BlockingIOError:
-            pass
-        while self.children:
-            pid, status = os.waitpid(-1, os.WNOHANG)
-            if pid == 0:
-                return
-            self.children.discard(pid)
-            self.send({'exit': pid, 'status': status})
-
-    def close(self) -> None:
-        """The launcher is gone or done: no child may outlive it."""
-        for pid in self.children:
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(pid, signal.SIGKILL)
-        for pid in list(self.children):
-            os.waitpid(pid, 0)
 
 
 def preload() -> None:
@@ -316,11 +330,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     sock = socket.socket(fileno=int(args[0]))
     try:
         set_process_image(list(sys.orig_argv), dict(os.environ))  # the kernel allows it
+        forker = _Forker()
         preload()
     except Exception as exc:  # the launcher execs every node instead
-        sock.sendmsg([json.dumps({'error': f'{type(exc).__name__}: {exc}'}).encode()])
+        sock.send(json.dumps({'error': f'{type(exc).__name__}: {exc}'}).encode())
         return 1
-    _Server(sock).serve()
+    _Server(sock, forker).serve()
     return 0
 
 
