@@ -21,9 +21,10 @@ Measured in the same run, median of RUNS runs each:
     .venv/bin/python bench/bench_launch.py [--runs 5] [--idle 1] [--quiet] [--quick]
         [--fork-server both] [--busy 2]
 
---quiet: nothing runs before the launch (the issue's quiet-host figure). --fork-server
-both: each run also launches with ROBOT_LAB_FORK_SERVER=1 (robot_lab/launch/fork_server.py),
-interleaved, so both see the same load. USS sums each process's private pages; pages the
+--quiet: nothing runs before the launch (the issue's quiet-host figure). The launches use
+the fork server (robot_lab/launch/fork_server.py) unless ROBOT_LAB_FORK_SERVER=0; with
+--fork-server both, the main rows are exec'd (=0) and each run also launches with the fork
+server, interleaved, so both see the same load. USS sums each process's private pages; pages the
 forked nodes share only with each other are in no one's USS, so the group figure (root
 only) counts the anonymous pages that only the launcher's processes map.
 
@@ -319,7 +320,7 @@ def main() -> None:
     parser.add_argument('--quiet', action='store_true',
                         help='a quiet host: no daemon, session or idle participants first')
     parser.add_argument('--fork-server', choices=('env', 'both'), default='env',
-                        help='both: also launch with ROBOT_LAB_FORK_SERVER=1, interleaved')
+                        help='both: exec (ROBOT_LAB_FORK_SERVER=0) and fork, interleaved')
     parser.add_argument('--quick', action='store_true',
                         help='only the launch and the bare trio, with the kit profile')
     parser.add_argument('--compare-source', action='store_true',

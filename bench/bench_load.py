@@ -47,6 +47,7 @@ from bench_launch import IDLE, SESSION, Lines
 from memory import group_private_mb, tree_memory
 
 from robot_lab.env import ros_environment
+from robot_lab.launch.fork_client import enabled as fork_server_enabled
 from robot_lab.process import spawn, stop
 
 BIN = Path(sys.executable).parent
@@ -252,8 +253,8 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
           f'+ 3 bare rclpy nodes {floor:.0f} MB)')
     print("  private to each student's processes (pages shared only among them counted, "
           f'root only): median {statistics.median(own):.0f} MB   (floor {floor_own:.0f} MB)')
-    how = 'forked by' if os.environ.get('ROBOT_LAB_FORK_SERVER', '0') == '1' else 'not by'
-    print(f'  nodes started {how} a fork server (ROBOT_LAB_FORK_SERVER in this environment)')
+    how = 'forked by' if fork_server_enabled() else 'not by (ROBOT_LAB_FORK_SERVER=0)'
+    print(f'  nodes started {how} a fork server')
 
 
 def main() -> None:
