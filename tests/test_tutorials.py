@@ -284,17 +284,24 @@ def test_actions_tutorial(out: dict[str, str]) -> None:
     # after the batch: a goal's client would be listed by `action info` (as in ros2cli)
     goal, feedback = ok_all(
         ('action', 'send_goal', '/fibonacci', 'test_msgs/action/Fibonacci', '{order: 3}'),
-        ('action', 'send_goal', '/fibonacci', 'test_msgs/action/Fibonacci', '{order: 2}',
+        ('action', 'send_goal', '/fibonacci', 'test_msgs/action/Fibonacci', '{order: 5}',
          '--feedback'))
     assert re.fullmatch(
         r'Waiting for an action server to become available\.\.\.\nSending goal:\n     order: 3\n\n'
         r'Goal accepted with ID: [0-9a-f]{32}\n\n'
         r'Result:\n    sequence:\n- 0\n- 1\n- 1\n- 2\n\n'
         r'Goal finished with status: SUCCEEDED\n', goal), goal
+    # The tutorial's goal. Feedback and result travel on different DDS writers, and rclpy
+    # drops feedback that arrives after the result (as ros2cli does): on a loaded host the
+    # last feedback, published 50 ms before the result, was missing (1 run in 60 under
+    # load 18). The earlier ones lead the result by 100-200 ms; they arrive in order.
     assert re.search(r'Goal accepted with ID: [0-9a-f]{32}\n\n'
                      r'(Feedback:\n    sequence:\n(- \d\n)+\n)+'
-                     r'Result:\n    sequence:\n- 0\n- 1\n- 1\n\n'
+                     r'Result:\n    sequence:\n- 0\n- 1\n- 1\n- 2\n- 3\n- 5\n\n'
                      r'Goal finished with status: SUCCEEDED\n$', feedback), feedback
+    shown = [re.findall(r'- (\d)', block) for block in
+             re.findall(r'Feedback:\n    sequence:\n((?:- \d\n)+)', feedback)]
+    assert shown == [['0', '1', '1', '2', '3', '5'][:n] for n in range(3, 3 + len(shown))]
 
 
 def test_recording_tutorial(system: dict[str, Proc], tmp_path: Path) -> None:

@@ -183,8 +183,8 @@ def _server_heard_client(sess: Session, action: str, cls: Any, timeout: float) -
     """Return once the server has matched the client's feedback and status readers.
 
     The client hearing the server's publishers is not enough: the server must also have
-    heard the client's readers, or the first feedback of a short goal goes nowhere (CI
-    under load: `send_goal --feedback` printed none). A participant announces its readers
+    heard the client's readers, or feedback published before that goes nowhere (a volatile
+    writer sends only to the readers it has matched). A participant announces its readers
     in order and the server matches them in that order; a service client made after the
     action client, answered by the server, shows that the server has matched everything
     announced before it (a server answers only a client whose reader it has matched).
