@@ -270,7 +270,10 @@ def send_goal(name: str, type_name: str, goal: str | Mapping[str, Any] | Any = N
     `goal` is YAML text (`'{order: 5}'`, as `ros2 action send_goal` takes), a dict or a
     Goal message. `feedback(msg)` is called with each feedback message (from the session's
     thread), which are also collected in the returned goal's `.feedback`. With
-    `wait=False` it returns as soon as the server accepted the goal.
+    `wait=False` it returns as soon as the server accepted the goal. Feedback and result
+    come on different DDS topics: a feedback message sent just before the result can
+    arrive after it and is then dropped by rclpy (ros2cli's `--feedback` too), so the last
+    one or two of a fast goal may be missing; the result is never lost.
 
         >>> g = robot_lab.send_goal('/fibonacci', 'test_msgs/action/Fibonacci', {'order': 5})
         >>> g.status, list(g.result.sequence)
