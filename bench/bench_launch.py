@@ -50,6 +50,14 @@ host shared with five other engineers, load average 19-26 on 2 cores, so no run 
   the host this oversubscribed, three exec'd nodes importing at once get three shares of
   the CPU, the one fork server one; CPU 1.03 -> 0.58 s, USS 104 -> 61 MB.
 
+Measured 2026-11-26 evening, the fork server on by default and its nodes the launcher's
+children (--quick --runs 5 --fork-server both, exec -> fork interleaved; ratio to the bare
+trio, median of the per-invocation medians; load average 3-24 from other work):
+- --quiet (4 invocations): 1.34x -> 0.79x; USS launcher + 3 nodes 104 -> 61 MB.
+- --idle 1 (2): 0.87x -> 0.58x; USS 105 -> 61 MB.
+- --quiet + two busy loops (3): 1.43x -> 1.27x; --idle 1 + two busy loops (2): 1.13x ->
+  1.15x (equal within the noise); USS as above.
+
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
 
@@ -414,6 +422,8 @@ def main() -> None:
              f'{median(forked, "status_cpu"):.2f} s', ''),
             ('observer (started first) sees all 3 nodes, from launch',
              f'{median(forked, "seen_from_launch"):.2f} s', ''),
+            ('launch -> first process started (forked once the server is ready)',
+             f'{median(forked, "launcher_to_first_spawn"):.2f} s', ''),
             ('RSS launcher + fork server + 3 nodes', f'{median(forked, "rss"):.0f} MB', ''),
             *memory_rows(forked, bare_uss, bare_group),
         ]

@@ -21,8 +21,11 @@ many kernels answered every request within --answer-within seconds, and the memo
         [--skip-class] [--window 20] [--rounds 5]
 
 Measured 2026-11-26, --skip-fleet --kernels 3 --rounds 3 (load average ~8 on 2 cores):
-USS per student 143 MB exec'd -> 90 MB with ROBOT_LAB_FORK_SERVER=1 (floor: a bare session +
+USS per student 143 MB exec'd -> 90 MB forked (floor: a bare session +
 3 bare rclpy nodes 114 MB); private to each student's processes 141 -> 118 MB (floor 112).
+Again, nodes forked as the launcher's children (the default; 3 runs each, interleaved,
+idle load 8-9 and with two busy loops): USS per student 148 -> 89-90 MB; RSS 290 -> 337 MB
+(pages shared by the forked nodes count in each one's RSS).
 
 Uses ROS_DOMAIN_ID (default 29) for the fleet; loopback-only discovery, like the kit.
 """
