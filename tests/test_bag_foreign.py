@@ -93,8 +93,10 @@ def test_a_bag_whose_metadata_qos_differs_is_read_and_played(
 def test_play_delay_waits_before_the_first_message(tmp_path: Path, ros_domain: int) -> None:
     bag = tmp_path / 'delayed'
     _write_bag(bag, 'mcap', 2)
-    player = robot_lab.play(bag, delay=1.0)
+    # Timed from the call: the player's thread starts its delay before play() returns,
+    # and under load play() itself took 0.09 s (CI measured 0.91 s from its return).
     started = time.monotonic()
+    player = robot_lab.play(bag, delay=1.0)
     first = None
     while first is None and time.monotonic() - started < 10:
         if player.played:
