@@ -4,7 +4,7 @@ of `pytest notebooks --nbval-lax` with `./kit test`'s nbval flags, one notebook 
 (`-n 0`), and the slowest cells. Each run prints the host's load average, since the
 notebooks wait on real processes and a busy host stretches every number.
 
-    /work/tools/isolated .venv/bin/python bench/bench_nbval.py [--runs 3] [NOTEBOOK ...]
+    .venv/bin/python bench/bench_nbval.py [--runs 3] [NOTEBOOK ...]
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ without a compiler cache (`ROBOT_LAB_CCACHE=0`), through ccache with an empty ca
 warming the cache adds to `./kit setup`), and through the warmed cache (a student's first
 build after set-up). Median over RUNS rounds; the load average is printed with each round.
 
-    /work/tools/isolated .venv/bin/python bench/bench_nbval_build.py [--runs 3]
+    .venv/bin/python bench/bench_nbval_build.py [--runs 3]
 """
 
 from __future__ import annotations

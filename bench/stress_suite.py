@@ -11,7 +11,7 @@ run's duration and result.
     ./kit test --stress 10 [modules...]
 
 Without modules it runs what `./kit test` runs (tests and notebooks). Exit code 1 if any
-run failed. Run it through /work/tools/isolated (or any private network namespace) when
+run failed. Run it in a private network namespace (e.g. `unshare --net` with `lo` up) when
 other people's DDS traffic shares the host.
 """
 
