@@ -11,14 +11,20 @@ other shortcut applies) and run the cold commands beside busy loops.
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
+import sys
 import time
 from collections.abc import Iterator
 
 import pytest
 from conftest import BIN, Proc, run_reference_node
 
-from robot_lab.graph.discovery import participants_on_host, participants_seen
+from robot_lab.graph.discovery import (
+    host_participants_seen,
+    participants_on_host,
+    participants_seen,
+)
 from robot_lab.rclpy_session import session
 
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
@@ -61,6 +67,55 @@ def test_the_host_counts_its_participants(ros_domain: int) -> None:
         node.stop()
     # Its socket closes with its process: the count drops at once, lease or not.
     assert participants_on_host(ros_domain) == 1
+
+
+# A process that has bound a discovery port of the domain but is not heard yet, as a
+# participant is between binding its port and announcing its node (on a loaded host,
+# seconds): the socket table counts it.
+_BOUND = """
+import socket, sys
+sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+sock.bind(('127.0.0.1', int(sys.argv[1])))
+print('bound', flush=True)
+sys.stdin.readline()
+"""
+_NAMED = """
+import rclpy
+rclpy.init()
+node = rclpy.create_node('gone')
+print('named', flush=True)
+rclpy.spin(node)
+"""
+
+
+def test_a_participant_that_left_does_not_stand_in_for_a_new_one(ros_domain: int) -> None:
+    """CI under load: a cold `node list` missed a node while commands came and went. A
+    count of participants alone is fooled when one heard before it died (its entry lives
+    until its lease ends) stands in for one that has bound its port but is not heard."""
+    sess = session(ros_domain)
+    complete = host_participants_seen(sess)
+    _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
+    gone = Proc([sys.executable, '-c', _NAMED], env=dict(os.environ))
+    port = 7400 + 250 * ros_domain + 10 + 2 * 20  # participant id 20: free here
+    late = Proc([sys.executable, '-c', _BOUND, str(port)], env=dict(os.environ),
+                stdin=subprocess.PIPE)
+    try:
+        gone.wait_for('named', timeout=60)
+        _until(lambda: '/gone' in participants_seen(sess)[1], 'the first node seen')
+        late.wait_for('bound', timeout=60)
+        os.kill(gone.popen.pid, signal.SIGKILL)  # no goodbye: its entry stays for its lease
+        gone.popen.wait()
+        assert participants_on_host(ros_domain) == 2  # this session and the late one
+        seen, named = participants_seen(sess)
+        assert seen == 2 and '/gone' in named  # the count alone would call this complete
+        assert complete() is False
+        late.stop()
+        # Only this session's port is left, and its process is heard: complete.
+        _until(lambda: participants_on_host(ros_domain) == 1, 'the late one gone')
+        assert complete() is True
+    finally:
+        late.stop()
+        gone.stop()
 
 
 def test_cold_lists_are_complete_beside_busy_loops(system: list[Proc]) -> None:

@@ -17,9 +17,13 @@ bound its discovery port, so the kernel's socket table says how many there are
 (`participants_on_host`); the session is complete once it has seen that many
 participants with named endpoints, and every node it lists has its endpoints (a node's
 name arrives before its topics, services and actions). On a loaded host the others'
-answers can come seconds apart, which no fixed window covers. Where the count cannot
-be read (another RMW, custom ports), the session falls back to a timing rule: the
-others must have answered at all, and a full announcement burst has passed since.
+answers can come seconds apart, which no fixed window covers. A count alone can be
+fooled while commands come and go (a participant heard just before it exits stands in
+for one not heard yet), so where the socket's owner can be read, the session also needs
+that process itself: Fast DDS writes the low 16 bits of its pid into each participant's
+GUID prefix. Where the count cannot be read (another RMW, custom ports), the session
+falls back to a timing rule: the others must have answered at all, and a full
+announcement burst has passed since.
 """
 
 from __future__ import annotations
@@ -212,6 +216,11 @@ def participants_seen(session: Session) -> tuple[int, set[str]]:
     and the nodes that have endpoints: every rclpy and rclcpp node publishes
     /parameter_events (and most /rosout), and an endpoint's GUID starts with its
     participant's 12-byte prefix."""
+    prefixes, named = _named_participants(session)
+    return len(prefixes), named
+
+
+def _named_participants(session: Session) -> tuple[set[bytes], set[str]]:
     node = session.node
     prefixes = set()
     named = set()
@@ -220,7 +229,56 @@ def participants_seen(session: Session) -> tuple[int, set[str]]:
             if info.node_name and info.node_name != UNKNOWN_NODE:
                 prefixes.add(bytes(info.endpoint_gid)[:12])
                 named.add(info.node_namespace.rstrip('/') + '/' + info.node_name)
-    return len(prefixes), named
+    return prefixes, named
+
+
+_EPROSIMA = b'\x01\x0f'  # a GUID prefix's vendor id: Fast DDS
+_holders: dict[frozenset[str], list[set[int]]] = {}
+
+
+def _port_holders(inodes: frozenset[str]) -> list[set[int]]:
+    """For each of these sockets that this user may trace, the pids (low 16 bits) of the
+    processes in this PID namespace that hold it (a child that inherited the socket holds
+    it too); sockets held elsewhere are left to the count. Cached per set of sockets: a
+    scan of /proc takes ~2 ms per 150 processes."""
+    if inodes in _holders:
+        return _holders[inodes]
+    wanted = {f'socket:[{inode}]': inode for inode in inodes}
+    try:
+        own_ns = os.readlink('/proc/self/ns/pid')
+    except OSError:
+        return []
+    by_inode: dict[str, set[int]] = {}
+    foreign: set[str] = set()
+    for entry in os.scandir('/proc'):
+        if not entry.name.isdigit():
+            continue
+        try:
+            fds = os.listdir(f'/proc/{entry.name}/fd')
+        except OSError:
+            continue  # gone, or another user's
+        held = set()
+        for fd in fds:
+            with contextlib.suppress(OSError):
+                link = os.readlink(f'/proc/{entry.name}/fd/{fd}')
+                if link in wanted:
+                    held.add(wanted[link])
+        if not held:
+            continue
+        try:  # a process in another PID namespace writes its own view of its pid
+            same = os.readlink(f'/proc/{entry.name}/ns/pid') == own_ns
+        except OSError:
+            same = False
+        for inode in held:
+            if same:
+                by_inode.setdefault(inode, set()).add(int(entry.name) & 0xFFFF)
+            else:
+                foreign.add(inode)
+    found = [pids for inode, pids in by_inode.items() if inode not in foreign]
+    if len(_holders) > 64:
+        _holders.clear()
+    _holders[inodes] = found
+    return found
 
 
 def host_participants_seen(session: Session) -> Callable[[], bool | None]:
@@ -231,9 +289,14 @@ def host_participants_seen(session: Session) -> Callable[[], bool | None]:
         expected = participants_on_host(session.domain_id)
         if expected is None:
             return None
-        seen, with_endpoints = participants_seen(session)
-        if seen < expected:
+        prefixes, with_endpoints = _named_participants(session)
+        if len(prefixes) < expected:
             return False
+        if all(p[:2] == _EPROSIMA for p in prefixes):
+            heard = {int.from_bytes(p[4:6], 'little') for p in prefixes}
+            sockets = frozenset(_discovery_ports(session.domain_id).values())
+            if any(not pids & heard for pids in _port_holders(sockets)):
+                return False  # the count includes one that left; a process is not heard yet
         return set(full_node_names(session, include_hidden=True)) <= with_endpoints
 
     return complete
