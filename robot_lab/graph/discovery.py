@@ -199,6 +199,13 @@ def participants_on_host(domain_id: int) -> int | None:
     this process's included: each has bound its discovery port. None when that cannot be
     told: no socket table, or this process's own port is not among those found (another
     RMW, a profile with other ports), so the count would mean nothing."""
+    ports = _host_ports(domain_id)
+    return None if ports is None else len(ports)
+
+
+def _host_ports(domain_id: int) -> dict[int, str] | None:
+    """The domain's bound discovery ports (port -> socket inode) when they can be counted
+    (see `participants_on_host`), else None."""
     ports = _discovery_ports(domain_id)
     if domain_id not in _own_port_checked:
         mine = set()
@@ -208,7 +215,7 @@ def participants_on_host(domain_id: int) -> int | None:
                     mine.add(os.readlink(f'/proc/self/fd/{fd}'))
         _own_port_checked[domain_id] = any(f'socket:[{inode}]' in mine
                                            for inode in ports.values())
-    return len(ports) if _own_port_checked[domain_id] else None
+    return ports if _own_port_checked[domain_id] else None
 
 
 def participants_seen(session: Session) -> tuple[int, set[str]]:
@@ -286,16 +293,15 @@ def host_participants_seen(session: Session) -> Callable[[], bool | None]:
     host (see `participants_on_host`), each with a named node, and every node it lists
     has its endpoints; None when the host's count cannot be read."""
     def complete() -> bool | None:
-        expected = participants_on_host(session.domain_id)
-        if expected is None:
+        ports = _host_ports(session.domain_id)  # one read of the socket table per poll
+        if ports is None:
             return None
         prefixes, with_endpoints = _named_participants(session)
-        if len(prefixes) < expected:
+        if len(prefixes) < len(ports):
             return False
         if all(p[:2] == _EPROSIMA for p in prefixes):
             heard = {int.from_bytes(p[4:6], 'little') for p in prefixes}
-            sockets = frozenset(_discovery_ports(session.domain_id).values())
-            if any(not pids & heard for pids in _port_holders(sockets)):
+            if any(not pids & heard for pids in _port_holders(frozenset(ports.values()))):
                 return False  # the count includes one that left; a process is not heard yet
         return set(full_node_names(session, include_hidden=True)) <= with_endpoints
 
