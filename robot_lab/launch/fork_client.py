@@ -1,8 +1,9 @@
 """The launcher's side of the fork server (fork_server.py): which nodes it may start, and a
 Popen-like handle for each node it forked.
 
-Opt-in: `ROBOT_LAB_FORK_SERVER=1` in the launcher's environment (off by default until it
-has passed clean-clone CI runs; one of three on by default failed a notebook 02 ladder).
+Opt-in: `ROBOT_LAB_FORK_SERVER=1` in the launcher's environment. It was on by default for
+a while; a notebook 02 test failure blamed on it then recurred with exec'd nodes (its cause
+was a shared test domain), and it stays off until a full clean-clone run passes with it on.
 A node goes through the server only if it is a `#!<this interpreter>` script of a package
 known to be safe to fork (the kit's own nodes), not run through a shell, and its
 environment matches the server's in everything the interpreter reads when it starts (only
