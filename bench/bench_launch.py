@@ -22,7 +22,7 @@ Measured in the same run, median of RUNS runs each:
         [--fork-server both] [--busy 2]
 
 --quiet: nothing runs before the launch (the issue's quiet-host figure). The launches use
-the fork server (robot_lab/launch/fork_server.py) when ROBOT_LAB_FORK_SERVER=1; with
+the fork server (robot_lab/launch/fork_server.py) unless ROBOT_LAB_FORK_SERVER=0; with
 --fork-server both, the main rows are exec'd (=0) and each run also launches with the fork
 server, interleaved, so both see the same load. USS sums each process's private pages; pages the
 forked nodes share only with each other are in no one's USS, so the group figure (root

@@ -256,7 +256,7 @@ def kernels(base_env: dict[str, str], count: int, rounds: int, within: float) ->
           f'+ 3 bare rclpy nodes {floor:.0f} MB)')
     print("  private to each student's processes (pages shared only among them counted, "
           f'root only): median {statistics.median(own):.0f} MB   (floor {floor_own:.0f} MB)')
-    how = 'forked by' if fork_server_enabled() else 'not by (ROBOT_LAB_FORK_SERVER=1 forks them)'
+    how = 'forked by' if fork_server_enabled() else 'not by (ROBOT_LAB_FORK_SERVER=0)'
     print(f'  nodes started {how} a fork server')
 
 

@@ -1,9 +1,7 @@
 """The launcher's side of the fork server (fork_server.py): which nodes it may start, and a
 Popen-like handle for each node it forked.
 
-Opt-in: `ROBOT_LAB_FORK_SERVER=1` in the launcher's environment. It was on by default for
-a while; a notebook 02 test failure blamed on it then recurred with exec'd nodes (its cause
-was a shared test domain), and it stays off until a full clean-clone run passes with it on.
+On by default; `ROBOT_LAB_FORK_SERVER=0` in the launcher's environment execs every node.
 A node goes through the server only if it is a `#!<this interpreter>` script of a package
 known to be safe to fork (the kit's own nodes), not run through a shell, and its
 environment matches the server's in everything the interpreter reads when it starts (only
@@ -49,8 +47,8 @@ _MESSAGE = 1 << 16
 
 
 def enabled(environ: Mapping[str, str] | None = None) -> bool:
-    """Whether launches here fork their Python nodes (only with ROBOT_LAB_FORK_SERVER=1)."""
-    return (os.environ if environ is None else environ).get(ENABLE, '0') == '1'
+    """Whether launches here fork their Python nodes (yes unless ROBOT_LAB_FORK_SERVER=0)."""
+    return (os.environ if environ is None else environ).get(ENABLE, '1') != '0'
 
 
 def _startup(env: Mapping[str, str]) -> dict[str, str]:

@@ -99,7 +99,7 @@ class Supervisor:
         os.set_blocking(self._wake_w, False)
         self._sigint_seen = False
         self._closed = False
-        self._forks: ForkServer | None = None  # with ROBOT_LAB_FORK_SERVER=1: see fork_client
+        self._forks: ForkServer | None = None  # unless ROBOT_LAB_FORK_SERVER=0: see fork_client
 
     # --- requests from other threads (Ctrl-C handler, notebook handle) -------------------
 
