@@ -56,6 +56,43 @@ def _init_args() -> list[str] | None:
     return None
 
 
+# A session's participant hears every other participant of its domain at once: their
+# announcements and endpoint lists answer its own within milliseconds. Fast DDS leaves the
+# UDP receive buffers at the system default (rmem_default, 208 KiB) under
+# ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST (rmw_fastrtps replaces the transports there, so a
+# profile's listenSocketBufferSize does not reach them), and a cold `ros2 node list` beside
+# a dozen participants on a busy host overflowed them: 0-1,100 datagrams dropped per
+# command, each resent only when its writer next sends a heartbeat. The kernel caps the
+# size at rmem_max; where that is the default nothing changes.
+RECEIVE_BUFFER = 4 << 20
+
+
+def widen_receive_buffers(size: int = RECEIVE_BUFFER) -> int:
+    """Ask for `size`-byte receive buffers on this process's UDP sockets (all of them are
+    DDS's in a kit process); return how many sockets were asked."""
+    import socket
+
+    asked = 0
+    try:
+        fds = os.listdir('/proc/self/fd')
+    except OSError:
+        return 0
+    for name in fds:
+        with contextlib.suppress(OSError, ValueError):
+            if not os.readlink(f'/proc/self/fd/{name}').startswith('socket:'):
+                continue
+            sock = socket.socket(fileno=os.dup(int(name)))
+            try:
+                if sock.type == socket.SOCK_DGRAM and sock.family in (socket.AF_INET,
+                                                                       socket.AF_INET6):
+                    if sock.getsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF) < size:
+                        sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, size)
+                    asked += 1
+            finally:
+                sock.close()
+    return asked
+
+
 def _domain_from_env() -> int:
     """ROS_DOMAIN_ID, or the user's own domain when it is unset (robot_lab/domain.py)."""
     from robot_lab.domain import domain_for
@@ -94,6 +131,7 @@ class Session:
             start_parameter_services=False,
             enable_rosout=False,
         )
+        widen_receive_buffers()  # the participant's sockets exist once it has a node
         # When discovery began: graph queries wait out the first announcements after it.
         self.created = time.monotonic()
         self.executor = self._new_executor()

@@ -16,6 +16,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from conftest import BIN, Proc, run_reference_node
@@ -25,7 +26,7 @@ from robot_lab.graph.discovery import (
     participants_on_host,
     participants_seen,
 )
-from robot_lab.rclpy_session import session
+from robot_lab.rclpy_session import RECEIVE_BUFFER, session
 
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
 
@@ -67,6 +68,42 @@ def test_the_host_counts_its_participants(ros_domain: int) -> None:
         node.stop()
     # Its socket closes with its process: the count drops at once, lease or not.
     assert participants_on_host(ros_domain) == 1
+
+
+def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
+    """The port every other participant answers a new one on holds their burst: its
+    receive buffer is as large as the host allows, not the 208 KiB default."""
+    import socket
+
+    session(ros_domain)
+    ports = {f'socket:[{inode}]' for inode in _own_discovery_inodes(ros_domain)}
+    assert ports, 'the session has bound no discovery port of its domain'
+    allowed = int(Path('/proc/sys/net/core/rmem_max').read_text())
+    sizes = []
+    for name in os.listdir('/proc/self/fd'):
+        try:
+            if os.readlink(f'/proc/self/fd/{name}') not in ports:
+                continue
+        except OSError:
+            continue
+        sock = socket.socket(fileno=os.dup(int(name)))
+        try:
+            sizes.append(sock.getsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF))
+        finally:
+            sock.close()
+    # Linux doubles what it grants (bookkeeping), up to rmem_max.
+    assert sizes and min(sizes) >= 2 * min(RECEIVE_BUFFER, allowed), sizes
+
+
+def _own_discovery_inodes(domain_id: int) -> set[str]:
+    first = 7400 + 250 * domain_id + 10
+    inodes = set()
+    for line in Path('/proc/net/udp').read_text().splitlines()[1:]:
+        fields = line.split()
+        port = int(fields[1].rsplit(':', 1)[1], 16)
+        if first <= port < first + 240 and (port - first) % 2 == 0:
+            inodes.add(fields[9])
+    return inodes
 
 
 # A process that has bound a discovery port of the domain but is not heard yet, as a
