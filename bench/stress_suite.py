@@ -67,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--runs', type=int, default=10)
     parser.add_argument('--busy', type=int, default=2, help='busy loops beside each run')
     parser.add_argument('--workers', type=int,
-                        default=int(os.environ.get('ROBOT_LAB_TEST_WORKERS', '3')))
+                        default=int(os.environ.get('ROBOT_LAB_TEST_WORKERS', '4')))
     parser.add_argument('modules', nargs='*', help='test modules (default: the whole suite)')
     args = parser.parse_args(argv)
     env = {**os.environ, 'PATH': f'{Path(sys.executable).parent}:{os.environ["PATH"]}'}
