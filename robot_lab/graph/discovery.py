@@ -52,6 +52,7 @@ __all__ = [
     'heard_from_others',
     'host_participants_seen',
     'launched_nodes_seen',
+    'node_processes',
     'participants_on_host',
     'participants_seen',
     'settled',
@@ -286,6 +287,16 @@ def _port_holders(inodes: frozenset[str]) -> list[set[int]]:
         _holders.clear()
     _holders[inodes] = found
     return found
+
+
+def node_processes(session: Session) -> set[int] | None:
+    """The processes (pids' low 16 bits) whose participants the session has heard with a
+    named node: Fast DDS writes them into each participant's GUID prefix. None when a
+    participant is another vendor's, whose prefix says nothing of its process."""
+    prefixes, _named = _named_participants(session)
+    if not all(p[:2] == _EPROSIMA for p in prefixes):
+        return None
+    return {int.from_bytes(p[4:6], 'little') for p in prefixes}
 
 
 def host_participants_seen(session: Session) -> Callable[[], bool | None]:

@@ -203,7 +203,9 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
     wanted = max(len(plan.processes()), int(state.option('launch_file', 'min_nodes', 3)))
     try:
         obs = observe(sess, wanted, rubric.startup_seconds, rubric.observe_seconds,
-                      alive=lambda: handle.running)
+                      alive=lambda: handle.running,
+                      running=lambda: [p.pid for p in handle.processes
+                                       if p.state == 'running' and p.pid])
         live.obs = obs
         with contextlib.suppress(Exception):
             state.images.append(graph_view(session=sess).save(job_dir / 'graph.png'))

@@ -208,6 +208,15 @@ _QUIET = 2.0
 _UNMATCHED = 10.0
 
 
+def _unheard(sess: Session, pids: list[int]) -> bool:
+    """Whether one of these processes has not been heard with a node yet (False when the
+    participants do not say which process they are)."""
+    from robot_lab.graph.discovery import node_processes
+
+    heard = node_processes(sess)
+    return heard is not None and any(pid & 0xFFFF not in heard for pid in pids)
+
+
 def _until_samples(watcher: _Watcher) -> None:
     """Until every published topic has delivered a sample to the observer, or is silent."""
     start = time.monotonic()
@@ -230,9 +239,15 @@ def _matched(subscription: Any) -> int:
 
 
 def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
-            alive: Callable[[], bool]) -> Observation:
+            alive: Callable[[], bool],
+            running: Callable[[], list[int]] = list) -> Observation:
     """Watch the graph: wait (≤ `startup` s) until `expected_nodes` nodes are up, then count
-    messages and log lines for `duration` s. `alive()` False ends the wait early."""
+    messages and log lines for `duration` s. `alive()` False ends the wait early.
+
+    Fewer nodes than expected (a crashed or hung process) end the wait once the node list
+    has stood still for _STABLE s and every process in `running()` (pids) has been heard
+    with a node: on a busy host a slow node can come well after a crashed one has gone.
+    """
     watcher = _Watcher(sess)
     watcher.start_logs()
     try:
@@ -246,7 +261,8 @@ def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
                 break
             if names != last:
                 last, changed = names, time.monotonic()
-            elif names and time.monotonic() - changed > _STABLE:
+            elif (names and time.monotonic() - changed > _STABLE
+                  and not _unheard(sess, running())):
                 break  # some nodes never come (crashed, hung): grade what is there
             time.sleep(0.2)
         # Count from here: a full window with every subscription in place, i.e. once each
