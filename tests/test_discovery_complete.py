@@ -22,6 +22,7 @@ import pytest
 from conftest import BIN, Proc, run_reference_node
 
 from robot_lab.graph.discovery import (
+    _discovery_ports,
     host_participants_seen,
     participants_on_host,
     participants_seen,
@@ -76,7 +77,7 @@ def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
     import socket
 
     session(ros_domain)
-    ports = {f'socket:[{inode}]' for inode in _own_discovery_inodes(ros_domain)}
+    ports = {f'socket:[{inode}]' for inode in _discovery_ports(ros_domain).values()}
     assert ports, 'the session has bound no discovery port of its domain'
     allowed = int(Path('/proc/sys/net/core/rmem_max').read_text())
     sizes = []
@@ -93,17 +94,6 @@ def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
             sock.close()
     # Linux doubles what it grants (bookkeeping), up to rmem_max.
     assert sizes and min(sizes) >= 2 * min(RECEIVE_BUFFER, allowed), sizes
-
-
-def _own_discovery_inodes(domain_id: int) -> set[str]:
-    first = 7400 + 250 * domain_id + 10
-    inodes = set()
-    for line in Path('/proc/net/udp').read_text().splitlines()[1:]:
-        fields = line.split()
-        port = int(fields[1].rsplit(':', 1)[1], 16)
-        if first <= port < first + 240 and (port - first) % 2 == 0:
-            inodes.add(fields[9])
-    return inodes
 
 
 # A process that has bound a discovery port of the domain but is not heard yet, as a

@@ -293,7 +293,11 @@ def node_processes(session: Session) -> set[int] | None:
     """The processes (pids' low 16 bits) whose participants the session has heard with a
     named node: Fast DDS writes them into each participant's GUID prefix. None when a
     participant is another vendor's, whose prefix says nothing of its process."""
-    prefixes, _named = _named_participants(session)
+    return _process_ids(_named_participants(session)[0])
+
+
+def _process_ids(prefixes: set[bytes]) -> set[int] | None:
+    """Low 16 bits of the pids in these GUID prefixes; None unless all are Fast DDS's."""
     if not all(p[:2] == _EPROSIMA for p in prefixes):
         return None
     return {int.from_bytes(p[4:6], 'little') for p in prefixes}
@@ -310,10 +314,9 @@ def host_participants_seen(session: Session) -> Callable[[], bool | None]:
         prefixes, with_endpoints = _named_participants(session)
         if len(prefixes) < len(ports):
             return False
-        if all(p[:2] == _EPROSIMA for p in prefixes):
-            heard = {int.from_bytes(p[4:6], 'little') for p in prefixes}
-            if any(not pids & heard for pids in _port_holders(frozenset(ports.values()))):
-                return False  # the count includes one that left; a process is not heard yet
+        heard, sockets = _process_ids(prefixes), frozenset(ports.values())
+        if heard is not None and any(not pids & heard for pids in _port_holders(sockets)):
+            return False  # the count includes one that left; a process is not heard yet
         return set(full_node_names(session, include_hidden=True)) <= with_endpoints
 
     return complete
