@@ -10,9 +10,9 @@ run's duration and result.
         [tests/test_tutorials.py tests/test_graph_daemon.py ...] [-- PYTEST ARGS]
     ./kit test --stress 10 [modules...]
 
-Without modules it runs what `./kit test` runs (tests and notebooks). Exit code 1 if any
-run failed. Run it in a private network namespace (e.g. `unshare --net` with `lo` up) when
-other people's DDS traffic shares the host.
+Without modules it runs what `./kit test` runs (tests/, the notebooks in Chromium). Exit
+code 1 if any run failed. Run it in a private network namespace (e.g. `unshare --net` with
+`lo` up) when other people's DDS traffic shares the host.
 """
 
 from __future__ import annotations
@@ -46,11 +46,7 @@ def failures(junit: Path) -> dict[str, str]:
 
 def pytest_command(modules: list[str], workers: int, extra: list[str], junit: Path) -> list[str]:
     python = sys.executable
-    if modules:
-        targets = modules
-    else:
-        targets = ['tests', 'notebooks', '--nbval-lax', '--nbval-sanitize-with',
-                   'notebooks/nbval_sanitize.cfg']
+    targets = modules or ['tests']  # as `./kit test` with Chromium: notebooks in tests/browser
     cmd = [python, '-m', 'pytest', *targets, '-q', f'--junitxml={junit}']
     if workers > 0:
         cmd += ['-n', str(workers), '--dist', 'loadscope']

@@ -13,7 +13,8 @@ re-running 01 after 02 hung on `ros2 run … | tail -n 1`, which ran the sensor 
 02 had written it.
 
 One kernel does both (a ladder, then Run All) so the course starts once per notebook here;
-nbval (`./kit test`) runs each notebook once from a fresh kernel.
+tests/browser runs each notebook once more, from a fresh kernel, and compares the outputs
+nbval would compare.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """The course notebooks: committed as a real run left them, and their checks really check.
 
-nbval runs the notebooks themselves (`pytest --nbval-lax notebooks/`). Here, notebook 05's
+The notebooks themselves run in Chromium, their marked cells compared as nbval compares them
+(tests/browser; `pytest --nbval-lax notebooks/` without Chromium). Here, notebook 05's
 verification checklist — the cells' own source, read from the notebook — runs against the
 working system (and prints exactly the committed ✓ lines) and against broken systems,
 where it must fail and say what is wrong.

@@ -288,6 +288,18 @@ class Notebook:
                 and not re.search(r'\[\d+\]', self.cell(i).locator('.jp-InputPrompt')
                                   .text_content() or '')]
 
+    def save(self, timeout: float = 30.0) -> Path:
+        """File ▸ Save (Ctrl+S), as a student saves; the file once JupyterLab wrote it."""
+        path = self.lab.root / self.path
+        before = path.stat().st_mtime_ns
+        dirty = self.page.locator('.lm-TabBar-tab.jp-mod-current.jp-mod-dirty')
+        self.page.keyboard.press('Escape')
+        self.page.keyboard.press('Control+s')
+        if not wait_until(lambda: path.stat().st_mtime_ns != before and dirty.count() == 0,
+                          timeout):
+            raise AssertionError(f'{self.path}: Ctrl+S did not save the notebook')
+        return path
+
     def shot(self, locator: Any, path: Path) -> None:
         locator.scroll_into_view_if_needed()
         locator.screenshot(path=str(path))

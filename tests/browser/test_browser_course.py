@@ -8,6 +8,9 @@ counts grow, a dragged slider reaches the running node and changes what the plot
 the robot view moves, the graph view fits the column and names the launched nodes. Then:
 no error output, no "Error displaying widget", every code cell ran. Screenshots of every
 widget and notebook go to the folder printed at the end (ROBOT_LAB_BROWSER_SHOTS to choose).
+Last, the notebook is saved and the cells marked `# NBVAL_CHECK_OUTPUT` must show what the
+committed notebook shows (output_check.py, nbval's comparison): this is the course's nbval
+run, so `./kit test` does not run the notebooks a third time.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import browser_lab
+import output_check
 import pytest
 from browser_lab import REPO, VENV_BIN, Lab, Notebook, wait_until
 
@@ -101,6 +105,7 @@ class Course:
             result.problems += [f'error output: {e}' for e in nb.errors()]
             result.problems += [f'cell {i} never ran' for i in nb.unrun()]
             result.problems += unrendered(nb)
+            result.problems += output_check.mismatches(nb.save(), REPO / 'notebooks' / name)
             whole_notebook(page, self.shots / f'{Path(name).stem}.png')
         finally:
             result.problems += errors
