@@ -10,13 +10,18 @@ from __future__ import annotations
 import atexit
 import contextlib
 import functools
+import importlib
+import importlib.abc
+import importlib.machinery
+import importlib.util
 import os
 import re
 import sys
 import threading
 import time
+import types
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from robot_lab.env import apply_ros_defaults
@@ -347,6 +352,33 @@ def shutdown_sessions() -> None:
         _SESSIONS.clear()
 
 
+def defer_code_generator() -> None:
+    """Import rosidl_generator_py without its code generator, which loads on first use.
+
+    Every message class imports the package for `import_type_support`, and the package
+    imports the generator as well (empy, lark, the IDL parser: 0.07 s of CPU). A `ros2`
+    command generates no code; it gets the function alone (the same one) and `generate_py`
+    only if something asks for it.
+    """
+    if 'rosidl_generator_py' in sys.modules:
+        return
+    spec = importlib.util.find_spec('rosidl_generator_py')
+    if spec is None or spec.submodule_search_locations is None:
+        return
+    package = importlib.util.module_from_spec(spec)
+    sys.modules['rosidl_generator_py'] = package
+    support = importlib.import_module('rosidl_generator_py.import_type_support_impl')
+    package.import_type_support = support.import_type_support  # type: ignore[attr-defined]
+    package.__all__ = ['import_type_support', 'generate_py']  # type: ignore[attr-defined]
+
+    def generator(name: str) -> Any:
+        if name != 'generate_py':
+            raise AttributeError(f"module 'rosidl_generator_py' has no attribute {name!r}")
+        return importlib.import_module('rosidl_generator_py.generate_py_impl').generate_py
+
+    package.__getattr__ = generator  # type: ignore[method-assign]
+
+
 def guard_action_clients() -> None:
     """Close a window in rclpy's (Jazzy) ActionClient where an answer gets lost.
 
@@ -356,10 +388,40 @@ def guard_action_clients() -> None:
     server"), and the goal's future never completes (CI: `send_goal --feedback` printed
     nothing more). One lock per client around sending-and-noting and around handling an
     answer closes it, as later rclpy releases do. Applied once, to every ActionClient of
-    the process, students' own included.
+    the process, students' own included: now if rclpy.action is imported, else when it is
+    (a process that makes no action client, most `ros2` commands, then never imports it).
     """
-    from rclpy.action.client import ActionClient
+    module = sys.modules.get('rclpy.action.client')
+    if module is not None:
+        _guard(module.ActionClient)
+    elif not any(isinstance(finder, _GuardOnImport) for finder in sys.meta_path):
+        sys.meta_path.insert(0, _GuardOnImport())
 
+
+class _GuardOnImport(importlib.abc.MetaPathFinder):
+    """Guards ActionClient right after `rclpy.action.client` is executed."""
+
+    def find_spec(self, fullname: str, path: Sequence[str] | None,
+                  target: types.ModuleType | None = None) -> importlib.machinery.ModuleSpec | None:
+        if fullname != 'rclpy.action.client':
+            return None
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(self)
+        spec = importlib.machinery.PathFinder.find_spec(fullname, path)
+        loader = None if spec is None else spec.loader
+        if spec is None or not isinstance(loader, importlib.abc.Loader):
+            return spec
+        run = loader.exec_module
+
+        def exec_module(module: types.ModuleType) -> None:
+            run(module)
+            _guard(module.ActionClient)
+
+        loader.exec_module = exec_module  # type: ignore[method-assign]
+        return spec
+
+
+def _guard(ActionClient: Any) -> None:  # noqa: N803 - the class
     if getattr(ActionClient, '_robot_lab_guarded', False):
         return
 
@@ -382,5 +444,5 @@ def guard_action_clients() -> None:
 
     for name in ('send_goal_async', '_get_result_async', '_cancel_goal_async'):
         setattr(ActionClient, name, sending(getattr(ActionClient, name)))
-    ActionClient.execute = handling(ActionClient.execute)  # type: ignore[method-assign]
-    ActionClient._robot_lab_guarded = True  # type: ignore[attr-defined]
+    ActionClient.execute = handling(ActionClient.execute)
+    ActionClient._robot_lab_guarded = True

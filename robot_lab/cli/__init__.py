@@ -16,6 +16,7 @@ from types import ModuleType
 
 from robot_lab import __version__
 from robot_lab.errors import RobotLabError
+from robot_lab.rclpy_session import defer_code_generator
 
 __all__ = ['main', 'ros2_main', 'run_sub_verb']
 
@@ -104,6 +105,7 @@ def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
     # ~80 ms of CPU at start-up: a one-shot command (and the daemon and nodes it may start)
     # has no use for it. A value the user set wins.
     os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
+    defer_code_generator()
     words = list(sys.argv[1:] if argv is None else argv)
     parser = _parser(prog, only=words[0] if words and words[0] in VERBS else None)
     args = parser.parse_args(words)
