@@ -21,6 +21,7 @@ from pathlib import Path
 import pytest
 from conftest import BIN, Proc, run_reference_node
 
+from robot_lab.graph import discovery
 from robot_lab.graph.discovery import (
     _discovery_ports,
     host_participants_seen,
@@ -94,6 +95,37 @@ def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
             sock.close()
     # Linux doubles what it grants (bookkeeping), up to rmem_max.
     assert sizes and min(sizes) >= 2 * min(RECEIVE_BUFFER, allowed), sizes
+
+
+def test_socket_drops_counts_what_a_full_receive_buffer_lost() -> None:
+    """A socket nobody reads, with the smallest buffer, flooded over loopback: the datagrams
+    the kernel threw away show in this process's count."""
+    import socket
+
+    before = discovery.socket_drops()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sink, \
+            socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as source:
+        sink.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1)
+        sink.bind(('127.0.0.1', 0))
+        for _ in range(200):
+            source.sendto(b'x' * 1000, sink.getsockname())
+        assert discovery.socket_drops() > before
+
+
+def test_a_young_session_that_lost_datagrams_waits_for_their_resend(
+        ros_domain: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its answer holds RESEND_WAIT after the last drop; with none, it comes sooner."""
+    sess = session(ros_domain)
+    sess.created = time.monotonic()  # young again: a cold command's session
+    started = time.monotonic()
+    discovery.settled(sess, lambda: 'answer')
+    quiet = time.monotonic() - started
+    monkeypatch.setattr(discovery, 'socket_drops', lambda: 3)
+    sess.created = time.monotonic()
+    started = time.monotonic()
+    discovery.settled(sess, lambda: 'answer')
+    lossy = time.monotonic() - started
+    assert quiet < discovery.RESEND_WAIT <= lossy, (quiet, lossy)
 
 
 # A process that has bound a discovery port of the domain but is not heard yet, as a
