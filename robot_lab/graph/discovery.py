@@ -31,7 +31,7 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
@@ -183,11 +183,8 @@ _UDP_TABLES = (Path('/proc/net/udp'), Path('/proc/net/udp6'))
 _own_port_checked: dict[int, bool] = {}
 
 
-def _discovery_ports(domain_id: int) -> dict[int, str]:
-    """Bound discovery ports of this domain on this host -> their socket inodes."""
-    first = _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1
-    last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
-    ports: dict[int, str] = {}
+def _udp_rows() -> Iterator[list[str]]:
+    """The fields of each socket row of /proc/net/udp and udp6 (inode: 9, drops: 12)."""
     for table in _UDP_TABLES:
         try:
             lines = table.read_text().splitlines()[1:]
@@ -195,17 +192,12 @@ def _discovery_ports(domain_id: int) -> dict[int, str]:
             continue
         for line in lines:
             fields = line.split()
-            if len(fields) < 10:
-                continue
-            port = int(fields[1].rsplit(':', 1)[1], 16)
-            if first <= port <= last and (port - first) % _PARTICIPANT_GAIN == 0:
-                ports[port] = fields[9]
-    return ports
+            if len(fields) >= 13:
+                yield fields
 
 
-def socket_drops() -> int:
-    """Datagrams the kernel dropped (receive buffer full) on this process's UDP sockets:
-    /proc/net/udp's last column, for the socket inodes this process holds."""
+def _own_sockets() -> set[str]:
+    """The inodes of the sockets this process holds."""
     inodes = set()
     with contextlib.suppress(OSError):
         for fd in os.listdir('/proc/self/fd'):
@@ -213,17 +205,25 @@ def socket_drops() -> int:
                 link = os.readlink(f'/proc/self/fd/{fd}')
                 if link.startswith('socket:['):
                     inodes.add(link[8:-1])
-    dropped = 0
-    for table in _UDP_TABLES:
-        try:
-            lines = table.read_text().splitlines()[1:]
-        except OSError:
-            continue
-        for line in lines:
-            fields = line.split()
-            if len(fields) >= 13 and fields[9] in inodes:
-                dropped += int(fields[12])
-    return dropped
+    return inodes
+
+
+def _discovery_ports(domain_id: int) -> dict[int, str]:
+    """Bound discovery ports of this domain on this host -> their socket inodes."""
+    first = _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1
+    last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
+    ports: dict[int, str] = {}
+    for fields in _udp_rows():
+        port = int(fields[1].rsplit(':', 1)[1], 16)
+        if first <= port <= last and (port - first) % _PARTICIPANT_GAIN == 0:
+            ports[port] = fields[9]
+    return ports
+
+
+def socket_drops() -> int:
+    """Datagrams the kernel dropped (receive buffer full) on this process's UDP sockets."""
+    mine = _own_sockets()
+    return sum(int(fields[12]) for fields in _udp_rows() if fields[9] in mine)
 
 
 def participants_on_host(domain_id: int) -> int | None:
@@ -240,13 +240,8 @@ def _host_ports(domain_id: int) -> dict[int, str] | None:
     (see `participants_on_host`), else None."""
     ports = _discovery_ports(domain_id)
     if domain_id not in _own_port_checked:
-        mine = set()
-        with contextlib.suppress(OSError):
-            for fd in os.listdir('/proc/self/fd'):
-                with contextlib.suppress(OSError):  # closed meanwhile
-                    mine.add(os.readlink(f'/proc/self/fd/{fd}'))
-        _own_port_checked[domain_id] = any(f'socket:[{inode}]' in mine
-                                           for inode in ports.values())
+        mine = _own_sockets()
+        _own_port_checked[domain_id] = any(inode in mine for inode in ports.values())
     return ports if _own_port_checked[domain_id] else None
 
 
