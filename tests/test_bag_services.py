@@ -9,6 +9,7 @@ SetBool, with the same `service_configure_introspection` parameter) takes its ro
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -28,8 +29,17 @@ def switch(*params: str) -> Proc:
     return proc
 
 
-def robot_lines(proc: Proc) -> list[str]:
-    return [line.split(']: ', 1)[1] for line in proc.lines if '[switch]: Robot ' in line]
+def robot_lines(proc: Proc, count: int = 3, timeout: float = 15.0) -> list[str]:
+    """The switch's "Robot …" lines, once `count` have come or at the deadline: a request
+    is answered after the server logged it, but the line still has a pipe and a reader
+    thread to pass (CI: the third line was missing when the player had finished)."""
+    def lines() -> list[str]:
+        return [line.split(']: ', 1)[1] for line in proc.lines if '[switch]: Robot ' in line]
+
+    deadline = time.monotonic() + timeout
+    while len(lines()) < count and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return lines()
 
 
 @pytest.fixture(scope='module')
