@@ -8,6 +8,7 @@ browser is never downloaded. Also used by `bench/bench_widgets.py --browser`.
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import re
@@ -52,18 +53,24 @@ def chromium() -> str | None:
     return None
 
 
+def browser_path() -> str | None:
+    """Chromium's path when it and Playwright are both here, so the browser tests run:
+    `./kit test` then leaves the notebooks to them, and runs nbval over notebooks/ only
+    when this is None."""
+    found = chromium()
+    return found if found and importlib.util.find_spec('playwright') is not None else None
+
+
 def browser_or_skip() -> tuple[str, Any]:
     """Debian's chromium and Playwright's sync_playwright; a test module without them skips."""
     import pytest
 
-    found = chromium()
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:  # pragma: no cover - the test extra installs it
-        sync_playwright = None
-    if found is None or sync_playwright is None:
+    found = browser_path()
+    if found is None:
         pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)',
                     allow_module_level=True)
+    from playwright.sync_api import sync_playwright
+
     return found, sync_playwright
 
 
