@@ -273,3 +273,30 @@ def test_action_server_and_client_tutorial(tutorial_ws: Path, procs: list[Proc])
     assert 'Feedback:\n    partial_sequence:\n- 0\n- 1\n- 1\n' in sent.stdout
     assert 'Result:\n    sequence:\n- 0\n- 1\n- 1\n- 2\n' in sent.stdout
     assert 'Goal finished with status: SUCCEEDED' in sent.stdout
+
+
+def test_an_interface_package_is_built_for_python_alone(tmp_path: Path) -> None:
+    """The kit builds the C type supports rclpy loads and leaves out rclcpp's C++ ones (half
+    the set-up's build time); a message then still goes through Fast DDS's C type support."""
+    from robot_lab.pkg.kit_packages import _build_env, _build_one
+
+    prefix = tmp_path / 'prefix'
+    _build_one('action_tutorials_interfaces', prefix, _build_env(SITE), cpp=False)
+    libs = {p.name for p in (prefix / 'lib').glob('*.so')}
+    for part in ('generator_c', 'typesupport_c', 'typesupport_fastrtps_c',
+                 'typesupport_introspection_c', 'generator_py'):
+        assert f'libaction_tutorials_interfaces__rosidl_{part}.so' in libs, libs
+    assert not [name for name in libs if 'cpp' in name], libs
+    site = next((prefix / 'lib').glob('python3*/site-packages'))
+    env = dict(os.environ, PYTHONPATH=f'{site}{os.pathsep}{os.environ.get("PYTHONPATH", "")}',
+               AMENT_PREFIX_PATH=f'{prefix}{os.pathsep}{SITE}',
+               LD_LIBRARY_PATH=f'{prefix / "lib"}{os.pathsep}'
+                               f'{os.environ.get("LD_LIBRARY_PATH", "")}')
+    code = ('import action_tutorials_interfaces.action as a, rclpy.serialization as s\n'
+            f'assert a.__file__.startswith({str(site)!r})\n'
+            'goal = a.Fibonacci.Goal(order=7)\n'
+            'back = s.deserialize_message(s.serialize_message(goal), a.Fibonacci.Goal)\n'
+            'print(back.order)\n')
+    done = subprocess.run([sys.executable, '-c', code], env=env, capture_output=True,
+                          text=True, timeout=120, check=False)
+    assert done.returncode == 0 and done.stdout.strip() == '7', done.stderr

@@ -22,12 +22,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         'into its venv; ./kit setup runs this')
     parser.add_argument('--force', action='store_true',
                         help='With --kit: rebuild even the packages that are up to date')
+    parser.add_argument('--cpp', action='store_true',
+                        help='With --kit: also build their C++ type supports (for a C++ '
+                        'interface package that depends on one; rclpy needs only the C ones)')
 
 
-def _kit(force: bool) -> int:
+def _kit(force: bool, cpp: bool) -> int:
     from robot_lab.pkg.kit_packages import build_kit_packages
 
-    result = build_kit_packages(force=force, progress=lambda line: print(line, flush=True))
+    result = build_kit_packages(force=force, cpp=cpp,
+                                progress=lambda line: print(line, flush=True))
     for line in result.lines():
         print(line)
     return 0
@@ -37,7 +41,7 @@ def main(args: argparse.Namespace) -> int:
     from robot_lab.pkg.build import build
 
     if args.kit:
-        return _kit(args.force)
+        return _kit(args.force, args.cpp)
 
     result = build(args.workspace, packages_select=args.packages_select,
                    symlink_install=args.symlink_install, progress=True)
