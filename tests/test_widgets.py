@@ -71,6 +71,10 @@ def test_plot_collects_real_samples_and_draws_them(system: None) -> None:
         frozen = plot.render_png()
         count = len(plot.values('/sensor/temperature'))
         assert plot.wait_for_samples(count + 3, timeout=5.0)
+        paused_at = plot._paused_at
+        assert paused_at is not None
+        with plot._lock:  # taken after the pause, received just before it: not in the view
+            plot.series[0].samples.append((paused_at - 0.05, 99.0))
         assert plot.render_png() == frozen
         plot.resume()
         plot.clear()

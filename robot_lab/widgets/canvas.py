@@ -96,21 +96,30 @@ function fmt(v, step) {
   const digits = Math.max(0, Math.min(6, -Math.floor(Math.log10(step) + 1e-9)));
   return v.toFixed(digits);
 }
-// Run each frame at most `fps` times a second, only while something moves or changed.
+// Run each frame at most `fps` times a second, only while something moves or changed,
+// and only while the widget is on screen: a live plot scrolled away (or in a hidden tab)
+// would redraw its canvas for nobody. It draws again as soon as it comes back into view.
 function animate(root, fps, frame) {
-  let handle = 0, last = 0, frames = 0;
+  let handle = 0, last = 0, frames = 0, seen = true;
   const gap = 1000 / fps;
   const loop = (ts) => {
+    handle = 0;
+    if (!root.isConnected || !seen) return;  // the observer below starts it again
     handle = requestAnimationFrame(loop);
-    if (!root.isConnected || ts - last < gap - 4) return;  // 4 ms: rAF ticks jitter
+    if (ts - last < gap - 4) return;  // 4 ms: rAF ticks jitter
     if (frame()) {
       last = ts;
       frames += 1;
       root.dataset.frames = String(frames);
     }
   };
+  const watch = new IntersectionObserver((entries) => {
+    seen = entries[entries.length - 1].isIntersecting;
+    if (seen && !handle) handle = requestAnimationFrame(loop);
+  });
+  watch.observe(root);
   handle = requestAnimationFrame(loop);
-  return () => cancelAnimationFrame(handle);
+  return () => { cancelAnimationFrame(handle); watch.disconnect(); };
 }
 """
 

@@ -117,6 +117,8 @@ class Plot(LiveView):
         self.bag = Path(bag) if bag is not None else None
         self._lock = threading.Lock()
         self._paused_at: float | None = None
+        # the samples a paused live view shows: those taken when it was paused
+        self._frozen: dict[str, list[tuple[float, float]]] | None = None
         self._chart: Chart | None = None
         self._pause_button: ToggleButton | None = None
         self._subscriptions: list[tuple[Subscription, _Receive]] = []
@@ -299,6 +301,8 @@ class Plot(LiveView):
             for series in self.series:
                 series.samples.clear()
                 series.pending.clear()
+        if self._frozen is not None:
+            self._frozen = {path: [] for path in self._frozen}
         if self._feed is not None:
             self._feed.reset()
 
@@ -307,6 +311,8 @@ class Plot(LiveView):
         if self._paused_at is None:
             if self.bag is None:
                 self._take()  # what arrived before the pause is in the frozen view
+                # and nothing else: a sample taken later can carry an earlier receive time
+                self._frozen = self.data
             self._paused_at = time.monotonic() - self.t0
         if self._chart is not None and self._pause_button is not None:
             self._chart.frozen_at = self._paused_at
@@ -317,6 +323,7 @@ class Plot(LiveView):
         if self.bag is not None:
             return  # a recording's view is fixed
         self._paused_at = None
+        self._frozen = None
         if self._chart is not None and self._pause_button is not None:
             self._pause_button.value = False
             self._chart.frozen_at = None
@@ -335,7 +342,7 @@ class Plot(LiveView):
         end = self._paused_at if self._paused_at is not None else time.monotonic() - self.t0
         start = end - self.window
         shift = 0.0 if self.bag else end  # live: x is "seconds before now"
-        data = self.data
+        data = self.data if self._frozen is None else self._frozen
         topics = list(dict.fromkeys(s.topic for s in self.series))
         fig = Figure(figsize=(8.0, 1.1 + 1.7 * len(topics)), dpi=100)
         axes = dict(zip(topics, fig.subplots(len(topics), 1, squeeze=False)[:, 0],
