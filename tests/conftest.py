@@ -45,13 +45,14 @@ os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
 # its own for as long as it runs, and so has everything else that runs ROS beside them:
 #   1       nothing leased: every worker's default before a module leases one (above), and
 #           the first user domain the host registry gives (a Lab terminal's, `./kit start`'s)
-#   2-50, 53-60, 71-79, 91-92   test modules (leased, see `_lease_domain`)
+#   2-50, 53-60, 71-76, 91-92   test modules (leased, see `_lease_domain`)
 #   51-52   nbval's notebooks 09 and 10 (robot_lab/grading/course.py)
 #   61-69   nbval's notebooks 00-08 (lesson n: 61 + n, robot_lab/grading/course.py)
 #   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
-#   80-90   the browser tests' JupyterLab kernels (80 + lesson)
+#   77-79   the browser mistake tests' JupyterLab kernels (lessons 01-03: 76 + lesson)
+#   80-90   the browser course tests' JupyterLab kernels (80 + lesson)
 #   93-101  the Unix users of tests/test_domains.py (their registry's pool)
-_MODULE_SLOTS = [*range(2, 51), *range(53, 61), *range(71, 80), *range(91, 93)]
+_MODULE_SLOTS = [*range(2, 51), *range(53, 61), *range(71, 77), *range(91, 93)]
 # Leases are file locks, shared by every pytest on this host (and /tmp): two runs at once
 # take different domains too. A lock dies with its process, even after kill -9.
 _LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
@@ -66,7 +67,7 @@ def domain_at(offset: int) -> int:
 # Groups that take longest go to the workers first (the scheduler below hands groups out in
 # collection order), so the run does not end waiting on one of them. Longest first, as
 # `./kit test --durations=60` measured them (each a group's summed seconds, loaded host).
-_SLOW_FIRST = ('browser',                           # ~1100 s: the course in Chromium
+_SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~650 s idle: the course in Chromium
                'tests/test_mistake_path.py',        # ~800 s: ladders, then Run All again
                'tests/test_docs_console.py',        # ~750 s: the nbgrader loop as printed
                'tests/test_grade_package.py',       # ~350 s: one class graded
@@ -75,15 +76,17 @@ _SLOW_FIRST = ('browser',                           # ~1100 s: the course in Chr
                'tests/test_nbgrader.py', 'tests/test_grading.py', 'tests/test_colcon_test.py',
                'tests/test_deploy_paths.py', 'tests/test_custom_interfaces.py',
                'tests/test_grade_workflow.py', 'tests/test_grade_feedback.py',
-               'tests/test_capstone.py')
+               'tests/test_capstone.py', 'tests/browser/test_browser_mistakes.py')
 
 
 def _group(nodeid: str) -> str:
-    """The unit of work a worker gets: a test module, all notebooks (nbval runs them in
-    order, in one workspace: 02 builds on the package 01 created), or the browser tests."""
+    """The unit of work a worker gets: a test module, or all notebooks (nbval runs them in
+    order, in one workspace: 02 builds on the package 01 created).
+
+    The browser modules are groups of their own, each with its own lesson domains: as one
+    group (taking turns in 80-88) they were ~820 s on one worker, the end of every run.
+    """
     path = nodeid.split('::', 1)[0]
-    if path.startswith('tests/browser/'):
-        return 'browser'  # one set of lesson domains (80-88): the browser tests take turns
     return 'notebooks' if path.startswith('notebooks/') else path
 
 

@@ -72,11 +72,18 @@ class Course:
         self.browser = browser
         self.shots = shots
         self.runs: dict[str, Run] = {}
+        self._page: Any = None
 
     def page(self) -> Any:
-        page = self.browser.new_page(viewport={'width': 1280, 'height': 900})
-        page.set_default_timeout(30_000)
-        return page
+        """The session's one JupyterLab page: each notebook opens in it, as a student's do."""
+        if self._page is None or self._page.is_closed():
+            self._page = self.browser.new_page(viewport={'width': 1280, 'height': 900})
+            self._page.set_default_timeout(30_000)
+        return self._page
+
+    def done(self, page: Any) -> None:
+        """Close the notebooks open in `page` and end their kernels."""
+        browser_lab.close_notebooks(page, self.lab)
 
     def run(self, name: str) -> Run:
         for earlier in NOTEBOOKS[:NOTEBOOKS.index(name)]:
@@ -91,7 +98,11 @@ class Course:
         start = time.monotonic()
         page = self.page()
         errors: list[str] = []
-        page.on('pageerror', lambda err: errors.append(f'page error: {err}'))
+
+        def page_error(err: Any) -> None:
+            errors.append(f'page error: {err}')
+
+        page.on('pageerror', page_error)
         try:
             nb = Notebook(page, self.lab, f'notebooks/{name}')
             for index in range(nb.count()):
@@ -108,9 +119,9 @@ class Course:
             result.problems += output_check.mismatches(nb.save(), REPO / 'notebooks' / name)
             whole_notebook(page, self.shots / f'{Path(name).stem}.png')
         finally:
+            page.remove_listener('pageerror', page_error)
             result.problems += errors
-            page.close()
-            self.lab.shutdown_kernels()  # the nodes a notebook launched end with its kernel
+            self.done(page)
             result.seconds = time.monotonic() - start
 
 
@@ -389,8 +400,7 @@ def test_launch_panel_lights_follow_the_launch(course: Course) -> None:
         nb.shot(panel, course.shots / 'launch_panel_stopped.png')
         assert nb.errors() == []
     finally:
-        page.close()
-        course.lab.shutdown_kernels()
+        course.done(page)
 
 
 def test_an_exercise_opened_from_the_file_browser_checks_the_answer(course: Course) -> None:
@@ -426,8 +436,7 @@ def test_an_exercise_opened_from_the_file_browser_checks_the_answer(course: Cour
             nb.text(check)
         nb.shot(nb.cell(check), course.shots / 'exercise_ex01_check.png')
     finally:
-        page.close()
-        course.lab.shutdown_kernels()
+        course.done(page)
 
 
 def scratch_notebook(course: Course, name: str, cells: list[str]) -> str:
@@ -470,5 +479,4 @@ def test_widgets_look_disconnected_after_a_kernel_restart(course: Course) -> Non
         nb.run(1)  # the new kernel made no widgets: nothing to close, nothing fails
         assert 'closed 0' in nb.text(1) and nb.errors() == [], nb.text(1)
     finally:
-        page.close()
-        course.lab.shutdown_kernels()
+        course.done(page)

@@ -38,12 +38,15 @@ def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Any, Pa
         browser_lab.clear_outputs(root / 'notebooks' / f'{name}.ipynb')
     shots = scratch / 'shots'
     shots.mkdir()
-    # the browser tests' lesson domains (tests/conftest.py runs the browser tests in turn)
-    env = browser_lab.lab_environment(scratch, browser_lab.domain_base())
+    # lessons 01-03 in 77-79 (tests/conftest.py): apart from the course's, which may run
+    # on another worker at the same time
+    env = browser_lab.lab_environment(scratch, browser_lab.domain_base(76))
     with browser_lab.jupyter_lab(root, env) as running, sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
-        try:
-            yield running, browser, shots
+        try:  # one page: each notebook opens in the JupyterLab loaded there
+            page = browser.new_page(viewport={'width': 1280, 'height': 900})
+            page.set_default_timeout(30_000)
+            yield running, page, shots
         finally:
             browser.close()
             print(f'\nscreenshots of the mistakes: {shots}')
@@ -80,13 +83,11 @@ def _said(nb: Notebook, index: int) -> str:
 def test_a_student_who_makes_mistakes(lab: tuple[Lab, Any, Path], name: str) -> None:
     import nbformat
 
-    running, browser, shots = lab
+    running, page, shots = lab
     cells = nbformat.read(REPO / 'notebooks' / f'{name}.ipynb', as_version=4).cells
     student = student_cells(name)
     places = _places(cells)
     ids = {c.get('id'): i for i, c in enumerate(cells)}
-    page = browser.new_page(viewport={'width': 1280, 'height': 900})
-    page.set_default_timeout(30_000)
     problems: list[str] = []
     try:
         nb = Notebook(page, running, f'notebooks/{name}.ipynb')
@@ -119,6 +120,5 @@ def test_a_student_who_makes_mistakes(lab: tuple[Lab, Any, Path], name: str) -> 
                     problems.append(f'{answer}: the right answer failed: {_said(nb, index)}')
         problems += [f'error output: {e}' for e in nb.errors()]
     finally:
-        page.close()
-        running.shutdown_kernels()
+        browser_lab.close_notebooks(page, running)
     assert not problems, '\n'.join(problems)
