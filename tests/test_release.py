@@ -14,7 +14,6 @@ import nbformat
 import pytest
 from conftest import REPO, run_cli
 from nbformat.sign import NotebookNotary
-from nbgrader.utils import compute_checksum  # type: ignore[import-untyped]
 
 from robot_lab.grading.exercises import read_notebook
 from robot_lab.grading.release import (
@@ -61,6 +60,10 @@ def released(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.mark.parametrize('rel', sorted(SOURCES))
 def test_release_removes_answers_and_keeps_checks(released: Path, rel: str) -> None:
+    # imported here: nbgrader.utils loads nbgrader's server and exchange (3 s), which every
+    # worker would pay at collection
+    from nbgrader.utils import compute_checksum  # type: ignore[import-untyped]
+
     source, copy = read_notebook(SOURCES[rel]), read_notebook(released / rel)
     text = (released / rel).read_text()
     lines = {line.strip() for cell in copy.cells for line in cell.source.split('\n')}
@@ -227,6 +230,8 @@ def test_sanitise_output_shows_homes_as_tilde_and_the_venv_by_name() -> None:
 
 
 def test_release_drops_widget_views_and_strips_markers(tmp_path: Path) -> None:
+    from nbgrader.utils import compute_checksum
+
     widget = nbformat.v4.new_output('display_data', data={
         'application/vnd.jupyter.widget-view+json': {'model_id': 'm', 'version_major': 2},
         'text/plain': 'Plot(...)'})
