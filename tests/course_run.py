@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import json
 import os
+import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import nbformat
+from jupyter_client.manager import AsyncKernelManager
 from nbclient import NotebookClient
 from nbformat import NotebookNode
 
@@ -107,16 +109,23 @@ class Course:
 
         A cell that hangs fails the run (nbclient's CellTimeoutError names it).
         """
-        nb = nbformat.v4.new_notebook(cells=[fresh(c) for c in cells],
-                                      metadata=source(name).metadata)
-        for n, cell in enumerate(nb.cells):
-            cell.id = f'{n}-{cell.get("id", "")}'[:64]  # copies of a cell need ids of their own
+        made = [fresh(c) for c in cells]
+        for n, cell in enumerate(made):  # copies of a cell need ids of their own, before
+            cell.id = f'{n}-{cell.get("id", "")}'[:64]  # nbformat validates (and warns)
+        nb = nbformat.v4.new_notebook(cells=made, metadata=source(name).metadata)
         nb.cells.append(nbformat.v4.new_code_cell(PROBE))
         self.workspace.mkdir(parents=True, exist_ok=True)
-        client = NotebookClient(nb, timeout=CELL_TIMEOUT, allow_errors=True,
+        # Unix sockets, not TCP ports another worker's kernel may take first (the grader's)
+        connection = self.workspace.parent / f'{name}-{uuid.uuid4().hex[:8]}.json'
+        km = AsyncKernelManager(kernel_name='robot_lab', transport='ipc',
+                                connection_file=str(connection))
+        client = NotebookClient(nb, km=km, timeout=CELL_TIMEOUT, allow_errors=True,
                                 interrupt_on_timeout=False, kernel_name='robot_lab',
                                 resources={'metadata': {'path': str(self.workspace)}})
-        with self.environment(name), client.setup_kernel():
+        # cleanup_kc: nbclient shuts down only kernels whose manager it made. Left alive,
+        # a run's kernel outlived its module, and with it its ROS session, in a domain the
+        # next module was given (a later module's `topic list` showed 07's /distance).
+        with self.environment(name), client.setup_kernel(cleanup_kc=True):
             for index, cell in enumerate(nb.cells):
                 client.execute_cell(cell, index)
                 if on_cell is not None and index < len(nb.cells) - 1:

@@ -259,7 +259,11 @@ def grade(
         from robot_lab.env import ros_environment
 
         specs = KernelSpecManager(kernel_dirs=[str(_kernel_spec_dir(Path(k)))])
-        km = AsyncKernelManager(kernel_name=_KERNEL, kernel_spec_manager=specs)
+        # Unix sockets in this job's folder, not TCP ports: a free port chosen here can be
+        # taken by another grader's kernel before this one binds it ("Address already in
+        # use", seen in a CI run with four graders at once).
+        km = AsyncKernelManager(kernel_name=_KERNEL, kernel_spec_manager=specs,
+                                transport='ipc', connection_file=str(Path(k) / 'kernel.json'))
         client = NotebookClient(
             nb, km=km, kernel_name=_KERNEL, timeout=None, allow_errors=True,
             interrupt_on_timeout=False, shutdown_kernel='graceful', record_timing=False,
