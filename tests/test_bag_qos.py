@@ -48,17 +48,25 @@ threading.Event().wait()  # until the test stops this process
 
 
 class Counter:
-    """A subscription in this process that collects the strings it receives."""
+    """A subscription in this process that collects the strings it receives.
 
-    def __init__(self, topic: str, qos: Any) -> None:
+    Its history holds all N messages (a default or sensor profile keeps 10 or 5): on a
+    loaded host the test's executor can stall for longer than five 50 Hz periods, and a
+    shorter history then drops the oldest messages before they are taken, whatever the QoS
+    match. `reliability` is the policy under test.
+    """
+
+    def __init__(self, topic: str, reliability: Any) -> None:
         from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+        from rclpy.qos import QoSProfile
         from std_msgs.msg import String
 
         self.got: list[str] = []
         self.full = threading.Event()
         self._node = session().node
         self._sub = self._node.create_subscription(
-            String, topic, self._take, qos, callback_group=MutuallyExclusiveCallbackGroup())
+            String, topic, self._take, QoSProfile(depth=N, reliability=reliability),
+            callback_group=MutuallyExclusiveCallbackGroup())
 
     def _take(self, msg: Any) -> None:
         self.got.append(msg.data)
@@ -104,9 +112,9 @@ def test_play_offers_the_recorded_qos_to_default_and_sensor_subscribers(
         qos_bag: Path, ros_domain: int) -> None:
     from rclpy.qos import DurabilityPolicy, ReliabilityPolicy, qos_profile_sensor_data
 
-    map_default = Counter('/map', 10)
-    scan_default = Counter('/scan', 10)
-    scan_sensor = Counter('/scan', qos_profile_sensor_data)
+    map_default = Counter('/map', ReliabilityPolicy.RELIABLE)
+    scan_default = Counter('/scan', ReliabilityPolicy.RELIABLE)
+    scan_sensor = Counter('/scan', qos_profile_sensor_data.reliability)
     try:
         player = robot_lab.play(qos_bag)  # recorded pace: 50 Hz
         offered = {t: [(i.qos_profile.reliability, i.qos_profile.durability)
@@ -132,10 +140,12 @@ def test_overrides_file_makes_the_best_effort_topic_reach_a_default_subscriber(
         qos_bag: Path, tmp_path: Path, ros_domain: int) -> None:
     import os
 
+    from rclpy.qos import ReliabilityPolicy
+
     overrides = tmp_path / 'overrides.yaml'
     overrides.write_text('/scan:\n  history: keep_last\n  depth: 10\n'
                          '  reliability: reliable\n  durability: volatile\n')
-    scan_default = Counter('/scan', 10)
+    scan_default = Counter('/scan', ReliabilityPolicy.RELIABLE)
     try:
         player = Proc([str(BIN / 'robot-lab'), 'bag', 'play', str(qos_bag),
                        '--topics', '/scan', '--qos-profile-overrides-path', str(overrides)],

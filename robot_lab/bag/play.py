@@ -402,14 +402,25 @@ class Player:
         deadline = time.monotonic() + MATCH_TIMEOUT
         while not self._stop and time.monotonic() < deadline:
             settled = time.monotonic() - getattr(sess, 'created', 0.0) >= DISCOVERY_WINDOW
-            matched = all(
-                pub.get_subscription_count() >= self._node.count_subscribers(topic)
-                for topic, pub in self._publishers.items()
-            ) and self._services_ready()
+            matched = all(pub.get_subscription_count() >= self._matchable(pub)
+                          for pub in self._publishers.values()) and self._services_ready()
             if settled and matched:
                 return
             with self._cond:
                 self._cond.wait(0.02)
+
+    def _matchable(self, pub: Publisher) -> int:
+        """How many subscriptions the graph shows on pub's topic that its QoS can match.
+
+        A reliable subscriber never matches a best-effort offer (ROS's rule), so counting
+        it would hold the first message for the whole MATCH_TIMEOUT.
+        """
+        from rclpy.qos import QoSCompatibility, qos_check_compatible
+
+        return sum(
+            qos_check_compatible(pub.qos_profile, info.qos_profile)[0]
+            != QoSCompatibility.ERROR
+            for info in self._node.get_subscriptions_info_by_topic(pub.topic_name))
 
     def _services_ready(self) -> bool:
         """Every recorded service the graph shows a server for is ready for requests."""
