@@ -121,9 +121,11 @@ def test_checklist_passes_on_the_working_system_with_the_committed_output(
 BROKEN = {
     # the launch forgot a node: the first check names it
     'no_controller': ({'with_controller': False}, r'missing /controller'),
-    # a wrong rate in the parameter file: the rate check says how fast it really is
+    # a wrong rate in the parameter file: the rate check says how fast it really is (about
+    # 3 Hz: a loaded CI host measured 2.9)
     'slow_sensor': ({'sensor': '<param name="sensor_rate" value="3"/>'},
-                    r'/sensor/temperature at 8–12 Hz; observed it runs at 3\.\d, 3\.\d Hz'),
+                    r'/sensor/temperature at 8–12 Hz; observed it runs at '
+                    r'(2\.[5-9]|3\.[0-4]), (2\.[5-9]|3\.[0-4]) Hz'),
     # a controller that is always HIGH: the status check shows what it saw instead
     'hot_controller': ({'controller': '<param name="temp_threshold" value="20.0"/>'},
                        r"with status OK; observed within 5 s the last one was \{'data': 'HIGH"),

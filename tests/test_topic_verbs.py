@@ -75,7 +75,10 @@ def test_pub_times_waits_for_a_subscriber_and_restamps(pose: Proc) -> None:
     try:
         proc.wait_for(r'Waiting for at least 1 matching subscription\(s\)\.\.\.')
         before = time.time()
-        got = robot_lab.echo('/point', count=3, timeout=20,
+        # pub (as ros2cli's) starts once its writer has matched the reader; the reader may
+        # match the writer a moment later, and a volatile reader drops what came before
+        # (a loaded CI host lost the first of three). Two of them show the restamping.
+        got = robot_lab.echo('/point', count=2, timeout=20,
                              msg_type='geometry_msgs/msg/PointStamped')
         assert proc.popen.wait(timeout=20) == 0
     finally:
@@ -83,9 +86,9 @@ def test_pub_times_waits_for_a_subscriber_and_restamps(pose: Proc) -> None:
     assert 'publisher: beginning loop' in proc.output
     assert proc.output.count('publishing #') == 3
     stamps = [m.header.stamp.sec + m.header.stamp.nanosec * 1e-9 for m in got]
-    assert [m.header.frame_id for m in got] == ['base'] * 3
+    assert [m.header.frame_id for m in got] == ['base'] * 2
     assert all(before - 1.0 < s < time.time() for s in stamps)
-    assert stamps[0] < stamps[1] < stamps[2]  # restamped, 0.1 s apart
+    assert stamps[0] < stamps[1]  # restamped, 0.1 s apart
 
 
 def test_pub_once_transient_local_reaches_a_late_subscriber(pose: Proc) -> None:

@@ -125,8 +125,10 @@ def wait_for_nodes(names: Iterable[str], timeout: float = 10.0,
     if wait_until(all_there, timeout) is None:
         present = set(full_node_names(sess, include_hidden=True))
         missing = [n for n in wanted if n not in present]
+        shown = ', '.join(sorted(present)) or 'no node'
         raise GraphError(
-            f'nodes not up within {timeout:g} s: {", ".join(missing)}',
+            f'nodes not up within {timeout:g} s: {", ".join(missing)} '
+            f'(ROS_DOMAIN_ID={sess.domain_id} shows {shown})',
             fix='check that they were started (and did not die) with `robot-lab node list`',
         )
     return wanted
