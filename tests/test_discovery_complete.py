@@ -23,11 +23,11 @@ from conftest import BIN, Proc, run_reference_node
 
 from robot_lab.graph import discovery
 from robot_lab.graph.discovery import (
-    _discovery_ports,
     host_participants_seen,
     participants_on_host,
     participants_seen,
 )
+from robot_lab.graph.host_sockets import discovery_ports, udp_sockets
 from robot_lab.rclpy_session import RECEIVE_BUFFER, session
 
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
@@ -78,7 +78,7 @@ def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
     import socket
 
     session(ros_domain)
-    ports = {f'socket:[{inode}]' for inode in _discovery_ports(ros_domain).values()}
+    ports = {f'socket:[{inode}]' for inode in discovery_ports(ros_domain).values()}
     assert ports, 'the session has bound no discovery port of its domain'
     allowed = int(Path('/proc/sys/net/core/rmem_max').read_text())
     sizes = []
@@ -95,6 +95,86 @@ def test_a_session_widens_its_discovery_receive_buffer(ros_domain: int) -> None:
             sock.close()
     # Linux doubles what it grants (bookkeeping), up to rmem_max.
     assert sizes and min(sizes) >= 2 * min(RECEIVE_BUFFER, allowed), sizes
+
+
+# Opens and closes UDP sockets as fast as it can, as processes coming and going do.
+_CHURN = """
+import socket
+print('churning', flush=True)
+while True:
+    opened = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(20)]
+    for sock in opened:
+        sock.bind(('127.0.0.1', 0))
+    for sock in opened:
+        sock.close()
+"""
+
+
+def test_the_socket_table_skips_no_socket_while_others_come_and_go() -> None:
+    """CI: /proc/net/udp, read while sockets close, skips rows that are still there (a
+    fifth of the reads here), and a cold command then miscounted the host's participants.
+    The table's reader sees every socket that stays open."""
+    import socket
+
+    kept = [socket.socket(socket.AF_INET, socket.SOCK_DGRAM) for _ in range(120)]
+    churn = Proc([sys.executable, '-c', _CHURN])
+    try:
+        for sock in kept:
+            sock.bind(('127.0.0.1', 0))
+        ports = {sock.getsockname()[1] for sock in kept}
+        churn.wait_for('churning', timeout=60)
+        missed = sum(not ports <= {s.port for s in udp_sockets()} for _ in range(500))
+    finally:
+        churn.stop()
+        for sock in kept:
+            sock.close()
+    assert missed == 0, f'{missed} of 500 reads missed a socket that stayed open'
+
+
+def test_a_poll_the_host_did_not_run_does_not_use_up_the_wait(
+        ros_domain: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A process the host did not run for a while (a busy host, a paused virtual machine)
+    had no time to hear anyone: that gap counts as one poll's, not as the whole wait."""
+    sess = session(ros_domain)
+    monkeypatch.setattr(discovery, 'EXPECTED_TIMEOUT', 1.0)
+    calls: list[float] = []
+
+    def probe() -> int:
+        calls.append(time.monotonic())
+        if len(calls) == 1:
+            time.sleep(1.5)  # stands for the process not being run
+        return len(calls)
+
+    started = time.monotonic()
+    # ready() False: nodes on their way, so it answers only at the deadline
+    discovery.settled(sess, probe, timeout=0.5, ready=lambda: False)
+    waited = time.monotonic() - started
+    assert len(calls) > 10 and waited >= 1.5 + 1.0 - discovery.MAX_POLL_GAP, (
+        len(calls), waited)
+
+
+def test_an_answer_that_leaves_out_a_participant_says_so(
+        ros_domain: int, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """A process that holds a discovery port but has no node is never heard: the answer
+    comes at the deadline, with a line on stderr that it may be incomplete."""
+    sess = session(ros_domain)
+    _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
+    monkeypatch.setattr(discovery, 'WARM_PARTICIPANT_TIMEOUT', 0.5)
+    monkeypatch.setattr(discovery, 'PARTICIPANT_TIMEOUT', 0.5)
+    port = 7400 + 250 * ros_domain + 10 + 2 * 21  # participant id 21: free here
+    bound = Proc([sys.executable, '-c', _BOUND, str(port)], env=dict(os.environ),
+                 stdin=subprocess.PIPE)
+    try:
+        bound.wait_for('bound', timeout=60)
+        capsys.readouterr()
+        assert discovery.settled(sess, lambda: 'answer', timeout=0.1) == 'answer'
+        said = capsys.readouterr().err
+    finally:
+        bound.stop()
+    assert said.startswith(f'robot-lab: 1 of the 2 DDS participants of ROS_DOMAIN_ID='
+                           f'{ros_domain} on this host not heard'), said
+    assert 'may be incomplete' in said and said.count('\n') == 1, said
 
 
 def test_socket_drops_counts_what_a_full_receive_buffer_lost() -> None:
@@ -181,14 +261,15 @@ def test_cold_lists_are_complete_beside_busy_loops(system: list[Proc]) -> None:
     busy = [subprocess.Popen(['sh', '-c', 'while :; do :; done']) for _ in range(2)]
     env = {**os.environ, 'ROBOT_LAB_NO_DAEMON': '1'}
     try:
-        answers = [subprocess.run([str(BIN / 'ros2'), 'node', 'list'], capture_output=True,
-                                  text=True, env=env, timeout=120, check=True).stdout
-                   for _ in range(6)]
+        runs = [subprocess.run([str(BIN / 'ros2'), 'node', 'list'], capture_output=True,
+                               text=True, env=env, timeout=120, check=True)
+                for _ in range(6)]
     finally:
         for proc in busy:
             proc.kill()
             proc.wait()
-    assert [a.split() for a in answers] == [NODES] * 6, answers
+    assert [run.stdout.split() for run in runs] == [NODES] * 6, [
+        (run.stdout, run.stderr) for run in runs]
 
 
 def test_cold_param_list_asks_every_node(system: list[Proc]) -> None:

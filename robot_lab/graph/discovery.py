@@ -28,12 +28,18 @@ announcement burst has passed since.
 
 from __future__ import annotations
 
-import contextlib
 import os
+import sys
 import time
-from collections.abc import Callable, Iterator
-from pathlib import Path
+from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeVar
+
+from robot_lab.graph.host_sockets import (
+    discovery_ports,
+    own_sockets,
+    port_holders,
+    socket_drops,
+)
 
 if TYPE_CHECKING:
     from robot_lab.rclpy_session import Session
@@ -94,6 +100,14 @@ WARM_PARTICIPANT_TIMEOUT = 7.0
 # How long a lookup of a named node/topic waits for discovery before calling it unknown.
 LOOKUP_TIMEOUT = 2.5
 POLL = 0.02
+# The waits above are counted in time this process ran: a poll that comes later than this
+# after the one before (the process was not run: a host busy with others, a virtual
+# machine whose CPU its host took back) counts as this long. Discovery made no progress
+# here in that gap either, so it does not use up a deadline. A cold `node list` on a CI
+# host once printed no node at all: a deadline passed before anyone was heard, where the
+# poll loop hears the seed system in 0.26 s beside sixteen busy loops (20 runs here).
+# Polls come 0.03-0.04 s apart beside six busy loops.
+MAX_POLL_GAP = 0.25
 # Fast DDS's endpoint-discovery writers send a heartbeat every second and repair 100 ms
 # after a negative acknowledgement (EDPSimple's defaults): an endpoint announcement the
 # kernel dropped from a young session's full receive buffer comes again within about
@@ -119,14 +133,30 @@ def absolute_name(name: str) -> str:
     return name if name.startswith('/') else '/' + name
 
 
+class RunClock:
+    """Seconds since it was made, each gap between two readings counted at most
+    MAX_POLL_GAP (see there): the time this process had to see discovery progress."""
+
+    def __init__(self) -> None:
+        self._last = time.monotonic()
+        self._elapsed = 0.0
+
+    def __call__(self) -> float:
+        now = time.monotonic()
+        self._elapsed += min(now - self._last, MAX_POLL_GAP)
+        self._last = now
+        return self._elapsed
+
+
 def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
-    """Poll `probe` until it returns something other than None, or `timeout` passes."""
-    deadline = time.monotonic() + timeout
+    """Poll `probe` until it returns something other than None, or `timeout` passes (in
+    `RunClock` time)."""
+    clock = RunClock()
     while True:
         value = probe()
         if value is not None:
             return value
-        if time.monotonic() >= deadline:
+        if clock() >= timeout:
             return None
         time.sleep(POLL)
 
@@ -184,56 +214,6 @@ def endpoints_attributed(session: Session,
     return ready
 
 
-# Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
-# is a participant's metatraffic unicast (discovery) port.
-_PORT_BASE, _DOMAIN_GAIN, _PARTICIPANT_GAIN, _D1 = 7400, 250, 2, 10
-_UDP_TABLES = (Path('/proc/net/udp'), Path('/proc/net/udp6'))
-_own_port_checked: dict[int, bool] = {}
-
-
-def _udp_rows() -> Iterator[list[str]]:
-    """The fields of each socket row of /proc/net/udp and udp6 (inode: 9, drops: 12)."""
-    for table in _UDP_TABLES:
-        try:
-            lines = table.read_text().splitlines()[1:]
-        except OSError:
-            continue
-        for line in lines:
-            fields = line.split()
-            if len(fields) >= 13:
-                yield fields
-
-
-def _own_sockets() -> set[str]:
-    """The inodes of the sockets this process holds."""
-    inodes = set()
-    with contextlib.suppress(OSError):
-        for fd in os.listdir('/proc/self/fd'):
-            with contextlib.suppress(OSError):  # closed meanwhile
-                link = os.readlink(f'/proc/self/fd/{fd}')
-                if link.startswith('socket:['):
-                    inodes.add(link[8:-1])
-    return inodes
-
-
-def _discovery_ports(domain_id: int) -> dict[int, str]:
-    """Bound discovery ports of this domain on this host -> their socket inodes."""
-    first = _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1
-    last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
-    ports: dict[int, str] = {}
-    for fields in _udp_rows():
-        port = int(fields[1].rsplit(':', 1)[1], 16)
-        if first <= port <= last and (port - first) % _PARTICIPANT_GAIN == 0:
-            ports[port] = fields[9]
-    return ports
-
-
-def socket_drops() -> int:
-    """Datagrams the kernel dropped (receive buffer full) on this process's UDP sockets."""
-    mine = _own_sockets()
-    return sum(int(fields[12]) for fields in _udp_rows() if fields[9] in mine)
-
-
 def participants_on_host(domain_id: int) -> int | None:
     """How many DDS participants of `domain_id` run on this host (this network namespace),
     this process's included: each has bound its discovery port. None when that cannot be
@@ -243,14 +223,16 @@ def participants_on_host(domain_id: int) -> int | None:
     return None if ports is None else len(ports)
 
 
-def _host_ports(domain_id: int) -> dict[int, str] | None:
+def _host_ports(domain_id: int) -> dict[int, int] | None:
     """The domain's bound discovery ports (port -> socket inode) when they can be counted
-    (see `participants_on_host`), else None."""
-    ports = _discovery_ports(domain_id)
-    if domain_id not in _own_port_checked:
-        mine = _own_sockets()
-        _own_port_checked[domain_id] = any(inode in mine for inode in ports.values())
-    return ports if _own_port_checked[domain_id] else None
+    (see `participants_on_host`), else None. Only a yes is kept: this process's port,
+    once found, stays its own."""
+    ports = discovery_ports(domain_id)
+    if domain_id not in _own_port_found:
+        if not own_sockets() & set(ports.values()):
+            return None
+        _own_port_found.add(domain_id)
+    return ports
 
 
 def participants_seen(session: Session) -> tuple[int, set[str]]:
@@ -275,52 +257,7 @@ def _named_participants(session: Session) -> tuple[set[bytes], set[str]]:
 
 
 _EPROSIMA = b'\x01\x0f'  # a GUID prefix's vendor id: Fast DDS
-_holders: dict[frozenset[str], list[set[int]]] = {}
-
-
-def _port_holders(inodes: frozenset[str]) -> list[set[int]]:
-    """For each of these sockets that this user may trace, the pids (low 16 bits) of the
-    processes in this PID namespace that hold it (a child that inherited the socket holds
-    it too); sockets held elsewhere are left to the count. Cached per set of sockets: a
-    scan of /proc takes ~2 ms per 150 processes."""
-    if inodes in _holders:
-        return _holders[inodes]
-    wanted = {f'socket:[{inode}]': inode for inode in inodes}
-    try:
-        own_ns = os.readlink('/proc/self/ns/pid')
-    except OSError:
-        return []
-    by_inode: dict[str, set[int]] = {}
-    foreign: set[str] = set()
-    for entry in os.scandir('/proc'):
-        if not entry.name.isdigit():
-            continue
-        try:
-            fds = os.listdir(f'/proc/{entry.name}/fd')
-        except OSError:
-            continue  # gone, or another user's
-        held = set()
-        for fd in fds:
-            with contextlib.suppress(OSError):
-                link = os.readlink(f'/proc/{entry.name}/fd/{fd}')
-                if link in wanted:
-                    held.add(wanted[link])
-        if not held:
-            continue
-        try:  # a process in another PID namespace writes its own view of its pid
-            same = os.readlink(f'/proc/{entry.name}/ns/pid') == own_ns
-        except OSError:
-            same = False
-        for inode in held:
-            if same:
-                by_inode.setdefault(inode, set()).add(int(entry.name) & 0xFFFF)
-            else:
-                foreign.add(inode)
-    found = [pids for inode, pids in by_inode.items() if inode not in foreign]
-    if len(_holders) > 64:
-        _holders.clear()
-    _holders[inodes] = found
-    return found
+_own_port_found: set[int] = set()  # domains in which this process's port was found
 
 
 def node_processes(session: Session) -> set[int] | None:
@@ -349,11 +286,25 @@ def host_participants_seen(session: Session) -> Callable[[], bool | None]:
         if len(prefixes) < len(ports):
             return False
         heard, sockets = _process_ids(prefixes), frozenset(ports.values())
-        if heard is not None and any(not pids & heard for pids in _port_holders(sockets)):
+        if heard is not None and any(not pids & heard for pids in port_holders(sockets)):
             return False  # the count includes one that left; a process is not heard yet
         return set(full_node_names(session, include_hidden=True)) <= with_endpoints
 
     return complete
+
+
+def _say_unheard(session: Session, waited: float) -> None:
+    """One line on stderr when an answer leaves out participants the host shows: the
+    user then knows the list may be short, and why."""
+    ports = _host_ports(session.domain_id)
+    if ports is None:
+        return
+    missing = len(ports) - participants_seen(session)[0]
+    what = (f'{missing} of the {len(ports)} DDS participants' if missing > 0
+            else 'a process holding a DDS port')
+    print(f'robot-lab: {what} of ROS_DOMAIN_ID={session.domain_id} on this host not heard '
+          f'with a node within {waited:.0f} s: this answer may be incomplete (a busy host, '
+          'or a process without a node yet); run the command again', file=sys.stderr)
 
 
 def heard_from_others(session: Session) -> Callable[[], bool]:
@@ -392,8 +343,8 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     """
     if ready is None:
         ready = launched_nodes_seen(session)
-    start = time.monotonic()
-    young = start - session.created < WARM_AGE
+    young = time.monotonic() - session.created < WARM_AGE
+    clock, start = RunClock(), 0.0  # all times below are the clock's
     if not young:
         settle = min(settle, WARM_SETTLE)
     heard = heard_from_others(session)
@@ -407,7 +358,7 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         # ready() has seen (the graph only grows while a launch comes up).
         expectation = ready()
         fresh = probe()
-        now = time.monotonic()
+        now = clock()
         if value is None or fresh != value:
             value, changed = fresh, now
         deadline = start + timeout
@@ -444,5 +395,7 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
                 deadline = max(deadline, min(lost_at + RESEND_WAIT + settle,
                                              start + PARTICIPANT_TIMEOUT))
         if (old_enough and now - changed >= settle) or now >= deadline:
+            if everyone is False and not old_enough:
+                _say_unheard(session, now)
             return fresh
         time.sleep(POLL)
