@@ -266,7 +266,8 @@ def test_a_participant_that_left_does_not_stand_in_for_a_new_one(ros_domain: int
 
 def test_cold_lists_are_complete_beside_busy_loops(system: list[Proc]) -> None:
     busy = [subprocess.Popen(['sh', '-c', 'while :; do :; done']) for _ in range(2)]
-    env = {**os.environ, 'ROBOT_LAB_NO_DAEMON': '1'}
+    # ROBOT_LAB_DEBUG_DISCOVERY: a failure shows how each command reached its answer
+    env = {**os.environ, 'ROBOT_LAB_NO_DAEMON': '1', discovery.DEBUG_VARIABLE: '1'}
     try:
         runs = [subprocess.run([str(BIN / 'ros2'), 'node', 'list'], capture_output=True,
                                text=True, env=env, timeout=120, check=True)

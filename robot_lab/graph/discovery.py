@@ -114,6 +114,9 @@ MAX_POLL_GAP = 0.25
 # 1.1 s. A young session that lost datagrams answers only once its answer has held that
 # long since the last loss (a cold `action info` once listed no client under load).
 RESEND_WAIT = 1.5
+# Set to 1 to have every settled answer print how it was reached on stderr (why it
+# answered, the session's age, the time waited, the host's participants and those seen).
+DEBUG_VARIABLE = 'ROBOT_LAB_DEBUG_DISCOVERY'
 # rmw_dds_common's name for an endpoint whose node has not been announced (yet).
 UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 
@@ -343,7 +346,8 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     """
     if ready is None:
         ready = launched_nodes_seen(session)
-    young = time.monotonic() - session.created < WARM_AGE
+    began = time.monotonic()
+    young = began - session.created < WARM_AGE
     clock, start = RunClock(), 0.0  # all times below are the clock's
     if not young:
         settle = min(settle, WARM_SETTLE)
@@ -397,5 +401,12 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         if (old_enough and now - changed >= settle) or now >= deadline:
             if everyone is False and not old_enough:
                 _say_unheard(session, now)
+            if os.environ.get(DEBUG_VARIABLE, '0') not in ('', '0'):
+                ports = _host_ports(session.domain_id)
+                print(f'robot-lab discovery: {"complete" if old_enough else "deadline"} '
+                      f'young={young} age={began - session.created:.2f} waited={now:.2f} '
+                      f'wall={time.monotonic() - began:.2f} everyone={everyone} '
+                      f'expected={expectation} ports={None if ports is None else len(ports)} '
+                      f'seen={participants_seen(session)[0]} dropped={lost}', file=sys.stderr)
             return fresh
         time.sleep(POLL)
