@@ -358,15 +358,19 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     value: T | None = None
     changed = start
     while True:
-        # ready() first, then probe(): the answer returned is never older than what
-        # ready() has seen (the graph only grows while a launch comes up).
-        expectation = ready()
-        fresh = probe()
+        # Every condition is read before the answer: the graph only grows while discovery
+        # settles, so an answer read after them holds all they saw. The other way round,
+        # the whole graph can arrive between the two reads (this process not run for a
+        # moment while its DDS threads were): a cold `node list` on a CI host printed no
+        # node at all, the graph complete and the answer from before it.
         now = clock()
+        expectation = ready()
+        everyone = complete()
+        heard_now = heard() if everyone is None and young else False
+        fresh = probe()
         if value is None or fresh != value:
             value, changed = fresh, now
         deadline = start + timeout
-        everyone = complete()
         if everyone is not None:
             # Every participant on the host is seen with its nodes' endpoints: complete,
             # however young the session and however slow the others were to answer.
@@ -377,10 +381,9 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
         elif young:
             # No count to go by: answer once the others have answered (a whole burst)
             # and every node listed has its endpoints; never on the session's age alone.
-            if heard_at is None and heard():
+            if heard_at is None and heard_now:
                 heard_at = now
-            old_enough = (heard_at is not None and now - heard_at >= ANSWER_BURST
-                          and heard())
+            old_enough = heard_at is not None and now - heard_at >= ANSWER_BURST and heard_now
         else:
             old_enough = True
         if expectation is True:
