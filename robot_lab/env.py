@@ -21,7 +21,7 @@ import sys
 from collections.abc import Mapping, MutableMapping
 from pathlib import Path
 
-__all__ = ['DISCOVERY_PROFILE', 'apply_ros_defaults', 'ros_environment']
+__all__ = ['DISCOVERY_PROFILE', 'apply_ros_defaults', 'ros_environment', 'switched_on']
 
 DISCOVERY_PROFILE = Path(__file__).with_name('data') / 'fastdds_profile.xml'
 
@@ -102,3 +102,9 @@ def ros_environment(extra: Mapping[str, str] | None = None) -> dict[str, str]:
         env.update(extra)
     apply_ros_defaults(env)
     return env
+
+
+def switched_on(variable: str) -> bool:
+    """Whether an on/off variable of the kit's (ROBOT_LAB_NO_DAEMON=1) is set: anything
+    but unset, empty or 0 means on."""
+    return os.environ.get(variable, '0') not in ('', '0')

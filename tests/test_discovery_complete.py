@@ -27,7 +27,7 @@ from robot_lab.graph.discovery import (
     participants_on_host,
     participants_seen,
 )
-from robot_lab.graph.host_sockets import discovery_ports, udp_sockets
+from robot_lab.graph.host_sockets import discovery_port, discovery_ports, udp_sockets
 from robot_lab.rclpy_session import RECEIVE_BUFFER, session
 
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
@@ -190,7 +190,7 @@ def test_an_answer_that_leaves_out_a_participant_says_so(
     _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
     monkeypatch.setattr(discovery, 'WARM_PARTICIPANT_TIMEOUT', 0.5)
     monkeypatch.setattr(discovery, 'PARTICIPANT_TIMEOUT', 0.5)
-    port = 7400 + 250 * ros_domain + 10 + 2 * 21  # participant id 21: free here
+    port = discovery_port(ros_domain, 21)  # participant id 21: free here
     bound = Proc([sys.executable, '-c', _BOUND, str(port)], env=dict(os.environ),
                  stdin=subprocess.PIPE)
     try:
@@ -263,7 +263,7 @@ def test_a_participant_that_left_does_not_stand_in_for_a_new_one(ros_domain: int
     complete = host_participants_seen(sess)
     _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
     gone = Proc([sys.executable, '-c', _NAMED], env=dict(os.environ))
-    port = 7400 + 250 * ros_domain + 10 + 2 * 20  # participant id 20: free here
+    port = discovery_port(ros_domain, 20)  # participant id 20: free here
     late = Proc([sys.executable, '-c', _BOUND, str(port)], env=dict(os.environ),
                 stdin=subprocess.PIPE)
     try:

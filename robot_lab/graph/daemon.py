@@ -31,6 +31,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import IO, Any
 
+from robot_lab.env import switched_on
 from robot_lab.errors import GraphError, RobotLabError
 from robot_lab.graph.expected import graph_dir, process_alive
 
@@ -70,7 +71,7 @@ def socket_path(env: Mapping[str, str] | None = None) -> Path:
 
 def disabled() -> bool:
     """True when the user asked for no daemon (ROBOT_LAB_NO_DAEMON=1)."""
-    return os.environ.get(NO_DAEMON_VARIABLE, '0') not in ('', '0')
+    return switched_on(NO_DAEMON_VARIABLE)
 
 
 def _connect(path: Path, timeout: float) -> socket.socket | None:

@@ -34,6 +34,7 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeVar
 
+from robot_lab.env import switched_on
 from robot_lab.graph.host_sockets import (
     discovery_ports,
     own_sockets,
@@ -52,6 +53,7 @@ __all__ = [
     'RESEND_WAIT',
     'SETTLE',
     'WARM_SETTLE',
+    'HostCount',
     'absolute_name',
     'endpoints_attributed',
     'full_node_names',
@@ -277,37 +279,49 @@ def _process_ids(prefixes: set[bytes]) -> set[int] | None:
     return {int.from_bytes(p[4:6], 'little') for p in prefixes}
 
 
-def host_participants_seen(session: Session) -> Callable[[], bool | None]:
+class HostCount:
     """A probe: True once the session has seen every participant of its domain on this
     host (see `participants_on_host`), each with a named node, and every node it lists
-    has its endpoints; None when the host's count cannot be read."""
-    def complete() -> bool | None:
-        ports = _host_ports(session.domain_id)  # one read of the socket table per poll
+    has its endpoints; None when the host's count cannot be read. It keeps what its last
+    call counted, for the note an incomplete answer gets."""
+
+    def __init__(self, session: Session) -> None:
+        self.session = session
+        self.ports: int | None = None  # participants on the host at the last call
+        self.seen = 0  # of them heard with a named node
+
+    def __call__(self) -> bool | None:
+        ports = _host_ports(self.session.domain_id)  # one read of the socket table per poll
+        self.ports = None if ports is None else len(ports)
         if ports is None:
             return None
-        prefixes, with_endpoints = _named_participants(session)
+        prefixes, with_endpoints = _named_participants(self.session)
+        self.seen = len(prefixes)
         if len(prefixes) < len(ports):
             return False
         heard, sockets = _process_ids(prefixes), frozenset(ports.values())
         if heard is not None and any(not pids & heard for pids in port_holders(sockets)):
             return False  # the count includes one that left; a process is not heard yet
-        return set(full_node_names(session, include_hidden=True)) <= with_endpoints
+        return set(full_node_names(self.session, include_hidden=True)) <= with_endpoints
 
-    return complete
+    def say_unheard(self, waited: float) -> None:
+        """One line on stderr when an answer leaves out participants the host shows: the
+        user then knows the list may be short, and why."""
+        if self.ports is None:
+            return
+        missing = self.ports - self.seen
+        what = (f'{missing} of the {self.ports} DDS participants' if missing > 0
+                else 'a process holding a DDS port')
+        print(f'robot-lab: {what} of ROS_DOMAIN_ID={self.session.domain_id} on this host '
+              f'not heard with a node within {waited:.0f} s: this answer may be incomplete '
+              '(a busy host, or a process without a node yet); run the command again',
+              file=sys.stderr)
 
 
-def _say_unheard(session: Session, waited: float) -> None:
-    """One line on stderr when an answer leaves out participants the host shows: the
-    user then knows the list may be short, and why."""
-    ports = _host_ports(session.domain_id)
-    if ports is None:
-        return
-    missing = len(ports) - participants_seen(session)[0]
-    what = (f'{missing} of the {len(ports)} DDS participants' if missing > 0
-            else 'a process holding a DDS port')
-    print(f'robot-lab: {what} of ROS_DOMAIN_ID={session.domain_id} on this host not heard '
-          f'with a node within {waited:.0f} s: this answer may be incomplete (a busy host, '
-          'or a process without a node yet); run the command again', file=sys.stderr)
+def host_participants_seen(session: Session) -> Callable[[], bool | None]:
+    """The `HostCount` probe of `session` (`settled` asks for it here, so a test can
+    stand in for it)."""
+    return HostCount(session)
 
 
 def heard_from_others(session: Session) -> Callable[[], bool]:
@@ -402,14 +416,14 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
                 deadline = max(deadline, min(lost_at + RESEND_WAIT + settle,
                                              start + PARTICIPANT_TIMEOUT))
         if (old_enough and now - changed >= settle) or now >= deadline:
-            if everyone is False and not old_enough:
-                _say_unheard(session, now)
-            if os.environ.get(DEBUG_VARIABLE, '0') not in ('', '0'):
-                ports = _host_ports(session.domain_id)
+            counted = complete if isinstance(complete, HostCount) else None
+            if everyone is False and not old_enough and counted is not None:
+                counted.say_unheard(now)
+            if switched_on(DEBUG_VARIABLE):
                 print(f'robot-lab discovery: {"complete" if old_enough else "deadline"} '
                       f'young={young} age={began - session.created:.2f} waited={now:.2f} '
                       f'wall={time.monotonic() - began:.2f} everyone={everyone} '
-                      f'expected={expectation} ports={None if ports is None else len(ports)} '
-                      f'seen={participants_seen(session)[0]} dropped={lost}', file=sys.stderr)
+                      f'expected={expectation} ports={counted and counted.ports} '
+                      f'seen={counted and counted.seen} dropped={lost}', file=sys.stderr)
             return fresh
         time.sleep(POLL)

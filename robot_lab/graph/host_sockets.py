@@ -22,8 +22,8 @@ import struct
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ['UdpSocket', 'discovery_ports', 'own_sockets', 'port_holders', 'socket_drops',
-           'udp_sockets']
+__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets', 'port_holders',
+           'socket_drops', 'udp_sockets']
 
 
 class UdpSocket(NamedTuple):
@@ -137,9 +137,14 @@ def own_sockets() -> set[int]:
     return inodes
 
 
+def discovery_port(domain_id: int, participant_id: int) -> int:
+    """The discovery (metatraffic unicast) port of participant `participant_id`."""
+    return _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1 + _PARTICIPANT_GAIN * participant_id
+
+
 def discovery_ports(domain_id: int, sockets: list[UdpSocket] | None = None) -> dict[int, int]:
     """Bound discovery ports of this domain on this host -> their socket inodes."""
-    first = _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1
+    first = discovery_port(domain_id, 0)
     last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
     return {s.port: s.inode for s in (udp_sockets() if sockets is None else sockets)
             if first <= s.port <= last and (s.port - first) % _PARTICIPANT_GAIN == 0}
