@@ -403,7 +403,8 @@ def test_pose_integration_follows_arcs_and_lines() -> None:
     assert quarter == pytest.approx((1.0, 1.0, math.pi / 2), abs=1e-9)
 
 
-def test_robot_view_integrates_a_real_twist_topic(system: None) -> None:
+def test_robot_view_integrates_a_real_twist_topic(system: None,
+                                                  caplog: pytest.LogCaptureFixture) -> None:
     """A node publishing geometry_msgs/Twist on /robot_view_test moves the drawn robot."""
     import conftest
 
@@ -422,6 +423,9 @@ def test_robot_view_integrates_a_real_twist_topic(system: None) -> None:
         assert payload['kind'] == 'reset' and len(payload['poses']) == 3 * len(view.path)
         assert view._new() is None  # a full picture leaves nothing pending
         assert view.render_png().startswith(PNG_MAGIC)
+        # matplotlib warned on every picture ('Ignoring fixed y limits to fulfill fixed
+        # data aspect'), on stderr in the student's cell
+        assert not [r for r in caplog.records if r.name.startswith('matplotlib')]
         widget = view.start().widget
         assert 'robot-lab-widget' in widget._dom_classes
     finally:

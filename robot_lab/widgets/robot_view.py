@@ -192,7 +192,7 @@ class RobotView(LiveView):
                                 color='#E69F00'))
         ax.set_xlim(min(xs) - 0.5, min(xs) - 0.5 + size)
         ax.set_ylim(min(ys) - 0.5, min(ys) - 0.5 + size)
-        ax.set_aspect('equal', adjustable='datalim')
+        ax.set_aspect('equal', adjustable='box')  # the square limits kept, no warning
         ax.grid(True, color='#e5e5e5')
         ax.set_xlabel('x (m)', fontsize=9)
         ax.set_ylabel('y (m)', fontsize=9)
