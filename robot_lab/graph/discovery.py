@@ -32,6 +32,7 @@ import os
 import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 
 from robot_lab.env import switched_on
@@ -117,7 +118,9 @@ MAX_POLL_GAP = 0.25
 # long since the last loss (a cold `action info` once listed no client under load).
 RESEND_WAIT = 1.5
 # Set to 1 to have every settled answer print how it was reached on stderr (why it
-# answered, the session's age, the time waited, the host's participants and those seen).
+# answered, the session's age, the time waited, the host's participants and those seen,
+# and at a deadline the processes holding ports not heard); set to a file's path to have
+# the lines appended there instead (a kernel's stderr is a notebook cell's output).
 DEBUG_VARIABLE = 'ROBOT_LAB_DEBUG_DISCOVERY'
 # rmw_dds_common's name for an endpoint whose node has not been announced (yet).
 UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
@@ -304,6 +307,17 @@ class HostCount:
             return False  # the count includes one that left; a process is not heard yet
         return set(full_node_names(self.session, include_hidden=True)) <= with_endpoints
 
+    def unheard(self) -> list[str]:
+        """`pid:command` of each process holding a discovery port of the domain whose
+        participant the session has not heard with a named node (for the debug line)."""
+        ports = _host_ports(self.session.domain_id)
+        heard = _process_ids(_named_participants(self.session)[0]) or set()
+        found = []
+        for pids in port_holders(frozenset(ports.values()) if ports else frozenset()):
+            if not pids & heard:
+                found += [f'{pid}:{_command(pid)}' for pid in sorted(pids)]
+        return found
+
     def say_unheard(self, waited: float) -> None:
         """One line on stderr when an answer leaves out participants the host shows: the
         user then knows the list may be short, and why."""
@@ -316,6 +330,29 @@ class HostCount:
               f'not heard with a node within {waited:.0f} s: this answer may be incomplete '
               '(a busy host, or a process without a node yet); run the command again',
               file=sys.stderr)
+
+
+def _command(pid16: int) -> str:
+    """The start of the command line of the process whose pid's low 16 bits are `pid16`."""
+    for entry in os.scandir('/proc'):
+        if entry.name.isdigit() and int(entry.name) & 0xFFFF == pid16:
+            try:
+                raw = Path(entry.path, 'cmdline').read_bytes()
+            except OSError:
+                continue
+            return raw.replace(b'\0', b' ').decode(errors='replace').strip()[:120]
+    return '?'
+
+
+def _debug(line: str) -> None:
+    """One line of ROBOT_LAB_DEBUG_DISCOVERY: on stderr, or appended to its file."""
+    where = os.environ.get(DEBUG_VARIABLE, '')
+    text = f'robot-lab discovery: pid={os.getpid()} {line}'
+    if '/' not in where:
+        print(text, file=sys.stderr)
+        return
+    with open(where, 'a', encoding='utf-8') as out:
+        out.write(text + '\n')
 
 
 def host_participants_seen(session: Session) -> Callable[[], bool | None]:
@@ -420,10 +457,12 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
             if everyone is False and not old_enough and counted is not None:
                 counted.say_unheard(now)
             if switched_on(DEBUG_VARIABLE):
-                print(f'robot-lab discovery: {"complete" if old_enough else "deadline"} '
-                      f'young={young} age={began - session.created:.2f} waited={now:.2f} '
-                      f'wall={time.monotonic() - began:.2f} everyone={everyone} '
-                      f'expected={expectation} ports={counted and counted.ports} '
-                      f'seen={counted and counted.seen} dropped={lost}', file=sys.stderr)
+                _debug(f'{"complete" if old_enough else "deadline"} young={young} '
+                       f'age={began - session.created:.2f} waited={now:.2f} '
+                       f'wall={time.monotonic() - began:.2f} everyone={everyone} '
+                       f'expected={expectation} ports={counted and counted.ports} '
+                       f'seen={counted and counted.seen} dropped={lost}'
+                       + ('' if old_enough or counted is None else
+                          f' unheard={counted.unheard()}'))
             return fresh
         time.sleep(POLL)

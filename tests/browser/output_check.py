@@ -78,6 +78,8 @@ def mismatches(ran: Path, reference: Path) -> list[str]:
         item = _comparer()
         if not IPyNbCell.compare_outputs(item, _streams(got.outputs), _streams(cell.outputs)):
             why = '\n'.join(str(line) for line in item.comparison_traceback)
+            printed = ''.join(f'[{o.name}] {o.text}' for o in got.outputs
+                              if o.output_type == 'stream')
             problems.append(f'cell {index}: output differs from the committed one (nbval):\n'
-                            f'{cell.source[:200]}\n{why}')
+                            f'{cell.source[:200]}\n{why}\nThis run printed:\n{printed}')
     return problems
