@@ -181,6 +181,33 @@ def test_the_answer_is_read_after_the_graph_is_found_complete(
     assert discovery.settled(sess, lambda: list(graph), ready=lambda: None) == NODES
 
 
+def test_a_node_listed_without_endpoints_holds_an_answer_only_briefly(
+        ros_domain: int, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """A node whose endpoints never come (a name a graph cache kept) held every query of a
+    kernel until the deadline and printed that a participant was not heard. Now it holds
+    one for BARE_NODE_WAIT, and the session's next query not at all."""
+    sess = session(ros_domain)
+    own = f'/{sess.node.get_name()}'
+    real = discovery._named_participants
+
+    def without_own_endpoints(s: object) -> tuple[set[bytes], set[str]]:
+        prefixes, named = real(s)  # type: ignore[arg-type]
+        return prefixes, named - {own}
+
+    monkeypatch.setattr(discovery, '_named_participants', without_own_endpoints)
+    monkeypatch.setattr(discovery, 'PARTICIPANT_TIMEOUT', 60.0)
+    monkeypatch.setattr(discovery, 'WARM_PARTICIPANT_TIMEOUT', 60.0)
+    capsys.readouterr()
+    started = time.monotonic()
+    assert discovery.settled(sess, lambda: 'answer', timeout=0.1) == 'answer'
+    waited = time.monotonic() - started
+    assert waited < 30, f'waited {waited:.1f} s, as for a participant not heard'
+    assert capsys.readouterr().err == ''  # everyone was heard: nothing to warn of
+    # the session remembers the node: its next query does not wait for it again
+    assert discovery.HostCount(sess)() is True
+
+
 def test_an_answer_that_leaves_out_a_participant_says_so(
         ros_domain: int, monkeypatch: pytest.MonkeyPatch,
         capsys: pytest.CaptureFixture[str]) -> None:

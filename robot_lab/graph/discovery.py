@@ -34,6 +34,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
+from weakref import WeakKeyDictionary
 
 from robot_lab.env import switched_on
 from robot_lab.graph.host_sockets import (
@@ -48,6 +49,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     'ANSWER_BURST',
+    'BARE_NODE_WAIT',
     'EXPECTED_TIMEOUT',
     'LOOKUP_TIMEOUT',
     'POLL',
@@ -117,6 +119,13 @@ MAX_POLL_GAP = 0.25
 # 1.1 s. A young session that lost datagrams answers only once its answer has held that
 # long since the last loss (a cold `action info` once listed no client under load).
 RESEND_WAIT = 1.5
+# A node's endpoints are announced after its name; lost, they come again within RESEND_WAIT.
+# A node listed longer than this without them keeps none the session will see (a name a
+# graph cache kept, a node of another client library without /parameter_events or
+# /rosout): a complete answer no longer waits for it. A kernel once waited out the warm
+# deadline (7 s) in every query of a lesson's checks for such a node, and said on stderr,
+# in a checked cell, that a participant was not heard.
+BARE_NODE_WAIT = 2 * RESEND_WAIT
 # Set to 1 to have every settled answer print how it was reached on stderr (why it
 # answered, the session's age, the time waited, the host's participants and those seen,
 # and at a deadline the processes holding ports not heard); set to a file's path to have
@@ -264,6 +273,8 @@ def _named_participants(session: Session) -> tuple[set[bytes], set[str]]:
     return prefixes, named
 
 
+# Nodes each session lists without endpoints, and since when (see BARE_NODE_WAIT).
+_bare_since: WeakKeyDictionary[Session, dict[str, float]] = WeakKeyDictionary()
 _EPROSIMA = b'\x01\x0f'  # a GUID prefix's vendor id: Fast DDS
 _own_port_found: set[int] = set()  # domains in which this process's port was found
 
@@ -285,17 +296,20 @@ def _process_ids(prefixes: set[bytes]) -> set[int] | None:
 class HostCount:
     """A probe: True once the session has seen every participant of its domain on this
     host (see `participants_on_host`), each with a named node, and every node it lists
-    has its endpoints; None when the host's count cannot be read. It keeps what its last
-    call counted, for the note an incomplete answer gets."""
+    has its endpoints (or has been listed without them for BARE_NODE_WAIT); None when the
+    host's count cannot be read. It keeps what its last call counted, for the note an
+    incomplete answer gets."""
 
     def __init__(self, session: Session) -> None:
         self.session = session
         self.ports: int | None = None  # participants on the host at the last call
         self.seen = 0  # of them heard with a named node
+        self.unheard_process = False  # the last call found a port whose process is unheard
 
     def __call__(self) -> bool | None:
         ports = _host_ports(self.session.domain_id)  # one read of the socket table per poll
         self.ports = None if ports is None else len(ports)
+        self.unheard_process = False
         if ports is None:
             return None
         prefixes, with_endpoints = _named_participants(self.session)
@@ -304,26 +318,36 @@ class HostCount:
             return False
         heard, sockets = _process_ids(prefixes), frozenset(ports.values())
         if heard is not None and any(not pids & heard for pids in port_holders(sockets)):
-            return False  # the count includes one that left; a process is not heard yet
-        return set(full_node_names(self.session, include_hidden=True)) <= with_endpoints
+            self.unheard_process = True  # the count includes one that left, or a process
+            return False  # not heard yet
+        bare = set(full_node_names(self.session, include_hidden=True)) - with_endpoints
+        # kept per session: a kernel's next query does not wait for the same node again
+        now, before = time.monotonic(), _bare_since.get(self.session, {})
+        since = _bare_since[self.session] = {name: before.get(name, now) for name in bare}
+        return all(now - first >= BARE_NODE_WAIT for first in since.values())
 
     def unheard(self) -> list[str]:
         """`pid:command` of each process holding a discovery port of the domain whose
-        participant the session has not heard with a named node (for the debug line)."""
+        participant the session has not heard with a named node, and each node listed
+        without its endpoints (for the debug line)."""
         ports = _host_ports(self.session.domain_id)
         heard = _process_ids(_named_participants(self.session)[0]) or set()
         found = []
         for pids in port_holders(frozenset(ports.values()) if ports else frozenset()):
             if not pids & heard:
                 found += [f'{pid}:{_command(pid)}' for pid in sorted(pids)]
+        with_endpoints = participants_seen(self.session)[1]
+        found += [f'{name} (no endpoints)' for name in
+                  full_node_names(self.session, include_hidden=True)
+                  if name not in with_endpoints]
         return found
 
     def say_unheard(self, waited: float) -> None:
         """One line on stderr when an answer leaves out participants the host shows: the
         user then knows the list may be short, and why."""
-        if self.ports is None:
-            return
-        missing = self.ports - self.seen
+        missing = 0 if self.ports is None else self.ports - self.seen
+        if missing <= 0 and not self.unheard_process:
+            return  # everyone heard: a node without endpoints is no missing participant
         what = (f'{missing} of the {self.ports} DDS participants' if missing > 0
                 else 'a process holding a DDS port')
         print(f'robot-lab: {what} of ROS_DOMAIN_ID={self.session.domain_id} on this host '
