@@ -28,6 +28,7 @@ announcement burst has passed since.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import time
@@ -375,8 +376,8 @@ def _debug(line: str) -> None:
     if '/' not in where:
         print(text, file=sys.stderr)
         return
-    with open(where, 'a', encoding='utf-8') as out:
-        out.write(text + '\n')
+    with contextlib.suppress(OSError), open(where, 'a', encoding='utf-8') as out:
+        out.write(text + '\n')  # a debugging aid never breaks the answer
 
 
 def host_participants_seen(session: Session) -> Callable[[], bool | None]:
