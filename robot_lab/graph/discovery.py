@@ -332,12 +332,12 @@ class HostCount:
         participant the session has not heard with a named node, and each node listed
         without its endpoints (for the debug line)."""
         ports = _host_ports(self.session.domain_id)
-        heard = _process_ids(_named_participants(self.session)[0]) or set()
+        prefixes, with_endpoints = _named_participants(self.session)
+        heard = _process_ids(prefixes) or set()
         found = []
         for pids in port_holders(frozenset(ports.values()) if ports else frozenset()):
             if not pids & heard:
                 found += [f'{pid}:{_command(pid)}' for pid in sorted(pids)]
-        with_endpoints = participants_seen(self.session)[1]
         found += [f'{name} (no endpoints)' for name in
                   full_node_names(self.session, include_hidden=True)
                   if name not in with_endpoints]
