@@ -23,7 +23,7 @@ import psutil
 import pytest
 from conftest import REPO, run_cli
 
-from robot_lab.grading.package.sandbox import TOKEN_VAR, namespaces_available
+from robot_lab.grading.package.sandbox import JOB_LOGS_VAR, TOKEN_VAR, namespaces_available
 from robot_lab.grading.package.submission import find_package, find_submissions
 
 DATA = REPO / 'tests' / 'data' / 'class_ch6'
@@ -171,12 +171,23 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, object]:
     out = tmp_path_factory.mktemp('out')
     run = f'class-{os.getpid()}-{time.monotonic_ns()}'
     started = time.monotonic()
+    logs = tmp_path_factory.mktemp('job_logs')
     done = run_cli('grade', str(root), '--lab', 'ch6-lab1', '-o', str(out), '--jobs', '2',
-                   timeout=1500, env={RUN_VAR: run})
+                   timeout=1500, env={RUN_VAR: run, JOB_LOGS_VAR: str(logs)})
     elapsed = time.monotonic() - started
     leftovers = _job_processes(run=run)
-    return {'done': done, 'out': out, 'elapsed': elapsed, 'leftovers': leftovers,
+    return {'done': done, 'out': out, 'elapsed': elapsed, 'leftovers': leftovers, 'logs': logs,
             'root': root}
+
+
+def _explain(graded: dict[str, object], student: str) -> str:
+    """The student's feedback and the end of its job's log (steps, waits, node output)."""
+    out, logs = graded['out'], graded['logs']
+    assert isinstance(out, Path) and isinstance(logs, Path)
+    feedback = (out / 'feedback' / f'{student}.md').read_text()
+    log = logs / f'{student}.log'
+    tail = log.read_text(errors='replace')[-6000:] if log.is_file() else '(no job log)'
+    return f'{feedback}\n--- job log ---\n{tail}'
 
 
 def _grades(out: Path) -> dict[str, dict[str, str]]:
@@ -206,8 +217,7 @@ def test_correct_variants_get_full_marks(graded: dict[str, object], student: str
     out = graded['out']
     assert isinstance(out, Path)
     row = _grades(out)[student]
-    feedback = (out / 'feedback' / f'{student}.md').read_text()
-    assert row['score'] == row['max_score'] == '13', feedback
+    assert row['score'] == row['max_score'] == '13', _explain(graded, student)
 
 
 @pytest.mark.parametrize('student', sorted(FAULTS))
@@ -217,8 +227,7 @@ def test_faulty_variants_lose_exactly_their_checks(graded: dict[str, object],
     assert isinstance(out, Path)
     row = _grades(out)[student]
     lost = {c for c in ALL if row[c] != str(POINTS[c])}
-    feedback = (out / 'feedback' / f'{student}.md').read_text()
-    assert lost == FAULTS[student][1], feedback
+    assert lost == FAULTS[student][1], _explain(graded, student)
 
 
 def test_feedback_explains_and_shows_the_graph(graded: dict[str, object]) -> None:

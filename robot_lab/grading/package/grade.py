@@ -10,7 +10,9 @@ similarity report (robot_lab.grading.package.similarity) go to OUT.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import queue
 import shutil
 import tempfile
@@ -27,7 +29,13 @@ from robot_lab.grading.gradebook import ClassOutputs, write_class
 from robot_lab.grading.late import LatePolicy
 from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
-from robot_lab.grading.package.sandbox import check_can_contain, job_domains, run_job, stop_jobs
+from robot_lab.grading.package.sandbox import (
+    JOB_LOGS_VAR,
+    check_can_contain,
+    job_domains,
+    run_job,
+    stop_jobs,
+)
 from robot_lab.grading.package.submission import Submission, find_submissions, unpack
 from robot_lab.grading.report import CheckOutcome, StudentReport
 
@@ -93,6 +101,11 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
             report.images = kept
         return report
     finally:
+        logs = os.environ.get(JOB_LOGS_VAR)
+        if logs:
+            with contextlib.suppress(OSError):
+                Path(logs).mkdir(parents=True, exist_ok=True)
+                shutil.copyfile(job_dir / 'job.log', Path(logs) / f'{submission.student}.log')
         shutil.rmtree(job_dir, ignore_errors=True)
 
 

@@ -209,6 +209,13 @@ class _Watcher:
 # and controller as silent (0 messages in the window, both running, the controller's first
 # commands at its end). A silent publisher (a fault) costs its student this long.
 _UNMATCHED = 10.0
+# A node's endpoints are announced one by one after its name, and a lost announcement is
+# sent again: a node can be listed with its subscription and not yet its publisher. The
+# wait goes on until the endpoints have stood still this long, so that a topic found late
+# is waited for too, not first subscribed in the middle of the window. (Without it, the
+# wait looked only at the topics known when the nodes came up: a loaded CI host counted a
+# correct controller's /cmd_vel from its first refresh inside the window, 0 in 3.5 s.)
+_ENDPOINTS_STILL = 1.0
 
 
 def _unheard(sess: Session, pids: list[int]) -> bool:
@@ -220,17 +227,30 @@ def _unheard(sess: Session, pids: list[int]) -> bool:
     return heard is not None and any(pid & 0xFFFF not in heard for pid in pids)
 
 
-def _until_samples(watcher: _Watcher) -> None:
-    """Until every published topic has delivered a sample to the observer, or _UNMATCHED
-    has passed (its publishers are silent)."""
+def _endpoints(watcher: _Watcher) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
+    with watcher.lock:
+        return tuple((n.name, tuple(n.publishes), tuple(n.subscribes))
+                     for n in watcher.obs.nodes.values())
+
+
+def _until_samples(watcher: _Watcher) -> float:
+    """Refresh the graph until the nodes' endpoints have stood still for _ENDPOINTS_STILL s
+    and every published topic has delivered a sample to the observer, or _UNMATCHED has
+    passed (its publishers are silent). Returns the seconds waited."""
     start = time.monotonic()
+    last, changed = _endpoints(watcher), start
     while True:
         with watcher.lock:
             waiting = [t.name for t in watcher.obs.topics.values()
                        if t.publishers and t.name in watcher.subs and t.count == 0]
-        if not waiting or time.monotonic() - start >= _UNMATCHED:
-            return
-        time.sleep(0.05)
+        now = time.monotonic()
+        if now - start >= _UNMATCHED or (not waiting and now - changed >= _ENDPOINTS_STILL):
+            return now - start
+        time.sleep(0.1)
+        watcher.refresh()
+        seen = _endpoints(watcher)
+        if seen != last:
+            last, changed = seen, time.monotonic()
 
 
 def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
@@ -263,7 +283,10 @@ def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
         # Count from here: a full window with every subscription in place, i.e. once each
         # published topic has delivered a sample to the observer (or is silent).
         watcher.refresh()
-        _until_samples(watcher)
+        waited = _until_samples(watcher)
+        print(f'[grader] graph and first samples waited for: {waited:.1f} s; topics: '
+              + ', '.join(f'{t.name} ({len(t.publishers)} pub)'
+                          for t in watcher.obs.topics.values()), flush=True)
         with watcher.lock:
             for topic in watcher.obs.topics.values():
                 topic.count, topic.first, topic.last = 0, 0.0, 0.0

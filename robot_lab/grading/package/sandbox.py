@@ -49,6 +49,9 @@ CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
 UID_VAR = 'ROBOT_LAB_GRADE_UID'
 REPORT_FD_VAR = 'ROBOT_LAB_GRADE_REPORT_FD'  # the pipe a job sends its report through
 NO_SANDBOX_VAR = 'ROBOT_LAB_GRADE_NO_SANDBOX'
+# A folder that keeps each job's log (STUDENT.log: steps, waits, the nodes' output) after
+# its job folder is removed: to see why a grade came out as it did.
+JOB_LOGS_VAR = 'ROBOT_LAB_GRADE_JOB_LOGS'
 _CGROUP_ROOTS = (Path('/sys/fs/cgroup/pids'), Path('/sys/fs/cgroup'))
 _NAMESPACES = ['--mount', '--propagation', 'private', '--net', '--ipc', '--pid', '--fork',
                '--kill-child', '--mount-proc']
