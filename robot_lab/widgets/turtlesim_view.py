@@ -48,6 +48,7 @@ function render({ model, el }) {
   trails.width = 500; trails.height = 500;
   const tctx = trails.getContext('2d');
   let background = [69, 86, 255], turtles = [], dirty = true, pending = [], loading = false;
+  let stop = null;  // the animation (animate): an image that loads wakes it
   const shells = SHELLS;
   const stroke = (s) => {
     const [x0, y0, x1, y1, r, g, b, w] = s;
@@ -68,6 +69,7 @@ function render({ model, el }) {
           tctx.drawImage(img, 0, 0); loading = false;
           for (const s of pending) stroke(s);
           pending = []; dirty = true;
+          if (stop) stop.wake();
         };
         img.src = 'data:image/png;base64,' + msg.png;
       }
@@ -106,7 +108,7 @@ function render({ model, el }) {
     root.dataset.background = background.join(',');
     return true;
   };
-  const stop = animate(root, 30, draw);
+  stop = animate(root, 30, draw, model);
   model.send({ kind: 'ready' });
   return () => { stop(); model.off('msg:custom', take); };
 }
