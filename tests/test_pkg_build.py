@@ -253,3 +253,26 @@ def test_workspace_dir(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     with pytest.raises(PackageError, match='inside the robot_lab repository'):
         workspace_dir()
     assert not (REPO / 'ws').exists()
+
+
+def test_kill_int_stops_a_background_ros2_run_before_its_node_is_up(tmp_path: Path) -> None:
+    """bash starts a script's background jobs with SIGINT ignored, and the ignore survives
+    exec: a program run by `ros2 run … &` missed `kill -INT %1` until rclpy.init took the
+    signal, and the script's `wait` hung (lesson 10, while the kit built turtlesim)."""
+    prefix = tmp_path / 'install'
+    index = prefix / 'share' / 'ament_index' / 'resource_index' / 'packages'
+    index.mkdir(parents=True)
+    (index / 'slow_pkg').write_text('')
+    exe = prefix / 'lib' / 'slow_pkg' / 'slow_start'
+    exe.parent.mkdir(parents=True)
+    exe.write_text(f'#!{sys.executable}\nimport time\nprint("importing", flush=True)\n'
+                   'time.sleep(60)  # a node still importing: no rclpy.init yet\n')
+    exe.chmod(0o755)
+    script = ('ros2 run slow_pkg slow_start > started &\n'
+              'until grep -q importing started; do sleep 0.05; done  # the program runs\n'
+              'kill -INT %1; wait %1; echo "exit $?"\n')
+    env = {**_shell_env(), 'AMENT_PREFIX_PATH': os.pathsep.join(
+        [str(prefix), *filter(None, [os.environ.get('AMENT_PREFIX_PATH')])])}
+    result = subprocess.run(['bash', '-c', script], cwd=tmp_path, env=env,
+                            capture_output=True, text=True, timeout=30, check=False)
+    assert result.stdout == 'exit 130\n', result.stderr
