@@ -36,6 +36,22 @@ def test_kit_packages_are_built_from_the_shipped_definitions() -> None:
     assert 'Apache License' in (kit_package_sources('example_interfaces') / 'LICENSE').read_text()
 
 
+def test_bytecode_beside_a_definition_is_not_an_edit_of_it(tmp_path: Path) -> None:
+    """`./kit setup` byte-compiles the venv; a package's sources hashed with their
+    __pycache__ would look edited after it, and the package would be built again."""
+    from robot_lab.pkg.kit_packages import _source_hash
+
+    (tmp_path / 'launch').mkdir()
+    (tmp_path / 'package.xml').write_text('<package/>')
+    (tmp_path / 'launch' / 'demo.launch.py').write_text('x = 1\n')
+    before = _source_hash(tmp_path)
+    (tmp_path / 'launch' / '__pycache__').mkdir()
+    (tmp_path / 'launch' / '__pycache__' / 'demo.launch.cpython-311.pyc').write_bytes(b'\0')
+    assert _source_hash(tmp_path) == before
+    (tmp_path / 'launch' / 'demo.launch.py').write_text('x = 2\n')
+    assert _source_hash(tmp_path) != before
+
+
 def test_imports_as_the_tutorials_write_them(tmp_path: Path) -> None:
     code = textwrap.dedent("""
         from example_interfaces.srv import AddTwoInts

@@ -99,7 +99,9 @@ def _state_dir(prefix: Path) -> Path:
 
 def _source_hash(source: Path) -> str:
     digest = hashlib.sha256()
-    for path in sorted(p for p in source.rglob('*') if p.is_file()):
+    # Bytecode is not source: a compile of the kit (`./kit setup`) must not look like an edit.
+    for path in sorted(p for p in source.rglob('*')
+                       if p.is_file() and '__pycache__' not in p.parts):
         digest.update(str(path.relative_to(source)).encode() + b'\0' + path.read_bytes())
     return digest.hexdigest()[:16]
 
