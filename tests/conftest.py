@@ -66,17 +66,20 @@ def domain_at(offset: int) -> int:
 
 # Groups that take longest go to the workers first (the scheduler below hands groups out in
 # collection order), so the run does not end waiting on one of them. Longest first, as
-# `./kit test --durations=60` measured them (each a group's summed seconds, loaded host).
-_SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~650 s idle: the course in Chromium
-               'tests/test_mistake_path.py',        # ~800 s: ladders, then Run All again
-               'tests/test_docs_console.py',        # ~750 s: the nbgrader loop as printed
-               'tests/test_grade_package.py',       # ~350 s: one class graded
+# `./kit test --durations=60` measured them (each a group's summed seconds, idle host).
+_SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the course in Chromium
+               'tests/test_mistake_path.py',        # ~360 s: ladders 01-06, then Run All again
+               'tests/test_mistake_path_capstone.py',  # ~300 s: the same for 07-08
+               'tests/test_grade_package.py',       # ~230 s: one class graded
+               'tests/test_docs_console.py',        # ~180 s: the nbgrader loop as printed
+               'tests/browser/test_browser_mistakes.py',  # ~160 s: 01-03 in Chromium
                'notebooks',                         # nbval, in course order
-               'tests/test_lab_bench.py', 'tests/test_grade_contained.py',
-               'tests/test_nbgrader.py', 'tests/test_grading.py', 'tests/test_colcon_test.py',
+               'tests/test_grade_contained.py', 'tests/test_grading.py',
+               'tests/test_cli_inspect.py', 'tests/test_lab_bench.py',
+               'tests/test_grade_workflow.py', 'tests/test_tutorials.py',
+               'tests/test_capstone.py', 'tests/test_nbgrader.py', 'tests/test_colcon_test.py',
                'tests/test_deploy_paths.py', 'tests/test_custom_interfaces.py',
-               'tests/test_grade_workflow.py', 'tests/test_grade_feedback.py',
-               'tests/test_capstone.py', 'tests/browser/test_browser_mistakes.py')
+               'tests/test_grade_feedback.py')
 
 
 def _group(nodeid: str) -> str:
