@@ -6,6 +6,7 @@ messages 0, 1, 2, …, so a gap or a duplicate in the bag is visible.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import signal
 import sys
@@ -55,6 +56,11 @@ def _numbers(bag: Path) -> list[int]:
                 for conn, _, data in reader.messages()]
 
 
+def _copy_if_there(source: str, target: str) -> None:
+    with contextlib.suppress(FileNotFoundError):
+        shutil.copy2(source, target)
+
+
 def _flushed(bag: Path, probe: Path) -> int:
     """Messages a running recording has on disk: a copy of its folder, reindexed."""
     from robot_lab.bag import reindex
@@ -62,7 +68,9 @@ def _flushed(bag: Path, probe: Path) -> int:
     shutil.rmtree(probe, ignore_errors=True)
     if not bag.is_dir():
         return 0
-    shutil.copytree(bag, probe)
+    # SQLite makes and deletes its -journal file around each transaction: one listed by the
+    # copy can be gone when its turn comes (seen: shutil.Error on killed_sqlite3_0.db3-journal)
+    shutil.copytree(bag, probe, copy_function=_copy_if_there)
     try:
         return reindex(probe).message_count
     except BagError:  # nothing readable yet
