@@ -97,7 +97,10 @@ def lab_environment(scratch: Path, domain_base: int) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if k not in {
         'ROBOT_LAB_TEST_DOMAIN_BASE', 'ROBOT_LAB_HEADLESS', 'CI', 'ROS_DOMAIN_ID',
         'PYTEST_CURRENT_TEST', 'JUPYTER_PLATFORM_DIRS'}}
+    # ROBOT_LAB_DAEMON_AUTOSTART: graph verbs warm a daemon as a student's do (the suite
+    # turns that off); each kernel is a session of its own, and its daemon ends with it.
     env.update(ROBOT_LAB_HEADLESS='0', ROBOT_LAB_NOTEBOOK_DOMAIN_BASE=str(domain_base),
+               ROBOT_LAB_DAEMON_AUTOSTART='1',
                ROBOT_LAB_WORKSPACE=str(scratch / 'robot_lab_ws'),
                ROS_AUTOMATIC_DISCOVERY_RANGE=env.get('ROS_AUTOMATIC_DISCOVERY_RANGE',
                                                      'LOCALHOST'),
