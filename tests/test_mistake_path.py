@@ -7,11 +7,11 @@ wrong answers, then the right one, each followed by its check, in the notebook's
 (nbclient). Each failing check must name its mistake (tests/mistakes.py is the course's
 table of mistakes and messages); the right answer must pass with no restart. Then every cell
 of the notebook runs again in the same kernel, in course order, and 01 once more at the end
-(after 06 here, after 08 there: the order a student who goes back meets): no cell of the course may end in an error on any
-run, a cell that hangs fails the run (no cell needs a minute), and nothing may be left
-running at the end (no child process, no node spinning in the kernel). Seen before:
-re-running 01 after 02 hung on `ros2 run … | tail -n 1`, which ran the sensor for ever once
-02 had written it.
+(after 06 here, after 08 there: the order a student who goes back meets): no cell of the
+course may end in an error on any run, a cell that hangs fails the run (no cell needs a
+minute), and nothing may be left running at the end (no child process, no node spinning
+in the kernel). Seen before: re-running 01 after 02 hung on `ros2 run … | tail -n 1`, which
+ran the sensor for ever once 02 had written it.
 
 One kernel does both (a ladder, then Run All) so the course starts once per notebook here;
 tests/browser runs each notebook once more, from a fresh kernel, and compares the outputs
