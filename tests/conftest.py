@@ -77,7 +77,7 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'tests/test_grade_contained.py', 'tests/test_grading.py',
                'tests/test_cli_inspect.py', 'tests/test_lab_bench.py',
                'tests/test_grade_workflow.py', 'tests/test_tutorials.py',
-               'tests/test_capstone.py', 'tests/test_nbgrader.py', 'tests/test_colcon_test.py',
+               'tests/test_nbgrader.py', 'tests/test_colcon_test.py',
                'tests/test_deploy_paths.py', 'tests/test_custom_interfaces.py',
                'tests/test_grade_feedback.py')
 
