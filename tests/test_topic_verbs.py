@@ -3,7 +3,9 @@ publishers (the kit's own `topic pub`) and ros2topic's output formats (Jazzy).""
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
 import time
 from collections.abc import Iterator
 
@@ -118,3 +120,18 @@ def test_pub_errors_are_one_line(pose: Proc) -> None:
     bad = run_cli('topic', 'pub', '--once', '/x', 'std_msgs/msg/Header', '{stamp: yesterday}')
     assert bad.returncode == 1 and 'Traceback' not in bad.stderr
     assert "Failed to populate field 'stamp'" in bad.stderr
+
+
+def test_kill_int_stops_a_background_echo(ros_domain: int) -> None:
+    """bash starts a script's background jobs with SIGINT ignored; ros2cli's verbs take it
+    back (in rclpy.init), so `ros2 topic echo … &` then `kill -INT %1; wait` ends. The kit's
+    echo kept it ignored, and the script's `wait` hung for ever."""
+    script = ('ros2 topic echo /nobody_publishes std_msgs/msg/String &\n'
+              'until ros2 topic info /nobody_publishes | grep -q "Subscription count: 1"; do\n'
+              '  sleep 0.1\n'
+              'done\n'
+              'kill -INT %1; wait %1; echo "exit $?"\n')
+    env = {**os.environ, 'PATH': f'{BIN}{os.pathsep}{os.environ["PATH"]}'}
+    result = subprocess.run(['bash', '-c', script], env=env, capture_output=True, text=True,
+                            timeout=60, check=False)
+    assert result.stdout.endswith('exit 130\n'), result.stdout + result.stderr

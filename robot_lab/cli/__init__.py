@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from types import ModuleType
@@ -105,6 +106,7 @@ def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
     # ~80 ms of CPU at start-up: a one-shot command (and the daemon and nodes it may start)
     # has no use for it. A value the user set wins.
     os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
+    _take_sigint_back()
     defer_code_generator()
     words = list(sys.argv[1:] if argv is None else argv)
     parser = _parser(prog, only=words[0] if words and words[0] in VERBS else None)
@@ -120,6 +122,19 @@ def main(argv: Sequence[str] | None = None, prog: str = 'robot-lab') -> int:
     except KeyboardInterrupt:
         return 130
     return code
+
+
+def _take_sigint_back() -> None:
+    """Ctrl-C (SIGINT) stops a command even where it started ignored, as in ros2cli.
+
+    bash starts a script's background jobs with SIGINT ignored, and an ignored signal stays
+    ignored across exec. ros2cli's verbs take it back in rclpy.init; the kit's must too, or
+    a cell's `ros2 topic echo … &` then `kill -INT %1; wait` hangs for ever. `ros2 run`
+    hands it on to the node's program, so a kill also stops the package's first build and
+    a node still importing (lesson 10's first cell hung that way, while turtlesim built).
+    """
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def ros2_main(argv: Sequence[str] | None = None) -> int:

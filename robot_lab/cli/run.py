@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import os
 import shlex
-import signal
 
 from robot_lab.env import ros_environment
 from robot_lab.pkg.index import find_executable
@@ -26,14 +25,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    # `ros2 run … &` in a script starts with SIGINT ignored (bash does that to background
-    # jobs), and an ignored signal stays ignored across exec until the node's rclpy.init
-    # takes it. A `kill -INT %1` sent before then (while the kit builds the package on first
-    # use, or the node imports) was lost, and the script's `wait` hung for ever (lesson 10's
-    # first cell, the first time turtlesim was needed). Taken back here, SIGINT interrupts
-    # the build, and the node starts with Python's own KeyboardInterrupt.
-    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
     path = find_executable(args.package_name, args.executable_name)
     cmd = [*(shlex.split(args.prefix) if args.prefix else []), str(path), *args.argv]
     env = ros_environment()
