@@ -146,10 +146,12 @@ class Course:
         return found
 
     def _no_daemon_left(self) -> None:
-        """The graph daemon a command in the kernel started ends with the kernel."""
+        """The graph daemon a command in the kernel started ends with the kernel: it sees
+        its owner gone within half a second, at a low priority (a busy host delays it); one
+        that did not would run for its idle timeout, two hours."""
         graph = {**os.environ, 'ROS_DOMAIN_ID': str(self.domain)}
-        deadline = time.monotonic() + 10
+        deadline = time.monotonic() + 30
         while daemon.is_running(graph):
             assert time.monotonic() < deadline, \
-                f'the graph daemon of domain {self.domain} outlived its kernel by 10 s'
+                f'the graph daemon of domain {self.domain} outlived its kernel by 30 s'
             time.sleep(0.1)
