@@ -7,12 +7,15 @@ execve, so it differs from what the parent passed exactly when the child restart
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
+from conftest import run_cli
 
 from robot_lab.env import apply_ros_defaults, ros_environment
 
@@ -83,3 +86,29 @@ def test_non_python_child_runs_with_kit_environment() -> None:
                           env=kit, capture_output=True, text=True, timeout=30)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == kit['LD_LIBRARY_PATH']
+
+
+def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -> None:
+    """Fast DDS logs a taken shared-memory port ('open_and_lock_file failed') and moves on
+    to another; on stdout that line became part of `node list`'s answer (stop 31's CI)."""
+    held, created = [], []
+    try:
+        # Hold the lock of every port the first participants of this domain would take.
+        for participant in range(6):
+            for offset in (10, 11):
+                port = 7400 + 250 * ros_domain + offset + 2 * participant
+                path = Path(f'/dev/shm/fastrtps_port{port}_el')
+                if not path.exists():
+                    created.append(path)
+                fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
+                held.append(fd)
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        listed = run_cli('node', 'list', env={'ROBOT_LAB_DAEMON_AUTOSTART': '0'})
+    finally:
+        for fd in held:
+            os.close(fd)
+        for path in created:
+            path.unlink(missing_ok=True)
+    assert listed.returncode == 0, listed.stderr
+    assert 'open_and_lock_file failed' in listed.stderr  # the condition did happen
+    assert listed.stdout == ''  # an empty graph: nothing but the answer

@@ -41,11 +41,7 @@ def ok(*args: str, cwd: Path | None = None) -> str:
     result = ros2(*args, cwd=cwd)
     assert result.returncode == 0, f'ros2 {" ".join(args)}:\n{result.stdout}{result.stderr}'
     assert 'Traceback' not in result.stderr, result.stderr
-    # Fast DDS itself logs to stdout when many participants start at once and a shared
-    # memory port is taken ('RTPS_TRANSPORT_SHM Error ... open_and_lock_file failed'); it
-    # then uses another port. That line is not the verb's output.
-    return ''.join(line for line in result.stdout.splitlines(keepends=True)
-                   if 'RTPS_TRANSPORT_SHM' not in line)
+    return result.stdout
 
 
 def ok_all(*commands: Sequence[str]) -> list[str]:
