@@ -150,6 +150,9 @@ def setup(notebook: str) -> Lesson:
     from robot_lab.env import apply_ros_defaults
 
     apply_ros_defaults()
+    from robot_lab.shared_memory import sweep_dead_segments
+
+    sweep_dead_segments()  # a restarted kernel's killed nodes left their memory behind
     lesson = Lesson(notebook, domain, _workspace())
     from robot_lab.notebook_cell import show_their_errors
 

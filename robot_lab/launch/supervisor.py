@@ -43,6 +43,7 @@ from robot_lab.launch.plan import (
 )
 from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
 from robot_lab.process import spawn
+from robot_lab.shared_memory import sweep_dead_segments
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
@@ -164,6 +165,7 @@ class Supervisor:
         finally:
             self.started.set()
             self._kill_leftovers()
+            sweep_dead_segments()  # what killed nodes (this launch's or others') left in RAM
             if self._forks is not None:
                 self._forks.close()
             self._graph.close()
