@@ -31,8 +31,11 @@ CHROMIUM_ARGS = ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-
 # JupyterLab's news pop-up would cover the lower right corner of every screenshot; a
 # windowed notebook keeps only the cells in view in the page (a cell count would stop
 # there, a screenshot of the notebook would be a window of it).
+# autosave off: a save the test did not ask for (every 120 s) would truncate and rewrite
+# the file while the test reads it, and clear the "unsaved" mark before the test's own.
 LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'false'},
-                '@jupyterlab/notebook-extension/tracker': {'windowingMode': 'none'}}
+                '@jupyterlab/notebook-extension/tracker': {'windowingMode': 'none'},
+                '@jupyterlab/docmanager-extension/plugin': {'autosave': False}}
 ERROR_MIME = 'application/vnd.jupyter.error'
 
 
@@ -292,8 +295,20 @@ class Notebook:
         if not wait_in_page(self.page, r"""cell => /\[\d+\]/.test(
                 cell.querySelector('.jp-InputPrompt')?.textContent || '')""",
                             self.cell(index).element_handle(), timeout):
-            raise AssertionError(f'{self.path}: cell {index} still running after {timeout:g} s'
-                                 f':\n{self.source(index)[:300]}')
+            raise AssertionError(f'{self.path}: cell {index} not done after {timeout:g} s '
+                                 f'({self.state(index)}):\n{self.source(index)[:300]}')
+
+    def state(self, index: int) -> str:
+        """What tells a lost key from a busy or dead kernel: the cell's prompt ([ ] never
+        queued, [*] running), the kernel's status, any dialog, the server's last lines."""
+        status = ' '.join(self.page.locator('.jp-StatusBar-Widget').all_text_contents())
+        dialogs = ' | '.join(self.page.locator('.jp-Dialog').all_text_contents())
+        try:
+            log = self.lab.log.read_text(errors='replace').splitlines()[-8:]
+        except OSError as err:
+            log = [f'(no server log: {err})']
+        return (f'prompt {self.prompt(index).strip()!r}; status bar {status[:200]!r}; '
+                f'dialogs {dialogs[:300]!r}; server log:\n' + '\n'.join(log))
 
     def prompt(self, index: int) -> str:
         return str(self.cell(index).locator('.jp-InputPrompt').text_content() or '')
@@ -350,14 +365,23 @@ class Notebook:
         dirty = self.page.locator('.lm-TabBar-tab.jp-mod-current.jp-mod-dirty')
         self.page.keyboard.press('Escape')
         self.page.keyboard.press('Control+s')
-        if not wait_until(lambda: path.stat().st_mtime_ns != before and dirty.count() == 0,
-                          timeout):
+        # The server truncates the file, then writes it: one that does not parse is mid-write.
+        if not wait_until(lambda: path.stat().st_mtime_ns != before and dirty.count() == 0
+                          and _whole_json(path), timeout):
             raise AssertionError(f'{self.path}: Ctrl+S did not save the notebook')
         return path
 
     def shot(self, locator: Any, path: Path) -> None:
         locator.scroll_into_view_if_needed()
         locator.screenshot(path=str(path))
+
+
+def _whole_json(path: Path) -> bool:
+    try:
+        json.loads(path.read_text())
+    except (OSError, ValueError):
+        return False
+    return True
 
 
 def frames(root: Any) -> int:
