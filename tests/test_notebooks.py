@@ -161,3 +161,25 @@ def test_debugging_handout_has_the_five_faults_and_a_fresh_copy_undoes_repairs(
     (pkg / 'package.xml').write_text('repaired')
     assert broken_package(tmp_path) == pkg
     assert '<build_type>' not in (pkg / 'package.xml').read_text()
+
+
+def test_a_robot_that_never_stopped_names_both_causes(tmp_path: Path) -> None:
+    """Notebook 06: no /cmd_vel of 0.0 in the bag is a change outside the recording, or
+    nodes that ignore a parameter change (notebook 04's callbacks missing)."""
+    from geometry_msgs.msg import Twist
+    from rclpy.serialization import serialize_message
+
+    from robot_lab.bag.writer import BagWriter, TopicSpec
+
+    writer = BagWriter(tmp_path / 'run1', 'mcap')
+    conn = writer.add_topic(TopicSpec('/cmd_vel', 'geometry_msgs/msg/Twist', []))
+    for i in range(20):
+        moving = Twist()
+        moving.linear.x = 0.5
+        writer.write(conn, 1_000_000_000 + i * 100_000_000, serialize_message(moving))
+    writer.close()
+    with pytest.raises(CheckError) as failure:
+        check.first_time(tmp_path / 'run1', '/cmd_vel', 'linear.x', lambda v: v == 0.0, None)
+    said = str(failure.value)
+    assert 'none of its 20 messages does' in said
+    assert 'inside the recording' in said and 'notebook 04' in said, said

@@ -255,7 +255,9 @@ def first_time(bag: str | Path, topic: str, field: str, where: Callable[[float],
     if not times:
         raise CheckError(f'a {topic} message in the bag whose {field} matches',
                          f'none of its {len(columns)} messages does',
-                         'record again: the parameter change must fall inside the recording')
+                         'record again, with the parameter change inside the recording; if '
+                         'it was, your nodes did not act on it: notebook 04 (section 2) makes a '
+                         'parameter change act at once')
     if not isinstance(answer, int | float) or not math.isclose(answer, times[0], abs_tol=1e-6):
         what = f'the bag time of the first {topic} message whose {field} matches'
         if not isinstance(answer, int | float) or isinstance(answer, bool):
