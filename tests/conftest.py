@@ -294,6 +294,12 @@ def launched_nodes(launcher_pid: int) -> list[psutil.Process]:
             & set(p.cmdline())]
 
 
+def venv_env(**extra: str) -> dict[str, str]:
+    """This process's environment with the venv's bin first on PATH (an activated venv:
+    commands the test runs find `ros2`, `colcon`, `robot-lab`), plus `extra`."""
+    return {**os.environ, 'PATH': f'{BIN}{os.pathsep}{os.environ["PATH"]}', **extra}
+
+
 def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,
             env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
     """Run `robot-lab ARGS` to completion and return its output (text)."""

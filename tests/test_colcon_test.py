@@ -5,11 +5,10 @@ kit's ament_copyright answers as ament_lint's does.
 
 from __future__ import annotations
 
-import os
 import subprocess
 from pathlib import Path
 
-from conftest import BIN
+from conftest import BIN, venv_env
 
 APACHE = """\
 # Copyright 2025 Ada Lovelace
@@ -29,7 +28,7 @@ APACHE = """\
 
 
 def terminal(script: str, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess[str]:
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     return subprocess.run(['bash', '-c', script], cwd=cwd, env=env, capture_output=True,
                           text=True, timeout=timeout, check=False)
 

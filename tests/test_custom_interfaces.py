@@ -6,14 +6,13 @@ and from a Python node.
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
 import textwrap
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc
+from conftest import Proc, venv_env
 
 # ros2pkg's ament_cmake/CMakeLists.txt.em for a package without dependencies or node.
 JAZZY_CMAKELISTS = """\
@@ -99,7 +98,7 @@ rclpy.spin(Both())
 
 
 def terminal(script: str, cwd: Path, timeout: float = 900) -> subprocess.CompletedProcess[str]:
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     return subprocess.run(['bash', '-c', script], cwd=cwd, env=env, capture_output=True,
                           text=True, timeout=timeout, check=False)
 
@@ -173,7 +172,7 @@ def test_custom_msg_and_srv_tutorial(tmp_path: Path, procs: list[Proc]) -> None:
         """)
 
     (tmp_path / 'node.py').write_text(NODE)
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     node = Proc(['bash', '-c', f'source install/setup.bash && exec python3 {tmp_path / "node.py"}'],
                 env=env, cwd=ws)
     procs.append(node)

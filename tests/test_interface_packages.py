@@ -13,7 +13,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc, cli_ok
+from conftest import Proc, cli_ok, venv_env
 
 from robot_lab.pkg.kit_packages import KIT_PACKAGES, kit_package_sources
 
@@ -22,7 +22,7 @@ SITE = Path(sys.prefix)
 
 def terminal(script: str, cwd: Path, timeout: float = 600) -> subprocess.CompletedProcess[str]:
     """A bash command line in a kit terminal (the venv's bin first on PATH)."""
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     return subprocess.run(['bash', '-c', script], cwd=cwd, env=env, capture_output=True,
                           text=True, timeout=timeout, check=False)
 
@@ -250,7 +250,7 @@ def tutorial_ws(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_service_and_client_tutorial(tutorial_ws: Path, procs: list[Proc]) -> None:
     """*Writing a simple service and client (Python)*: `ros2 run py_srvcli client 2 3`."""
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     service = Proc(['bash', '-c', 'source install/setup.bash && exec ros2 run py_srvcli service'],
                    env=env, cwd=tutorial_ws)
     procs.append(service)
@@ -269,7 +269,7 @@ def test_service_and_client_tutorial(tutorial_ws: Path, procs: list[Proc]) -> No
 
 def test_action_server_and_client_tutorial(tutorial_ws: Path, procs: list[Proc]) -> None:
     """*Writing an action server and client (Python)*, with action_tutorials_interfaces."""
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     server = Proc(['bash', '-c', 'source install/setup.bash && '
                    'exec ros2 run py_action fibonacci_action_server'], env=env, cwd=tutorial_ws)
     procs.append(server)

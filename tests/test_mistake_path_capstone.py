@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 from conftest import run_cli
 from course_run import COURSE, Course
-from test_mistake_path import once_more_01, walk
+from mistake_walk import once_more_01, walk
 
 
 @pytest.fixture(scope='module')

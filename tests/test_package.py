@@ -8,7 +8,7 @@ import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from conftest import BIN, REPO
+from conftest import BIN, REPO, venv_env
 
 
 def _tracked_copy(dest: Path) -> None:
@@ -33,7 +33,7 @@ def test_package_xml_is_format3_ament_python() -> None:
 
 def test_colcon_build_installs_nodes_launch_and_config(tmp_path: Path) -> None:
     _tracked_copy(tmp_path / 'src' / 'robot_lab')
-    env = dict(os.environ, PATH=f'{BIN}{os.pathsep}{os.environ["PATH"]}')
+    env = venv_env()
     res = subprocess.run([str(BIN / 'colcon'), 'build', '--base-paths', 'src'], cwd=tmp_path,
                          env=env, capture_output=True, text=True, timeout=300, check=False)
     assert res.returncode == 0, res.stdout + res.stderr

@@ -3,14 +3,13 @@ publishers (the kit's own `topic pub`) and ros2topic's output formats (Jazzy).""
 
 from __future__ import annotations
 
-import os
 import re
 import subprocess
 import time
 from collections.abc import Iterator
 
 import pytest
-from conftest import BIN, Proc, cli_ok_all, run_cli
+from conftest import BIN, Proc, cli_ok_all, run_cli, venv_env
 
 import robot_lab
 from robot_lab.errors import GraphError
@@ -131,7 +130,7 @@ def test_kill_int_stops_a_background_echo(ros_domain: int) -> None:
               '  sleep 0.1\n'
               'done\n'
               'kill -INT %1; wait %1; echo "exit $?"\n')
-    env = {**os.environ, 'PATH': f'{BIN}{os.pathsep}{os.environ["PATH"]}'}
+    env = venv_env()
     result = subprocess.run(['bash', '-c', script], env=env, capture_output=True, text=True,
                             timeout=60, check=False)
     assert result.stdout.endswith('exit 130\n'), result.stdout + result.stderr
