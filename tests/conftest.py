@@ -261,11 +261,14 @@ def reference_system(namespaces: dict[str, str] | None = None) -> Iterator[dict[
 
 @pytest.fixture
 def procs() -> Iterator[list[Proc]]:
-    """Collects started processes and stops every one at teardown."""
+    """Collects started processes and stops every one at teardown; their last lines are
+    printed then (pytest shows them only for a test that failed: what the launcher saw)."""
     started: list[Proc] = []
     yield started
     for proc in started:
-        proc.stop()
+        code = proc.stop()
+        print(f'--- {" ".join(proc.cmd[:4])} exited {code}; its last lines:',
+              *proc.lines[-30:], sep='\n')
 
 
 @pytest.fixture
