@@ -18,6 +18,7 @@ import pytest
 from conftest import run_cli
 
 from robot_lab.env import apply_ros_defaults, ros_environment
+from robot_lab.graph.host_sockets import discovery_port
 
 USER_LIB = '/opt/user/lib'
 
@@ -93,10 +94,11 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
     to another; on stdout that line became part of `node list`'s answer (stop 31's CI)."""
     held, created = [], []
     try:
-        # Hold the lock of every port the first participants of this domain would take.
+        # Hold the lock of every port (discovery, then data: the next one) the first
+        # participants of this domain would take.
         for participant in range(6):
-            for offset in (10, 11):
-                port = 7400 + 250 * ros_domain + offset + 2 * participant
+            for data in (0, 1):
+                port = discovery_port(ros_domain, participant) + data
                 path = Path(f'/dev/shm/fastrtps_port{port}_el')
                 if not path.exists():
                     created.append(path)
