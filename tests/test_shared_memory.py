@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import signal
@@ -26,10 +27,21 @@ rclpy.spin(node)
 
 
 def _own_segments(pid: int) -> set[Path]:
-    """The Fast DDS segments process `pid` maps (its own, with no peer in the domain)."""
-    found = re.findall(r'(/dev/shm/fastrtps_[0-9a-f]{16})$',
-                       Path(f'/proc/{pid}/maps').read_text(), re.M)
-    return {Path(name) for name in found}
+    """The Fast DDS segments process `pid` made: of those it maps (a peer's too, once it has
+    heard from one), the ones whose lock file it holds (/proc/locks: pid, then dev:inode)."""
+    held = set()
+    for line in Path('/proc/locks').read_text().splitlines():
+        fields = line.split()
+        fields = fields[2:] if fields[1] == '->' else fields[1:]  # '->': waiting for it
+        if len(fields) > 4 and fields[3] == str(pid):
+            held.add(int(fields[4].rsplit(':', 1)[1]))
+    found = set()
+    for name in re.findall(r'(/dev/shm/fastrtps_[0-9a-f]{16})$',
+                           Path(f'/proc/{pid}/maps').read_text(), re.M):
+        with contextlib.suppress(FileNotFoundError):
+            if os.stat(f'{name}_el').st_ino in held:
+                found.add(Path(name))
+    return found
 
 
 def _start() -> tuple[subprocess.Popen[str], set[Path]]:
