@@ -59,35 +59,37 @@ _LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
 _ros_modules: set[str] = set()
 
 
-_HOST_CLAIM: list[Any] = []  # the open lock file that holds this run's claim (controller)
+_HOST_CLAIM: list[Any] = []  # the open lock files that hold this run's claim (controller)
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """One kit test run per network namespace: the layout above leases module domains from
-    every run, but its fixed domains (nbval's, the browser kernels', nbgrader's) belong to
-    no lease, so two runs at once (different bases) can put a kernel of one in a domain the
-    other leased for a module, which then sees a stranger's nodes. Refuse the second run
-    and say how to run both: another network namespace has loopback DDS of its own."""
+    """One kit test run per host: the layout above leases module domains from every run, but
+    its fixed domains (nbval's, the browser kernels', nbgrader's) belong to no lease, so two
+    runs at once (different bases) can put a kernel of one in a domain the other leased for
+    a module, which then sees a stranger's nodes. Fast DDS also locks its shared-memory
+    ports in /dev/shm by port number, whatever the network. Refuse a second run that shares
+    either the network namespace or /dev/shm, and say how to run both."""
     if os.environ.get('PYTEST_XDIST_WORKER') or config.option.collectonly:
         return  # a worker of the run that made the claim, or nothing will run
     _LEASES.mkdir(mode=0o700, exist_ok=True)
-    claim = open(_LEASES / f'run-net{os.stat("/proc/self/ns/net").st_ino}.lock', 'a+')  # noqa: SIM115
-    try:
-        fcntl.flock(claim, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
+    for shared in (f'net{os.stat("/proc/self/ns/net").st_ino}', f'shm{os.stat("/dev/shm").st_dev}'):
+        claim = open(_LEASES / f'run-{shared}.lock', 'a+')  # noqa: SIM115 - held by the run
+        try:
+            fcntl.flock(claim, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            claim.seek(0)
+            holder = claim.read().strip() or 'another process'
+            claim.close()
+            raise pytest.UsageError(
+                f"tests/conftest.py: another robot_lab test run ({holder}) is using this host's "
+                "ROS domains; two at once would hear each other's nodes. Wait for it, or run "
+                'this one with a network and a /dev/shm of its own: unshare --net --mount sh -c '
+                "'ip link set lo up && mount -t tmpfs tmpfs /dev/shm && ./kit test'") from None
         claim.seek(0)
-        holder = claim.read().strip() or 'another process'
-        claim.close()
-        raise pytest.UsageError(
-            f"tests/conftest.py: another robot_lab test run ({holder}) is using this host's "
-            "ROS domains; two at once would hear each other's nodes. Wait for it, or run "
-            "this one in a network namespace of its own: unshare --net sh -c 'ip link set lo "
-            "up && ./kit test'") from None
-    claim.seek(0)
-    claim.truncate()
-    claim.write(f'pid {os.getpid()}, {REPO}')
-    claim.flush()
-    _HOST_CLAIM.append(claim)
+        claim.truncate()
+        claim.write(f'pid {os.getpid()}, {REPO}')
+        claim.flush()
+        _HOST_CLAIM.append(claim)
 
 
 def domain_at(offset: int) -> int:
