@@ -123,6 +123,7 @@ class Session:
     """
 
     def __init__(self, domain_id: int) -> None:
+        defer_code_generator()  # a kernel generates no message code either
         import rclpy
 
         apply_ros_defaults()
