@@ -11,8 +11,9 @@ run's duration and result.
     ./kit test --stress 10 [modules...]
 
 Without modules it runs what `./kit test` runs (tests/, the notebooks in Chromium). Exit
-code 1 if any run failed. Run it in a private network namespace (e.g. `unshare --net` with
-`lo` up) when other people's DDS traffic shares the host.
+code 1 if any run failed. Run it in a private network namespace and /dev/shm (`unshare --net
+--mount`, `lo` up, a tmpfs on /dev/shm) when other DDS traffic shares the host; a second
+test run in the same ones is refused (tests/conftest.py).
 """
 
 from __future__ import annotations
