@@ -59,6 +59,14 @@ _LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
 _ros_modules: set[str] = set()
 
 
+def _identity(kind: str, path: str, field: str) -> str:
+    """Which network namespace (its inode) or /dev/shm (its device) this run shares."""
+    try:
+        return f'{kind}{getattr(os.stat(path), field)}'
+    except OSError:  # no such thing here: every run shares the one claim of its kind
+        return kind
+
+
 _HOST_CLAIM: list[Any] = []  # the open lock files that hold this run's claim (controller)
 
 
@@ -72,7 +80,8 @@ def pytest_configure(config: pytest.Config) -> None:
     if os.environ.get('PYTEST_XDIST_WORKER') or config.option.collectonly:
         return  # a worker of the run that made the claim, or nothing will run
     _LEASES.mkdir(mode=0o700, exist_ok=True)
-    for shared in (f'net{os.stat("/proc/self/ns/net").st_ino}', f'shm{os.stat("/dev/shm").st_dev}'):
+    for shared in (_identity('net', '/proc/self/ns/net', 'st_ino'),
+                   _identity('shm', '/dev/shm', 'st_dev')):
         claim = open(_LEASES / f'run-{shared}.lock', 'a+')  # noqa: SIM115 - held by the run
         try:
             fcntl.flock(claim, fcntl.LOCK_EX | fcntl.LOCK_NB)
