@@ -62,7 +62,9 @@ setup(
         # Ubuntu 24.04's python3-setuptools, what Jazzy's colcon builds with. Python 3.11's
         # own 65.5 imports pkg_resources on `import setuptools`, which reads every installed
         # package's metadata: 0.40 CPU-s per setup.py run against 0.16, four runs per build.
-        'setuptools>=68.1,<68.2',
+        # (Ubuntu 24.04 runs Python 3.12; on 3.13, which no Jazzy platform uses, any goes.)
+        'setuptools>=68.1,<68.2; python_version < "3.13"',
+        'setuptools; python_version >= "3.13"',
         'pyyaml',
         # ament_cmake interface packages (rosidl) and colcon test: see robot_lab/pkg/kit_packages.py
         'cmake>=3.22,<3.31',  # 3.31+ warns on the template's cmake_minimum_required(3.8)
