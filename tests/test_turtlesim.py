@@ -20,6 +20,7 @@ import pytest
 from conftest import BIN, Proc, cli_ok, run_cli
 
 import robot_lab
+from robot_lab.graph.topics import echo_stream
 from robot_lab.process import spawn
 
 TWIST = '{linear: {x: 2.0, y: 0.0, z: 0.0}, angular: {x: 0.0, y: 0.0, z: 1.8}}'
@@ -297,9 +298,28 @@ def test_launch_two_turtlesims_with_mimic(ros_domain: int) -> None:
         launch.wait_for(r'\[turtlesim_node-2\].*Spawning turtle \[turtle1\]', timeout=60)
         robot_lab.wait_for_nodes(['/turtlesim1/sim', '/turtlesim2/sim', '/mimic'], timeout=30)
         start = pose(ns='/turtlesim2')
-        robot_lab.publish('/turtlesim1/turtle1/cmd_vel', 'geometry_msgs/msg/Twist',
-                          '{linear: {x: 2.0}, angular: {z: -1.8}}')
-        until(lambda: pose(ns='/turtlesim2').linear_velocity == 2.0, 'turtlesim2 mimics')
+        # As the tutorial does (`ros2 topic pub -r 1`): command turtlesim1 once a second,
+        # watching turtlesim2's pose on one subscription, until turtlesim2 drives at that
+        # speed. Each command lasts 1 s; mimic relays only once it has found both
+        # turtlesims, which on a busy host can be after a single command's second is over.
+        from geometry_msgs.msg import Twist
+
+        command = Twist()
+        command.linear.x, command.angular.z = 2.0, -1.8
+        node = robot_lab.session().node
+        commands = node.create_publisher(Twist, '/turtlesim1/turtle1/cmd_vel', 10)
+        try:
+            sent = 0.0
+            for seen in echo_stream('/turtlesim2/turtle1/pose', timeout=30):
+                if seen.linear_velocity == 2.0:
+                    break
+                if time.monotonic() - sent >= 1.0:
+                    commands.publish(command)
+                    sent = time.monotonic()
+            else:
+                raise AssertionError('turtlesim2 did not mimic turtlesim1 within 30 s')
+        finally:
+            node.destroy_publisher(commands)
         until(lambda: pose(ns='/turtlesim2').linear_velocity == 0.0, 'and stops')
         # It moved: at least one 16 ms step at 2 m/s (3 cm). As in turtlesim, each step
         # moves a fixed 16 ms and a command lasts 1 s of wall time, so how far depends on
