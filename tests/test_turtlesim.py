@@ -23,7 +23,6 @@ import robot_lab
 from robot_lab.graph.topics import echo_stream
 from robot_lab.process import spawn
 
-TWIST = '{linear: {x: 2.0, y: 0.0, z: 0.0}, angular: {x: 0.0, y: 0.0, z: 1.8}}'
 DATA = Path(__file__).parent / 'data' / 'third_party_launch'
 
 
@@ -52,6 +51,32 @@ def until(probe: Callable[[], Any], what: str, timeout: float = 15.0) -> Any:
         if last:
             return last
     raise AssertionError(f'{what}: not within {timeout} s (last: {last!r})')
+
+
+def drive(commanded: str = '', watched: str = '', turn: float = 1.8) -> Any:
+    """Command `commanded`'s turtle1 (2 m/s, `turn` rad/s) once a second, as the tutorials'
+    `ros2 topic pub -r 1` does, until `watched`'s turtle1 drives at 2 m/s; its pose then.
+
+    One subscription watches throughout: a command moves a turtle for 1 s only, which a
+    fresh subscription per probe can miss on a busy host, and a relay (mimic) passes it on
+    only once it has found both turtlesims."""
+    from geometry_msgs.msg import Twist
+
+    command = Twist()
+    command.linear.x, command.angular.z = 2.0, turn
+    node = robot_lab.session().node
+    commands = node.create_publisher(Twist, f'{commanded}/turtle1/cmd_vel', 10)
+    try:
+        sent = 0.0
+        for seen in echo_stream(f'{watched}/turtle1/pose', timeout=30):
+            if seen.linear_velocity == 2.0:
+                return seen
+            if time.monotonic() - sent >= 1.0:
+                commands.publish(command)
+                sent = time.monotonic()
+    finally:
+        node.destroy_publisher(commands)
+    raise AssertionError(f'{watched or "the"} turtle did not drive at 2 m/s within 30 s')
 
 
 def test_starts_as_jazzys_turtlesim(sim: Proc) -> None:
@@ -83,8 +108,7 @@ def test_starts_as_jazzys_turtlesim(sim: Proc) -> None:
 def test_cmd_vel_moves_for_a_second_and_pose_rate(sim: Proc) -> None:
     robot_lab.call_service('/reset', 'std_srvs/srv/Empty')
     start = pose()
-    robot_lab.publish('/turtle1/cmd_vel', 'geometry_msgs/msg/Twist', TWIST)
-    moving = until(lambda: (p := pose()).linear_velocity == 2.0 and p, 'turtle1 moving')
+    moving = drive()
     assert moving.angular_velocity == pytest.approx(1.8)
     stopped = until(lambda: (p := pose()).linear_velocity == 0.0 and p, 'the 1 s timeout')
     # an arc of radius 2/1.8 m for about a second: well away from the start
@@ -281,7 +305,7 @@ def test_view_watches_a_node_started_elsewhere(sim: Proc) -> None:
     view = robot_lab.turtlesim_view()
     try:
         assert view.wait_for_turtles(['turtle1'])
-        robot_lab.publish('/turtle1/cmd_vel', 'geometry_msgs/msg/Twist', TWIST)
+        drive()
         until(lambda: view.strokes > 10, 'pen strokes reach the view')
         assert view._png is not None  # the snapshot of the trails so far
         png = view.render_png()
@@ -298,28 +322,7 @@ def test_launch_two_turtlesims_with_mimic(ros_domain: int) -> None:
         launch.wait_for(r'\[turtlesim_node-2\].*Spawning turtle \[turtle1\]', timeout=60)
         robot_lab.wait_for_nodes(['/turtlesim1/sim', '/turtlesim2/sim', '/mimic'], timeout=30)
         start = pose(ns='/turtlesim2')
-        # As the tutorial does (`ros2 topic pub -r 1`): command turtlesim1 once a second,
-        # watching turtlesim2's pose on one subscription, until turtlesim2 drives at that
-        # speed. Each command lasts 1 s; mimic relays only once it has found both
-        # turtlesims, which on a busy host can be after a single command's second is over.
-        from geometry_msgs.msg import Twist
-
-        command = Twist()
-        command.linear.x, command.angular.z = 2.0, -1.8
-        node = robot_lab.session().node
-        commands = node.create_publisher(Twist, '/turtlesim1/turtle1/cmd_vel', 10)
-        try:
-            sent = 0.0
-            for seen in echo_stream('/turtlesim2/turtle1/pose', timeout=30):
-                if seen.linear_velocity == 2.0:
-                    break
-                if time.monotonic() - sent >= 1.0:
-                    commands.publish(command)
-                    sent = time.monotonic()
-            else:
-                raise AssertionError('turtlesim2 did not mimic turtlesim1 within 30 s')
-        finally:
-            node.destroy_publisher(commands)
+        drive('/turtlesim1', '/turtlesim2', turn=-1.8)  # the tutorial's command
         until(lambda: pose(ns='/turtlesim2').linear_velocity == 0.0, 'and stops')
         # It moved: at least one 16 ms step at 2 m/s (3 cm). As in turtlesim, each step
         # moves a fixed 16 ms and a command lasts 1 s of wall time, so how far depends on
@@ -340,8 +343,7 @@ def test_launching_nodes_tutorial_multisim(ros_domain: int) -> None:
                         r'/turtlesim1/turtlesim', timeout=60)
         launch.wait_for(r'\[turtlesim_node-2\].*Starting turtlesim with node name '
                         r'/turtlesim2/turtlesim', timeout=60)
-        robot_lab.publish('/turtlesim1/turtle1/cmd_vel', 'geometry_msgs/msg/Twist', TWIST)
-        until(lambda: pose(ns='/turtlesim1').linear_velocity == 2.0, 'turtlesim1 drives')
+        drive('/turtlesim1', '/turtlesim1')
         assert pose(ns='/turtlesim2').linear_velocity == 0.0  # the other one stays
     finally:
         launch.stop()
