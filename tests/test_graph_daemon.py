@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import sys
 import time
 from collections.abc import Iterator
 
@@ -105,6 +106,26 @@ def test_idle_daemon_exits_by_itself(no_daemon: None) -> None:
     pid = daemon.query('ping')['pid']
     assert _gone(pid, timeout=10)
     assert not daemon.is_running()
+
+
+# A daemon whose exit hangs holding the GIL, as Fast DDS 2.14's deadlock on destroying a
+# publisher does (s14T1 left one 30 minutes past its owner): an exit handler that sleeps
+# in C with the GIL held, run after the daemon's own.
+_HANGING_EXIT = """
+import atexit, ctypes, sys
+from robot_lab.graph import daemon
+daemon.EXIT_WITHIN = 3.0
+atexit.register(lambda: ctypes.PyDLL(None).sleep(120))
+sys.exit(daemon._main(['--robot-lab-graph-daemon', '--idle-timeout', '1']))
+"""
+
+
+def test_a_daemon_whose_exit_hangs_is_ended_by_its_watchdog(no_daemon: None) -> None:
+    # Without the watchdog the exit takes 120 s and this raises TimeoutExpired.
+    done = subprocess.run([sys.executable, '-c', _HANGING_EXIT], capture_output=True,
+                          text=True, timeout=60, check=False)
+    assert done.returncode == 1, done.stderr
+    assert 'most recent call first' in done.stderr  # where each thread was
 
 
 def test_daemon_ends_with_its_owner_even_after_kill_9(no_daemon: None) -> None:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
+import faulthandler
 import fcntl
 import json
 import os
@@ -53,6 +54,7 @@ __all__ = [
 
 # `ros2 daemon start`'s daemon also exits after two hours without a request.
 IDLE_TIMEOUT = 2 * 60 * 60.0
+EXIT_WITHIN = 20.0  # s for the daemon's own exit, before its watchdog ends it (_main)
 # Set (to anything but 0) to make every command use its own session, like --no-daemon.
 NO_DAEMON_VARIABLE = 'ROBOT_LAB_NO_DAEMON'
 # Set to 0 to keep graph verbs from starting a daemon when none runs (the test suite: a
@@ -534,7 +536,15 @@ def _main(argv: list[str] | None = None) -> int:
     if args.listen_fd is not None and args.lock_fd is not None:
         listener = Listener(socket.socket(fileno=args.listen_fd),
                             os.fdopen(args.lock_fd, 'a'), socket_path())
-    return serve(args.idle_timeout, listener, args.owner)
+    code = serve(args.idle_timeout, listener, args.owner)
+    # The exit closes the session (atexit), destroying its DDS entities, where Fast DDS 2.14
+    # can deadlock: a receive thread holds the PDP mutex and waits for the event thread,
+    # which waits for that mutex, while the destroying thread holds the GIL. s14T1 left a
+    # daemon so, its owner gone 30 minutes. faulthandler's watchdog is a C thread that needs
+    # no GIL: past EXIT_WITHIN it prints where each thread is and ends the process.
+    with contextlib.suppress(ValueError, AttributeError, OSError):  # no usable stderr
+        faulthandler.dump_traceback_later(EXIT_WITHIN, exit=True)
+    return code
 
 
 if __name__ == '__main__':
