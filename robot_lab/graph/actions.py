@@ -96,7 +96,10 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
         get_action_client_names_and_types_by_node,
         get_action_server_names_and_types_by_node,
     )
+    from rclpy.impl.implementation_singleton import rclpy_implementation
     from rclpy.node import NodeNameNonExistentError
+
+    RCLError = rclpy_implementation.RCLError  # noqa: N806 - rclpy's class
 
     sess = get_session(session)
     action = absolute_name(name)
@@ -108,6 +111,10 @@ def action_info(name: str, session: Session | None = None) -> ActionInfo:
             try:
                 entries = query(sess.node, base, namespace)
             except NodeNameNonExistentError:  # the node left between the two queries
+                continue
+            except RCLError:  # what rclpy's action queries raise for that (s14T3)
+                if full in full_node_names(sess, include_hidden=True):
+                    raise  # still there: a real error
                 continue
             found += [(full, list(t)) for n, t in entries if n == action]
         return found
