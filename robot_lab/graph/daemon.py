@@ -540,7 +540,7 @@ def _main(argv: list[str] | None = None) -> int:
     # The exit closes the session (atexit), destroying its DDS entities, where Fast DDS 2.14
     # can deadlock: a receive thread holds the PDP mutex and waits for the event thread,
     # which waits for that mutex, while the destroying thread holds the GIL. s14T1 left a
-    # daemon so, its owner gone 30 minutes. faulthandler's watchdog is a C thread that needs
+    # daemon so, 20 minutes after its owner. faulthandler's watchdog is a C thread that needs
     # no GIL: past EXIT_WITHIN it prints where each thread is and ends the process.
     with contextlib.suppress(ValueError, AttributeError, OSError):  # no usable stderr
         faulthandler.dump_traceback_later(EXIT_WITHIN, exit=True)
