@@ -44,6 +44,7 @@ __all__ = [
     'FROM_REGISTRY_VARIABLE',
     'HUB_REGISTRY',
     'JOB_DOMAINS',
+    'JOB_POOL_VARIABLE',
     'POOL_VARIABLE',
     'REGISTRY_VARIABLE',
     'USER_DOMAINS',
@@ -52,6 +53,7 @@ __all__ = [
     'domain_for',
     'fill_domain',
     'find_user',
+    'job_pool',
     'lease_domains',
     'listing',
     'process_domain',
@@ -66,6 +68,8 @@ REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_REGISTRY'
 FROM_REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_FROM_REGISTRY'
 # `first-last` domains handed to users (an admin may narrow it; tests use their own).
 POOL_VARIABLE = 'ROBOT_LAB_USER_DOMAINS'
+# `first-last` domains the grader's (and tests') parallel jobs lease first.
+JOB_POOL_VARIABLE = 'ROBOT_LAB_JOB_DOMAINS'
 DEFAULT_REGISTRY = Path('/var/tmp/robot_lab/domains.json')
 # Where a hub keeps its users' registry (deploy/tljh: outside the per-user /tmp, /var/tmp).
 HUB_REGISTRY = Path('/srv/robot_lab/domains.json')
@@ -91,18 +95,29 @@ def registry_path(env: Mapping[str, str] | None = None) -> Path:
 
 def user_pool(env: Mapping[str, str] | None = None) -> range:
     """The user domains: USER_DOMAINS, or `first-last` from ROBOT_LAB_USER_DOMAINS."""
+    return _pool(POOL_VARIABLE, USER_DOMAINS, env, 'e.g. 1-101')
+
+
+def job_pool(env: Mapping[str, str] | None = None) -> range:
+    """The domains jobs lease first: JOB_DOMAINS, or `first-last` from ROBOT_LAB_JOB_DOMAINS
+    (a host whose network already uses 215-232; two registries on one host, each its own
+    part: DDS domains are the host's, whatever file books them)."""
+    return _pool(JOB_POOL_VARIABLE, JOB_DOMAINS, env, 'e.g. 215-232')
+
+
+def _pool(variable: str, default: range, env: Mapping[str, str] | None, example: str) -> range:
     source = os.environ if env is None else env
-    raw = source.get(POOL_VARIABLE, '').strip()
+    raw = source.get(variable, '').strip()
     if not raw:
-        return USER_DOMAINS
+        return default
     first, _, last = raw.partition('-')
     try:
         pool = range(int(first), int(last or first) + 1)
     except ValueError:
         pool = range(0)
     if not pool or not all(d in _VALID for d in pool):
-        raise RobotLabError(f'{POOL_VARIABLE}={raw!r} is not a range of valid domains',
-                            fix='use FIRST-LAST within 0-101 or 215-232, e.g. 1-101')
+        raise RobotLabError(f'{variable}={raw!r} is not a range of valid domains',
+                            fix=f'use FIRST-LAST within 0-101 or 215-232, {example}')
     return pool
 
 
@@ -300,8 +315,7 @@ def lease_domains(count: int, purpose: str = '', pool: Sequence[int] | None = No
     test modules), so no user and no other job is in them. A holder killed with -9 frees
     its leases too (the next allocation sees its process gone)."""
     if pool is None:
-        users = user_pool(env)
-        pool = [*JOB_DOMAINS, *reversed(users)]
+        pool = [*job_pool(env), *reversed(user_pool(env))]
     registry = DomainRegistry(registry_path(env))
     domains = registry.lease(count, pool, purpose)
     try:
@@ -318,9 +332,9 @@ def process_domain(purpose: str, env: Mapping[str, str] | None = None) -> int:
     kernel): no user's, no other job's. Asked again, the same one; freed at exit, or by
     the next allocation once the process is gone (kill -9 included)."""
     if not _process_lease:
-        users = user_pool(env)
         registry = DomainRegistry(registry_path(env))
-        _process_lease.extend(registry.lease(1, [*JOB_DOMAINS, *reversed(users)], purpose))
+        pool = [*job_pool(env), *reversed(user_pool(env))]
+        _process_lease.extend(registry.lease(1, pool, purpose))
         atexit.register(registry.release, list(_process_lease))
     return _process_lease[0]
 

@@ -36,6 +36,13 @@ os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
 # the host registry (robot_lab/domain.py); every module sets its own below anyway.
 os.environ['ROS_DOMAIN_ID'] = str(_BASE % 100 + 1)
 apply_ros_defaults()
+# Job domains (grading jobs, autograded kernels: robot_lab/domain.py leases them from a
+# registry). A registry knows only its own leases, and some tests book jobs in a registry of
+# their own, so each registry gets a part of 215-232 that no other hands out: two jobs in
+# one domain hear each other's nodes (an unanswered exercise passed a check on another
+# test's graded answer). The run's own registry takes the first part.
+JOB_POOLS = {'run': '215-226', 'docs_console': '227-229', 'grading_apart': '230-232'}
+os.environ['ROBOT_LAB_JOB_DOMAINS'] = JOB_POOLS['run']
 # Graph verbs start no daemon of their own here (one per test domain would outlive the run);
 # tests/test_graph_fresh.py turns it on where it checks it.
 os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import doc_console
 import pytest
-from conftest import BIN, REPO
+from conftest import BIN, JOB_POOLS, REPO
 
 from robot_lab.domain import DEFAULT_REGISTRY, HUB_REGISTRY
 
@@ -23,7 +23,9 @@ def _shell_env(home: Path) -> dict[str, str]:
             'USER': 'instructor', 'GIT_AUTHOR_NAME': 'instructor',
             'GIT_AUTHOR_EMAIL': 'instructor@example.org', 'GIT_COMMITTER_NAME': 'instructor',
             'GIT_COMMITTER_EMAIL': 'instructor@example.org',
-            'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}
+            'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
+            # its registries are its own: jobs lease the part of 215-232 kept for it
+            'ROBOT_LAB_JOB_DOMAINS': JOB_POOLS['docs_console']}
 
 
 def _fingerprint(path: Path) -> str | None:

@@ -109,6 +109,19 @@ def test_leases_keep_users_and_jobs_apart(tmp_path: Path) -> None:
     assert registry.lease(2, [97, 98], 'other') == [97, 98]
 
 
+
+def test_jobs_lease_from_the_pool_the_host_gives_them(tmp_path: Path) -> None:
+    """ROBOT_LAB_JOB_DOMAINS: a registry whose jobs must keep off another's part of the
+    host's domains leases from its own part first, then from the user domains' top."""
+    env = {**_registry_env(tmp_path / 'domains.json'), 'ROBOT_LAB_JOB_DOMAINS': '230-231'}
+    with lease_domains(3, 'pytest', env=env) as leased:
+        assert leased == [230, 231, 101]
+    for wrong in ('230-240', 'x', '231-230'):
+        bad = {**env, 'ROBOT_LAB_JOB_DOMAINS': wrong}
+        with pytest.raises(RobotLabError, match=f"ROBOT_LAB_JOB_DOMAINS='{wrong}' is not"), \
+                lease_domains(1, 'pytest', env=bad):
+            pass
+
 # --- real Unix users ---------------------------------------------------------------------
 
 _skip = can_create_users()
