@@ -105,6 +105,11 @@ def job_pool(env: Mapping[str, str] | None = None) -> range:
     return _pool(JOB_POOL_VARIABLE, JOB_DOMAINS, env, 'e.g. 215-232')
 
 
+def _job_order(env: Mapping[str, str] | None) -> list[int]:
+    """Where a job's lease looks: the job domains, then the user domains from the top."""
+    return [*job_pool(env), *reversed(user_pool(env))]
+
+
 def _pool(variable: str, default: range, env: Mapping[str, str] | None, example: str) -> range:
     source = os.environ if env is None else env
     raw = source.get(variable, '').strip()
@@ -315,7 +320,7 @@ def lease_domains(count: int, purpose: str = '', pool: Sequence[int] | None = No
     test modules), so no user and no other job is in them. A holder killed with -9 frees
     its leases too (the next allocation sees its process gone)."""
     if pool is None:
-        pool = [*job_pool(env), *reversed(user_pool(env))]
+        pool = _job_order(env)
     registry = DomainRegistry(registry_path(env))
     domains = registry.lease(count, pool, purpose)
     try:
@@ -333,8 +338,7 @@ def process_domain(purpose: str, env: Mapping[str, str] | None = None) -> int:
     the next allocation once the process is gone (kill -9 included)."""
     if not _process_lease:
         registry = DomainRegistry(registry_path(env))
-        pool = [*job_pool(env), *reversed(user_pool(env))]
-        _process_lease.extend(registry.lease(1, pool, purpose))
+        _process_lease.extend(registry.lease(1, _job_order(env), purpose))
         atexit.register(registry.release, list(_process_lease))
     return _process_lease[0]
 

@@ -21,6 +21,7 @@ from typing import Any
 import psutil
 import pytest
 
+from robot_lab.domain import JOB_POOL_VARIABLE
 from robot_lab.env import apply_ros_defaults
 from robot_lab.process import spawn, stop
 
@@ -42,7 +43,7 @@ apply_ros_defaults()
 # one domain hear each other's nodes (an unanswered exercise passed a check on another
 # test's graded answer). The run's own registry takes the first part.
 JOB_POOLS = {'run': '215-226', 'docs_console': '227-229', 'grading_apart': '230-232'}
-os.environ['ROBOT_LAB_JOB_DOMAINS'] = JOB_POOLS['run']
+os.environ[JOB_POOL_VARIABLE] = JOB_POOLS['run']
 # Graph verbs start no daemon of their own here (one per test domain would outlive the run);
 # tests/test_graph_fresh.py turns it on where it checks it.
 os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'

@@ -45,6 +45,12 @@ def rosbags_messages(bag: Path, topic: str) -> list[tuple[int, Any]]:
     return out
 
 
+def _span_ns(bag: Path) -> int:
+    """The bag's span, its first message to its last, as metadata.yaml holds it."""
+    meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+    return int(meta['duration']['nanoseconds'])
+
+
 def _at_rate(rate: float, count: int, bag: Path) -> bool:
     """`count` messages of a `rate` Hz topic in `bag`: about what the rate gives over the
     bag's span (its first message to its last): at least half (a starved publisher skips
@@ -52,8 +58,7 @@ def _at_rate(rate: float, count: int, bag: Path) -> bool:
     share one receive time: 87 statuses at 20 Hz in 3.98 s were seen), and at least five.
     The span is what the recorder heard, whatever part of its `--duration` discovery took
     (more on a busy host). A message recorded twice would double the count."""
-    meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
-    seconds = meta['duration']['nanoseconds'] / 1e9
+    seconds = _span_ns(bag) / 1e9
     return count >= 5 and rate * seconds / 2 <= count <= rate * (seconds + 1) + 3
 
 
@@ -125,8 +130,7 @@ def test_info_prints_ros2_bag_info_layout(bags: dict[str, Path]) -> None:
     assert lines[3] == 'Storage id:        mcap'
     # The span from the first message to the last, as metadata.yaml holds it: the 3 s asked
     # for (checked between spins), less the part discovery took (more on a busy host).
-    meta = yaml.safe_load((bags['mcap'] / 'metadata.yaml').read_text())
-    span = meta['rosbag2_bagfile_information']['duration']['nanoseconds']
+    span = _span_ns(bags['mcap'])
     assert lines[5] == f'Duration:          {span // 10**9}.{span % 10**9:09d}s'
     assert 0 < span < 3.5e9
     assert re.fullmatch(r'Start:             \w{3} [ \d]\d \d{4} \d\d:\d\d:\d\d\.\d{9} '

@@ -14,7 +14,7 @@ import doc_console
 import pytest
 from conftest import BIN, JOB_POOLS, REPO
 
-from robot_lab.domain import DEFAULT_REGISTRY, HUB_REGISTRY
+from robot_lab.domain import DEFAULT_REGISTRY, HUB_REGISTRY, JOB_POOL_VARIABLE
 
 
 def _shell_env(home: Path) -> dict[str, str]:
@@ -25,7 +25,7 @@ def _shell_env(home: Path) -> dict[str, str]:
             'GIT_COMMITTER_EMAIL': 'instructor@example.org',
             'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
             # its registries are its own: jobs lease the part of 215-232 kept for it
-            'ROBOT_LAB_JOB_DOMAINS': JOB_POOLS['docs_console']}
+            JOB_POOL_VARIABLE: JOB_POOLS['docs_console']}
 
 
 def _fingerprint(path: Path) -> str | None:
