@@ -12,6 +12,8 @@ A segment is dead when nobody holds its lock. One younger than `min_age` is left
 participant creates the lock file an instant before it takes the lock, and a busy host can
 hold it between the two. Ports (`fastrtps_port*`) are left to Fast DDS, which takes over a
 dead port itself when it opens it again.
+
+A live participant's port can be taken over too, which leaves it deaf (`lost_ports`).
 """
 
 from __future__ import annotations
@@ -23,10 +25,16 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ['SHM_DIR', 'Swept', 'sweep_dead_segments']
+__all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'lost_ports',
+           'sweep_dead_segments']
 
 SHM_DIR = Path('/dev/shm')
+# How often a long-lived process of the kit (the graph daemon, a launcher for its nodes)
+# checks for `lost_ports`: a few reads of /proc, a millisecond.
+HEARING_CHECK = 2.0
 _SEGMENT_LOCK = re.compile(r'fastrtps_[0-9a-f]{16}_el')
+_PORT_LOCK = re.compile(r'/dev/shm/fastrtps_port(\d+)_el')
+_REMOVED_PORT = re.compile(r'/dev/shm/fastrtps_port(\d+) \(deleted\)$', re.M)
 
 
 @dataclass
@@ -86,3 +94,66 @@ def sweep_dead_segments(shm_dir: Path = SHM_DIR, min_age: float = 10.0) -> Swept
         finally:
             os.close(fd)
     return swept
+
+
+def lost_ports(pid: int | None = None) -> list[int]:
+    """The shared-memory ports process `pid` (default: this one) listens on whose file
+    another process removed: ports on which it no longer hears anyone new.
+
+    Each participant listens on ports of its own (`/dev/shm/fastrtps_port<N>`; it holds the
+    lock of `..._el` while it lives). A participant that opens a port to send and gets no
+    answer to Fast DDS's health check within a second (the owner not run for that long, on a
+    crowded host) takes it for a dead one's: it removes the file and makes a new one that
+    nobody reads. Participants that open the port after that send into the new file, so the
+    owner never hears them: in one CI run a test's session missed every node started after
+    it for a minute, and each new participant logged `Failed init_port fastrtps_port7006:
+    open_and_lock_file failed` (Fast DDS issues 5737, 6117). rmw_fastrtps adds the transport
+    itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, so no profile can turn it off. The
+    owner still maps the removed file: /proc/PID/maps shows it `(deleted)`.
+    """
+    proc = Path('/proc') / (str(pid) if pid is not None else 'self')
+    try:
+        removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_text())}
+        fds = os.listdir(proc / 'fd') if removed else []
+    except OSError:  # gone, or not ours
+        return []
+    own = set()
+    for fd in fds:
+        try:
+            target = os.readlink(proc / 'fd' / fd)
+        except OSError:
+            continue
+        if (match := _PORT_LOCK.fullmatch(target)) is not None:
+            own.add(int(match[1]))
+    return sorted(removed & own)
+
+
+def deaf_note(pid: int | None = None) -> str:
+    """A sentence for an error about the graph when `lost_ports(pid)` found any, else ''."""
+    ports = lost_ports(pid)
+    if not ports:
+        return ''
+    listed = ', '.join(str(port) for port in ports)
+    return (f'this process no longer hears ROS participants started after Fast DDS took over '
+            f'its shared-memory port {listed} (a crowded host): restart it (in a notebook: '
+            f'Kernel > Restart Kernel)')
+
+
+def deaf_processes() -> list[tuple[int, str, list[int]]]:
+    """This user's processes with `lost_ports`: (pid, command line, ports), for the doctor."""
+    found = []
+    for entry in os.listdir('/proc'):
+        if not entry.isdigit():
+            continue
+        pid = int(entry)
+        try:
+            if os.stat(f'/proc/{entry}').st_uid != os.getuid():
+                continue
+            ports = lost_ports(pid)
+            if ports:
+                raw = Path(f'/proc/{entry}/cmdline').read_bytes()
+                found.append((pid, raw.replace(b'\0', b' ').decode(errors='replace').strip(),
+                              ports))
+        except OSError:  # gone meanwhile
+            continue
+    return found

@@ -1,4 +1,5 @@
-"""A killed participant's shared-memory segment is swept; a live one's is never touched."""
+"""A killed participant's shared-memory segment is swept; a live one's is never touched; a
+live one whose port Fast DDS took over is named, and the graph daemon so struck exits."""
 
 from __future__ import annotations
 
@@ -11,7 +12,14 @@ import sys
 import time
 from pathlib import Path
 
-from robot_lab.shared_memory import sweep_dead_segments
+from robot_lab.graph import daemon
+from robot_lab.pkg.doctor import doctor
+from robot_lab.shared_memory import (
+    HEARING_CHECK,
+    deaf_processes,
+    lost_ports,
+    sweep_dead_segments,
+)
 
 # A node that publishes once (Fast DDS maps its segment when it has data to send), says so,
 # and stays.
@@ -109,3 +117,80 @@ def test_a_launch_that_ends_and_a_lessons_setup_sweep(tmp_path: Path) -> None:
     assert young.exists()  # made an instant ago: perhaps a participant about to lock it
     young.unlink()
     Path(f'{young}_el').unlink()
+
+
+def _own_ports(pid: int) -> set[int]:
+    """The ports `pid` listens on (it holds their lock files open), of this test's domain
+    only: ports below 7400 + 250 * domain (7000 and up) are scanned by every new participant
+    of the host, which would log an error on the one taken over here."""
+    first = 7400 + 250 * int(os.environ['ROS_DOMAIN_ID'])
+    ports = set()
+    for fd in os.listdir(f'/proc/{pid}/fd'):
+        with contextlib.suppress(OSError):
+            target = os.readlink(f'/proc/{pid}/fd/{fd}')
+            match = re.fullmatch(r'/dev/shm/fastrtps_port(\d+)_el', target)
+            if match and int(match[1]) >= first:
+                ports.add(int(match[1]))
+    return ports
+
+
+def _take_over(port: int) -> None:
+    """What Fast DDS does to a port whose owner missed its health check: the file removed
+    (a writer then makes a new one that nobody reads)."""
+    Path(f'/dev/shm/fastrtps_port{port}').unlink()
+
+
+def test_a_participant_whose_port_was_taken_over_is_named() -> None:
+    proc, _segments = _start()
+    try:
+        ports = _own_ports(proc.pid)
+        assert ports, 'the node listens on no port of its domain'
+        assert lost_ports(proc.pid) == []
+        assert proc.pid not in [pid for pid, _, _ in deaf_processes()]
+        port = min(ports)
+        _take_over(port)
+        assert lost_ports(proc.pid) == [port]
+        assert [(pid, lost) for pid, _, lost in deaf_processes() if pid == proc.pid] == \
+            [(proc.pid, [port])]
+        (named,) = [c for c in doctor().checks if c.name == f'process {proc.pid}']
+        assert not named.ok and f'port {port}' in named.detail and 'Restart' in str(named.fix)
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(30)
+
+
+def test_a_daemon_whose_port_was_taken_over_exits() -> None:
+    served = subprocess.Popen([sys.executable, '-m', 'robot_lab.graph.daemon',
+                               '--robot-lab-graph-daemon', '--idle-timeout', '300'],
+                              stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while not (ports := _own_ports(served.pid)) and served.poll() is None \
+                and time.monotonic() < deadline:
+            time.sleep(0.05)  # polling /proc: the session's start has no event to wait on
+        assert ports and daemon.is_running(), 'the daemon never listened'
+        _take_over(min(ports))
+        code = served.wait(10 * HEARING_CHECK)
+    finally:
+        if served.poll() is None:
+            served.kill()
+            served.wait()
+    assert served.stderr is not None
+    said = served.stderr.read()
+    assert code == 0 and 'no longer hearing new participants' in said, said
+    assert not daemon.is_running()
+
+
+def test_a_launch_says_which_node_no_longer_hears(start) -> None:  # type: ignore[no-untyped-def]
+    launch = start('robot-lab', 'launch', 'robot_lab', 'robot.launch.xml')
+    pid = int(launch.wait_for(r'\[sensor_node-1\]: process started with pid \[(\d+)\]',
+                              timeout=30)[1])
+    launch.wait_for(r'Sensor node started', timeout=30)
+    deadline = time.monotonic() + 30
+    while not (ports := _own_ports(pid)) and time.monotonic() < deadline:
+        time.sleep(0.05)  # polling /proc: the node's ports have no event to wait on
+    assert ports, 'the sensor listens on no port of its domain'
+    _take_over(min(ports))
+    said = launch.wait_for(r'\[WARNING\] \[sensor_node-1\]: no longer hears .*port (\d+)',
+                           timeout=10 * HEARING_CHECK)
+    assert int(said[1]) == min(ports)

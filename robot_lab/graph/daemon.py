@@ -35,6 +35,7 @@ from typing import IO, Any
 from robot_lab.env import switched_on
 from robot_lab.errors import GraphError, RobotLabError
 from robot_lab.graph.expected import graph_dir, process_alive
+from robot_lab.shared_memory import HEARING_CHECK, lost_ports
 
 __all__ = [
     'AUTOSTART_VARIABLE',
@@ -492,11 +493,22 @@ class _Server:
             # Idle from when it can answer: a slow start-up (a loaded machine) must not
             # count, or a short --idle-timeout ends the daemon before its first request.
             self.last_request = time.monotonic()
+            heard_at = time.monotonic()
             while not self.stopping.is_set():
                 if time.monotonic() - self.last_request > self.idle_timeout:
                     break
                 if self.owner is not None and not process_alive(self.owner):
                     break
+                if time.monotonic() - heard_at >= HEARING_CHECK:
+                    heard_at = time.monotonic()
+                    if lost := lost_ports():
+                        # A deaf daemon would list a stale graph until its idle timeout;
+                        # without it, the next command answers from its own session and
+                        # starts a daemon that hears everyone (ask_daemon).
+                        print(f'robot-lab daemon: Fast DDS took over shared-memory port(s) '
+                              f'{lost}: no longer hearing new participants, exiting',
+                              file=sys.stderr, flush=True)
+                        break
                 self.audit()
                 try:
                     conn, _ = listener.socket.accept()

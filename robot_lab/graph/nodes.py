@@ -16,6 +16,7 @@ from robot_lab.graph.discovery import (
     settled,
     wait_until,
 )
+from robot_lab.shared_memory import deaf_note
 
 if TYPE_CHECKING:
     from robot_lab.rclpy_session import Session
@@ -129,7 +130,8 @@ def wait_for_nodes(names: Iterable[str], timeout: float = 10.0,
         raise GraphError(
             f'nodes not up within {timeout:g} s: {", ".join(missing)} '
             f'(ROS_DOMAIN_ID={sess.domain_id} shows {shown})',
-            fix='check that they were started (and did not die) with `robot-lab node list`',
+            fix=deaf_note() or 'check that they were started (and did not die) with '
+                               '`robot-lab node list`',
         )
     return wanted
 

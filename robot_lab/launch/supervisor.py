@@ -43,7 +43,7 @@ from robot_lab.launch.plan import (
 )
 from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
 from robot_lab.process import spawn
-from robot_lab.shared_memory import sweep_dead_segments
+from robot_lab.shared_memory import HEARING_CHECK, lost_ports, sweep_dead_segments
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
@@ -89,6 +89,7 @@ class Supervisor:
         self._seq = itertools.count()
         self._selector = selectors.DefaultSelector()
         self._requests: list[Callable[[], None]] = []
+        self._deaf: set[int] = set()  # pids said to no longer hear (_check_hearing)
         # Re-entrant: Ctrl-C's handler takes it in the main thread, which may hold it already
         # (draining requests) or be running that handler for an earlier signal. `timeout -s
         # INT` signals the launcher twice (it and its group); with a plain Lock the second
@@ -153,6 +154,7 @@ class Supervisor:
             if self.graph_daemon:
                 self._start_graph_daemons()
                 self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
+            self._at(HEARING_CHECK, self._check_hearing, keeps_alive=False)
             while True:
                 self._drain_requests()
                 self._run_due()
@@ -531,6 +533,24 @@ class Supervisor:
             return
         self._graph.check_daemons(self._running_graphs())
         self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
+
+    def _check_hearing(self) -> None:
+        """Say once of each node that no longer hears new participants (Fast DDS took over
+        its shared-memory port on a crowded host, robot_lab.shared_memory.lost_ports): a
+        `topic echo` started later would wait for its messages forever."""
+        if self.is_shutdown:
+            return
+        for record in self.records:
+            if record.state != 'running' or not record.pid or record.pid in self._deaf:
+                continue
+            if ports := lost_ports(record.pid):
+                self._deaf.add(record.pid)
+                self.output.launcher(
+                    'WARNING', record.label,
+                    f'no longer hears ROS participants started from now on: Fast DDS took '
+                    f'over its shared-memory port {", ".join(map(str, ports))} (a crowded '
+                    f'host); stop the launch (Ctrl-C) and start it again')
+        self._at(HEARING_CHECK, self._check_hearing, keeps_alive=False)
 
     def _kill_leftovers(self) -> None:
         """Only reached on an error inside the loop: never leave a child behind."""

@@ -111,6 +111,16 @@ def _environment_checks() -> list[Check]:
         f'colcon-core {colcon_version} ({colcon})' if colcon_version else 'not installed',
         fix="pip install 'robot_lab[kit]' (colcon-core, colcon-ros, colcon-bash)",
     ))
+    from robot_lab.shared_memory import deaf_processes
+
+    # Listed only when one is found: the checklist stays as it was on a healthy host.
+    for pid, command, ports in deaf_processes():
+        checks.append(Check(
+            f'process {pid}', False,
+            f'no longer hears new ROS participants (Fast DDS took over its shared-memory '
+            f'port {", ".join(map(str, ports))}): {command[:80]}',
+            fix='restart it (a notebook: Kernel > Restart Kernel; a launch: Ctrl-C, then '
+                'launch again)'))
     from robot_lab.errors import PackageNotFoundError as MissingPackage
     from robot_lab.pkg.index import package_share
 
