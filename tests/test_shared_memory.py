@@ -194,3 +194,42 @@ def test_a_launch_says_which_node_no_longer_hears(start) -> None:  # type: ignor
     said = launch.wait_for(r'\[WARNING\] \[sensor_node-1\]: no longer hears .*port (\d+)',
                            timeout=10 * HEARING_CHECK)
     assert int(said[1]) == min(ports)
+
+
+# A process whose own session is struck: a failed check names that as the fix.
+DEAF_CHECK = """
+import os, re, sys, time
+from pathlib import Path
+from robot_lab.grading import check
+from robot_lab.rclpy_session import session
+
+session()
+first = 7400 + 250 * int(os.environ['ROS_DOMAIN_ID'])
+deadline = time.monotonic() + 30
+while time.monotonic() < deadline:
+    ports = [int(m[1]) for fd in os.listdir('/proc/self/fd')
+             if (m := re.fullmatch(r'/dev/shm/fastrtps_port(\\d+)_el',
+                                  os.path.realpath(f'/proc/self/fd/{fd}')))
+             and int(m[1]) >= first]
+    if ports:
+        break
+    time.sleep(0.05)
+for mode in ('hearing', 'deaf'):
+    if mode == 'deaf':
+        Path(f'/dev/shm/fastrtps_port{min(ports)}').unlink()
+    try:
+        check.eventually(lambda: False, 'something that never holds', timeout=0,
+                         hint='the usual hint')
+    except check.CheckError as err:
+        print(mode, err.hint, flush=True)
+"""
+
+
+def test_a_check_in_a_process_that_no_longer_hears_says_so() -> None:
+    done = subprocess.run([sys.executable, '-c', DEAF_CHECK], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    hearing, deaf = done.stdout.splitlines()
+    assert hearing == 'hearing the usual hint'
+    assert deaf.startswith('deaf this process no longer hears ROS participants') \
+        and 'Restart Kernel' in deaf, deaf

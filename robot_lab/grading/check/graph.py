@@ -51,7 +51,6 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = Non
     stopped and the last line each printed (a node that refused a parameter says why).
     """
     from robot_lab.graph.api import node_list, wait_for_nodes
-    from robot_lab.shared_memory import deaf_note
 
     wanted = sorted('/' + n.lstrip('/') for n in names)
     try:
@@ -65,8 +64,7 @@ def nodes_running(names: Iterable[str], timeout: float = 10.0, launch: Any = Non
             f'missing {", ".join(missing)} (running now: {", ".join(present) or "none"})'
             + ''.join(f'; {d}' for d in deaths),
             'read why it stopped: the last line above names the cause' if deaths else
-            deaf_note() or 'run the cell above that starts them, and read its output for '
-                           'errors',
+            'run the cell above that starts them, and read its output for errors',
         ) from None
     passed(f'{len(wanted)} node{"s" * (len(wanted) != 1)} running: {", ".join(wanted)}')
 
