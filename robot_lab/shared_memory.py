@@ -25,6 +25,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from robot_lab.graph.host_sockets import domain_ports
+
 __all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'lost_ports',
            'sweep_dead_segments']
 
@@ -111,12 +113,19 @@ def lost_ports(pid: int | None = None) -> list[int]:
     itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, so no profile can turn it off. The
     owner still maps the removed file: /proc/PID/maps shows it `(deleted)`.
     """
+    removed, own = _ports(pid)
+    return sorted(removed & own)
+
+
+def _ports(pid: int | None) -> tuple[set[int], set[int]]:
+    """The ports whose removed file `pid` maps, and the ports it listens on (holds the lock
+    file of); the second is read only when the first is not empty."""
     proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
         removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_text())}
         fds = os.listdir(proc / 'fd') if removed else []
     except OSError:  # gone, or not ours
-        return []
+        return set(), set()
     own = set()
     for fd in fds:
         try:
@@ -125,7 +134,7 @@ def lost_ports(pid: int | None = None) -> list[int]:
             continue
         if (match := _PORT_LOCK.fullmatch(target)) is not None:
             own.add(int(match[1]))
-    return sorted(removed & own)
+    return removed, own
 
 
 def deaf_note(pid: int | None = None) -> str:
@@ -139,8 +148,12 @@ def deaf_note(pid: int | None = None) -> str:
             f'Kernel > Restart Kernel)')
 
 
-def deaf_processes() -> list[tuple[int, str, list[int]]]:
-    """This user's processes with `lost_ports`: (pid, command line, ports), for the doctor."""
+def deaf_processes(domain: int) -> list[tuple[int, str, list[int]]]:
+    """This user's processes of ROS domain `domain` with `lost_ports`: (pid, command line,
+    ports), for the doctor. A process's domain is read from the ports it listens on (Fast
+    DDS numbers each domain's ports apart; its environment may not say: a kernel sets
+    ROS_DOMAIN_ID after it started)."""
+    ports = domain_ports(domain)
     found = []
     for entry in os.listdir('/proc'):
         if not entry.isdigit():
@@ -149,11 +162,12 @@ def deaf_processes() -> list[tuple[int, str, list[int]]]:
         try:
             if os.stat(f'/proc/{entry}').st_uid != os.getuid():
                 continue
-            ports = lost_ports(pid)
-            if ports:
+            removed, own = _ports(pid)
+            lost = sorted(removed & own)
+            if lost and any(port in ports for port in own):
                 raw = Path(f'/proc/{entry}/cmdline').read_bytes()
                 found.append((pid, raw.replace(b'\0', b' ').decode(errors='replace').strip(),
-                              ports))
+                              lost))
         except OSError:  # gone meanwhile
             continue
     return found

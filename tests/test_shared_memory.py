@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from robot_lab.graph import daemon
+from robot_lab.graph.host_sockets import domain_ports
 from robot_lab.pkg.doctor import doctor
 from robot_lab.shared_memory import (
     HEARING_CHECK,
@@ -123,13 +124,13 @@ def _own_ports(pid: int) -> set[int]:
     """The ports `pid` listens on (it holds their lock files open), of this test's domain
     only: ports below 7400 + 250 * domain (7000 and up) are scanned by every new participant
     of the host, which would log an error on the one taken over here."""
-    first = 7400 + 250 * int(os.environ['ROS_DOMAIN_ID'])
+    domain = domain_ports(int(os.environ['ROS_DOMAIN_ID']))
     ports = set()
     for fd in os.listdir(f'/proc/{pid}/fd'):
         with contextlib.suppress(OSError):
             target = os.readlink(f'/proc/{pid}/fd/{fd}')
             match = re.fullmatch(r'/dev/shm/fastrtps_port(\d+)_el', target)
-            if match and int(match[1]) >= first:
+            if match and int(match[1]) in domain:
                 ports.add(int(match[1]))
     return ports
 
@@ -146,12 +147,15 @@ def test_a_participant_whose_port_was_taken_over_is_named() -> None:
         ports = _own_ports(proc.pid)
         assert ports, 'the node listens on no port of its domain'
         assert lost_ports(proc.pid) == []
-        assert proc.pid not in [pid for pid, _, _ in deaf_processes()]
+        domain = int(os.environ['ROS_DOMAIN_ID'])
+        assert proc.pid not in [pid for pid, _, _ in deaf_processes(domain)]
         port = min(ports)
         _take_over(port)
         assert lost_ports(proc.pid) == [port]
-        assert [(pid, lost) for pid, _, lost in deaf_processes() if pid == proc.pid] == \
+        assert [(pid, lost) for pid, _, lost in deaf_processes(domain) if pid == proc.pid] == \
             [(proc.pid, [port])]
+        # another domain's doctor does not list it (nor a test's deaf process another's)
+        assert proc.pid not in [pid for pid, _, _ in deaf_processes((domain + 1) % 100)]
         (named,) = [c for c in doctor().checks if c.name == f'process {proc.pid}']
         assert not named.ok and f'port {port}' in named.detail and 'Restart' in str(named.fix)
     finally:
@@ -201,16 +205,17 @@ DEAF_CHECK = """
 import os, re, sys, time
 from pathlib import Path
 from robot_lab.grading import check
+from robot_lab.graph.host_sockets import domain_ports
 from robot_lab.rclpy_session import session
 
 session()
-first = 7400 + 250 * int(os.environ['ROS_DOMAIN_ID'])
+domain = domain_ports(int(os.environ['ROS_DOMAIN_ID']))
 deadline = time.monotonic() + 30
 while time.monotonic() < deadline:
     ports = [int(m[1]) for fd in os.listdir('/proc/self/fd')
              if (m := re.fullmatch(r'/dev/shm/fastrtps_port(\\d+)_el',
                                   os.path.realpath(f'/proc/self/fd/{fd}')))
-             and int(m[1]) >= first]
+             and int(m[1]) in domain]
     if ports:
         break
     time.sleep(0.05)

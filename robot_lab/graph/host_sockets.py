@@ -22,7 +22,8 @@ import struct
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets', 'port_holders',
+__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'domain_ports', 'own_sockets',
+           'port_holders',
            'socket_drops', 'udp_sockets']
 
 
@@ -153,12 +154,17 @@ def discovery_port(domain_id: int, participant_id: int) -> int:
     return _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1 + _PARTICIPANT_GAIN * participant_id
 
 
+def domain_ports(domain_id: int) -> range:
+    """The port numbers of a domain's participants (UDP, and Fast DDS's shared-memory
+    ports of the domain: those below 7400 are tried by every participant of the host)."""
+    return range(_PORT_BASE + _DOMAIN_GAIN * domain_id, _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1))
+
+
 def discovery_ports(domain_id: int, sockets: list[UdpSocket] | None = None) -> dict[int, int]:
     """Bound discovery ports of this domain on this host -> their socket inodes."""
-    first = discovery_port(domain_id, 0)
-    last = _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1) - 1
+    first, ports = discovery_port(domain_id, 0), domain_ports(domain_id)
     return {s.port: s.inode for s in (udp_sockets() if sockets is None else sockets)
-            if first <= s.port <= last and (s.port - first) % _PARTICIPANT_GAIN == 0}
+            if s.port in ports and s.port >= first and (s.port - first) % _PARTICIPANT_GAIN == 0}
 
 
 def socket_drops() -> int:

@@ -114,7 +114,7 @@ def _environment_checks() -> list[Check]:
     from robot_lab.shared_memory import deaf_processes
 
     # Listed only when one is found: the checklist stays as it was on a healthy host.
-    for pid, command, ports in deaf_processes():
+    for pid, command, ports in deaf_processes(int(env.get('ROS_DOMAIN_ID') or 0)):
         checks.append(Check(
             f'process {pid}', False,
             f'no longer hears new ROS participants (Fast DDS took over its shared-memory '
