@@ -36,7 +36,7 @@ SHM_DIR = Path('/dev/shm')
 HEARING_CHECK = 2.0
 _SEGMENT_LOCK = re.compile(r'fastrtps_[0-9a-f]{16}_el')
 _PORT_LOCK = re.compile(r'/dev/shm/fastrtps_port(\d+)_el')
-_REMOVED_PORT = re.compile(r'/dev/shm/fastrtps_port(\d+) \(deleted\)$', re.M)
+_REMOVED_PORT = re.compile(rb'/dev/shm/fastrtps_port(\d+) \(deleted\)$', re.M)
 
 
 @dataclass
@@ -122,7 +122,8 @@ def _ports(pid: int | None) -> tuple[set[int], set[int]]:
     file of); the second is read only when the first is not empty."""
     proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
-        removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_text())}
+        # bytes: a node's maps are about 110 KB; read as text, twice the time (1.9 ms)
+        removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_bytes())}
         fds = os.listdir(proc / 'fd') if removed else []
     except OSError:  # gone, or not ours
         return set(), set()
