@@ -105,15 +105,15 @@ def lost_ports(pid: int | None = None) -> list[int]:
     another process removed: ports on which it no longer hears anyone new.
 
     Each participant listens on ports of its own (`/dev/shm/fastrtps_port<N>`; it holds the
-    lock of `..._el` while it lives). A participant that opens a port to send and gets no
-    answer to Fast DDS's health check within a second (the owner not run for that long, on a
-    crowded host) takes it for a dead one's: it removes the file and makes a new one that
-    nobody reads. Participants that open the port after that send into the new file, so the
-    owner never hears them: in one CI run a test's session missed every node started after
-    it for a minute, and each new participant logged `Failed init_port fastrtps_port7006:
-    open_and_lock_file failed` (Fast DDS issues 5737, 6117). rmw_fastrtps adds the transport
-    itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, so no profile can turn it off. The
-    owner still maps the removed file: /proc/PID/maps shows it `(deleted)`.
+    lock of `..._el` while it lives). Fast DDS replaces a port file it judges dead (an owner
+    that misses its one-second health check, a port mutex held for two seconds: a crowded
+    host can look so; Fast DDS issues 5737, 6117). Participants that open the port after
+    that send into a file nobody reads, so the owner never hears them: in one CI run a
+    test's session missed every node started after it for a minute, and each new
+    participant logged `Failed init_port fastrtps_port7006: open_and_lock_file failed`.
+    rmw_fastrtps adds the transport itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST,
+    so no profile can turn it off. The owner still maps the removed file: /proc/PID/maps
+    shows it `(deleted)`.
     """
     removed, own = _ports(pid)
     return sorted(removed & own)

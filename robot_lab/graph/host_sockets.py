@@ -23,8 +23,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 __all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'domain_ports', 'own_sockets',
-           'port_holders',
-           'socket_drops', 'udp_sockets']
+           'port_holders', 'socket_drops', 'udp_sockets']
 
 
 class UdpSocket(NamedTuple):
