@@ -51,6 +51,7 @@ __all__ = [
     'DomainChoice',
     'DomainRegistry',
     'domain_for',
+    'domain_ports',
     'fill_domain',
     'find_user',
     'job_pool',
@@ -70,6 +71,16 @@ FROM_REGISTRY_VARIABLE = 'ROBOT_LAB_DOMAIN_FROM_REGISTRY'
 POOL_VARIABLE = 'ROBOT_LAB_USER_DOMAINS'
 # `first-last` domains the grader's (and tests') parallel jobs lease first.
 JOB_POOL_VARIABLE = 'ROBOT_LAB_JOB_DOMAINS'
+# Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain and up.
+_PORT_BASE, _DOMAIN_GAIN = 7400, 250
+
+
+def domain_ports(domain: int) -> range:
+    """The port numbers of a domain's participants (UDP, and Fast DDS's shared-memory
+    ports of the domain: those below 7400 are tried by every participant of the host)."""
+    return range(_PORT_BASE + _DOMAIN_GAIN * domain, _PORT_BASE + _DOMAIN_GAIN * (domain + 1))
+
+
 DEFAULT_REGISTRY = Path('/var/tmp/robot_lab/domains.json')
 # Where a hub keeps its users' registry (deploy/tljh: outside the per-user /tmp, /var/tmp).
 HUB_REGISTRY = Path('/srv/robot_lab/domains.json')

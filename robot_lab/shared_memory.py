@@ -25,7 +25,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from robot_lab.graph.host_sockets import domain_ports
+from robot_lab.domain import domain_ports
 
 __all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'lost_ports',
            'sweep_dead_segments']

@@ -12,8 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+from robot_lab.domain import domain_ports
 from robot_lab.graph import daemon
-from robot_lab.graph.host_sockets import domain_ports
 from robot_lab.pkg.doctor import doctor
 from robot_lab.shared_memory import (
     HEARING_CHECK,
@@ -205,7 +205,7 @@ DEAF_CHECK = """
 import os, re, sys, time
 from pathlib import Path
 from robot_lab.grading import check
-from robot_lab.graph.host_sockets import domain_ports
+from robot_lab.domain import domain_ports
 from robot_lab.rclpy_session import session
 
 session()

@@ -22,8 +22,10 @@ import struct
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'domain_ports', 'own_sockets',
-           'port_holders', 'socket_drops', 'udp_sockets']
+from robot_lab.domain import domain_ports
+
+__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets', 'port_holders',
+           'socket_drops', 'udp_sockets']
 
 
 class UdpSocket(NamedTuple):
@@ -33,8 +35,8 @@ class UdpSocket(NamedTuple):
 
 
 # Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
-# is a participant's metatraffic unicast (discovery) port.
-_PORT_BASE, _DOMAIN_GAIN, _PARTICIPANT_GAIN, _D1 = 7400, 250, 2, 10
+# is a participant's metatraffic unicast (discovery) port (PB + DG * domain: domain_ports).
+_PARTICIPANT_GAIN, _D1 = 2, 10
 
 # linux/netlink.h, linux/sock_diag.h, linux/inet_diag.h
 _NETLINK_SOCK_DIAG = 4
@@ -150,13 +152,7 @@ def own_sockets() -> set[int]:
 
 def discovery_port(domain_id: int, participant_id: int) -> int:
     """The discovery (metatraffic unicast) port of participant `participant_id`."""
-    return _PORT_BASE + _DOMAIN_GAIN * domain_id + _D1 + _PARTICIPANT_GAIN * participant_id
-
-
-def domain_ports(domain_id: int) -> range:
-    """The port numbers of a domain's participants (UDP, and Fast DDS's shared-memory
-    ports of the domain: those below 7400 are tried by every participant of the host)."""
-    return range(_PORT_BASE + _DOMAIN_GAIN * domain_id, _PORT_BASE + _DOMAIN_GAIN * (domain_id + 1))
+    return domain_ports(domain_id).start + _D1 + _PARTICIPANT_GAIN * participant_id
 
 
 def discovery_ports(domain_id: int, sockets: list[UdpSocket] | None = None) -> dict[int, int]:
