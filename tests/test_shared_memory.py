@@ -136,8 +136,8 @@ def _own_ports(pid: int) -> set[int]:
 
 
 def _take_over(port: int) -> None:
-    """What Fast DDS does to a port whose owner missed its health check: the file removed
-    (a writer then makes a new one that nobody reads)."""
+    """What a take-over leaves (s16L2; Fast DDS issues 5737, 6117): the port's file gone
+    while its owner lives (a writer then makes a new one that nobody reads)."""
     Path(f'/dev/shm/fastrtps_port{port}').unlink()
 
 
