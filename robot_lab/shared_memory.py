@@ -27,8 +27,8 @@ from pathlib import Path
 
 from robot_lab.domain import domain_ports
 
-__all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'lost_ports',
-           'sweep_dead_segments']
+__all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'listening_ports',
+           'lost_ports', 'sweep_dead_segments']
 
 SHM_DIR = Path('/dev/shm')
 # How often a long-lived process of the kit (the graph daemon, a launcher for its nodes)
@@ -115,29 +115,32 @@ def lost_ports(pid: int | None = None) -> list[int]:
     so no profile can turn it off. The owner still maps the removed file: /proc/PID/maps
     shows it `(deleted)`.
     """
-    removed, own = _ports(pid)
-    return sorted(removed & own)
-
-
-def _ports(pid: int | None) -> tuple[set[int], set[int]]:
-    """The ports whose removed file `pid` maps, and the ports it listens on (holds the lock
-    file of); the second is read only when the first is not empty."""
     proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
         # bytes: a node's maps are about 110 KB, and need no decoding
         removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_bytes())}
-        fds = os.listdir(proc / 'fd') if removed else []
     except OSError:  # gone, or not ours
-        return set(), set()
-    own = set()
+        return []
+    return sorted(removed & listening_ports(pid)) if removed else []
+
+
+def listening_ports(pid: int | None = None) -> set[int]:
+    """The shared-memory ports process `pid` (default: this one) listens on: those whose
+    `_el` lock file it holds open."""
+    fd_dir = Path('/proc') / (str(pid) if pid is not None else 'self') / 'fd'
+    ports: set[int] = set()
+    try:
+        fds = os.listdir(fd_dir)
+    except OSError:
+        return ports
     for fd in fds:
         try:
-            target = os.readlink(proc / 'fd' / fd)
+            target = os.readlink(fd_dir / fd)
         except OSError:
             continue
         if (match := _PORT_LOCK.fullmatch(target)) is not None:
-            own.add(int(match[1]))
-    return removed, own
+            ports.add(int(match[1]))
+    return ports
 
 
 def deaf_note(pid: int | None = None) -> str:
@@ -156,21 +159,15 @@ def deaf_processes(domain: int) -> list[tuple[int, str, list[int]]]:
     ports), for the doctor. A process's domain is read from the ports it listens on (Fast
     DDS numbers each domain's ports apart; its environment may not say: a kernel sets
     ROS_DOMAIN_ID after it started)."""
+    import psutil
+
     ports = domain_ports(domain)
     found = []
-    for entry in os.listdir('/proc'):
-        if not entry.isdigit():
+    for proc in psutil.process_iter(['uids', 'cmdline']):
+        uids = proc.info['uids']
+        if uids is None or uids.effective != os.getuid():
             continue
-        pid = int(entry)
-        try:
-            if os.stat(f'/proc/{entry}').st_uid != os.getuid():
-                continue
-            removed, own = _ports(pid)
-            lost = sorted(removed & own)
-            if lost and any(port in ports for port in own):
-                raw = Path(f'/proc/{entry}/cmdline').read_bytes()
-                found.append((pid, raw.replace(b'\0', b' ').decode(errors='replace').strip(),
-                              lost))
-        except OSError:  # gone meanwhile
-            continue
+        lost = lost_ports(proc.pid)
+        if lost and not listening_ports(proc.pid).isdisjoint(ports):
+            found.append((proc.pid, ' '.join(proc.info['cmdline'] or []), lost))
     return found

@@ -18,6 +18,7 @@ from robot_lab.pkg.doctor import doctor
 from robot_lab.shared_memory import (
     HEARING_CHECK,
     deaf_processes,
+    listening_ports,
     lost_ports,
     sweep_dead_segments,
 )
@@ -124,15 +125,7 @@ def _own_ports(pid: int) -> set[int]:
     """The ports `pid` listens on (it holds their lock files open), of this test's domain
     only: ports below 7400 + 250 * domain (7000 and up) are scanned by every new participant
     of the host, which would log an error on the one taken over here."""
-    domain = domain_ports(int(os.environ['ROS_DOMAIN_ID']))
-    ports = set()
-    for fd in os.listdir(f'/proc/{pid}/fd'):
-        with contextlib.suppress(OSError):
-            target = os.readlink(f'/proc/{pid}/fd/{fd}')
-            match = re.fullmatch(r'/dev/shm/fastrtps_port(\d+)_el', target)
-            if match and int(match[1]) in domain:
-                ports.add(int(match[1]))
-    return ports
+    return listening_ports(pid) & set(domain_ports(int(os.environ['ROS_DOMAIN_ID'])))
 
 
 def _take_over(port: int) -> None:
@@ -202,23 +195,18 @@ def test_a_launch_says_which_node_no_longer_hears(start) -> None:  # type: ignor
 
 # A process whose own session is struck: a failed check names that as the fix.
 DEAF_CHECK = """
-import os, re, sys, time
+import os, time
 from pathlib import Path
 from robot_lab.grading import check
 from robot_lab.domain import domain_ports
 from robot_lab.rclpy_session import session
+from robot_lab.shared_memory import listening_ports
 
 session()
-domain = domain_ports(int(os.environ['ROS_DOMAIN_ID']))
+domain = set(domain_ports(int(os.environ['ROS_DOMAIN_ID'])))
 deadline = time.monotonic() + 30
-while time.monotonic() < deadline:
-    ports = [int(m[1]) for fd in os.listdir('/proc/self/fd')
-             if (m := re.fullmatch(r'/dev/shm/fastrtps_port(\\d+)_el',
-                                  os.path.realpath(f'/proc/self/fd/{fd}')))
-             and int(m[1]) in domain]
-    if ports:
-        break
-    time.sleep(0.05)
+while not (ports := listening_ports() & domain) and time.monotonic() < deadline:
+    time.sleep(0.05)  # polling /proc: the session's ports have no event to wait on
 for mode in ('hearing', 'deaf'):
     if mode == 'deaf':
         Path(f'/dev/shm/fastrtps_port{min(ports)}').unlink()
