@@ -125,6 +125,7 @@ class Session:
     def __init__(self, domain_id: int) -> None:
         defer_code_generator()  # a kernel generates no message code either
         import rclpy
+        from rclpy.parameter import Parameter
 
         apply_ros_defaults()
         guard_action_clients()
@@ -136,6 +137,9 @@ class Session:
             context=self.context,
             start_parameter_services=False,
             enable_rosout=False,
+            # No ~/get_type_description service either: nobody asks a hidden node for its
+            # types, and creating it imports numpy (~0.1 CPU-s of every cold command).
+            parameter_overrides=[Parameter('start_type_description_service', value=False)],
         )
         widen_receive_buffers()  # the participant's sockets exist once it has a node
         # When discovery began: graph queries wait out the first announcements after it.
