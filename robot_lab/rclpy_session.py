@@ -138,7 +138,7 @@ class Session:
             start_parameter_services=False,
             enable_rosout=False,
             # No ~/get_type_description service either: nobody asks a hidden node for its
-            # types, and creating it imports numpy (~0.1 CPU-s of every cold command).
+            # types, and creating it imports numpy (0.05 CPU-s of each cold command).
             parameter_overrides=[Parameter('start_type_description_service', value=False)],
         )
         widen_receive_buffers()  # the participant's sockets exist once it has a node
