@@ -58,6 +58,13 @@ trio, median of the per-invocation medians; load average 3-24 from other work):
 - --quiet + two busy loops (3): 1.43x -> 1.27x; --idle 1 + two busy loops (2): 1.13x ->
   1.15x (equal within the noise); USS as above.
 
+Measured 2026-11-28 (--quick --runs 5, fork server on, each in its own network namespace
+and /dev/shm, load average 1.0-1.9 before the busy loops): --idle 1 1.21x (0.71 / 0.58 s),
+--quiet 1.22x (0.56 / 0.46 s), --idle 1 + 3 busy loops 1.65x (1.34 / 0.82 s; CPU to the
+first Status 0.51 s against the bare trio's 0.75: the launch is a chain of one process at a
+time, and beside busy loops a chain gets one share of the CPU, three bare processes three);
+USS launcher + fork server + 3 nodes 63 MB.
+
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
 
