@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 
@@ -106,6 +107,46 @@ def test_idle_daemon_exits_by_itself(no_daemon: None) -> None:
     pid = daemon.query('ping')['pid']
     assert _gone(pid, timeout=10)
     assert not daemon.is_running()
+
+
+# A daemon that lives on for a second after closing its session, as a loaded host's does
+# (an exit handler registered first runs last).
+_SLOW_EXIT = """
+import atexit, sys, time
+from robot_lab.graph import daemon
+atexit.register(time.sleep, 1.0)
+sys.exit(daemon._main(['--robot-lab-graph-daemon']))
+"""
+
+
+@pytest.mark.parametrize('op', ['topic_info', 'node_info'])
+def test_a_request_in_flight_when_the_daemon_exits_gets_no_answer(no_daemon: None,
+                                                                  op: str) -> None:
+    """A daemon ending while it answers (its launcher stopped, or deaf: `lost_ports`) must
+    not answer from its closing session: s17's CI printed `graph daemon: InvalidHandle`
+    for a `topic info`. Cut off, the command asks the graph itself (`query` is None)."""
+    proc = subprocess.Popen([sys.executable, '-c', _SLOW_EXIT])
+    try:
+        assert daemon.wait_until_running(30, proc=proc)
+        outcome: list[object] = []
+
+        def ask() -> None:
+            try:  # an unknown name keeps the daemon looking for LOOKUP_TIMEOUT (2.5 s)
+                outcome.append(daemon.query(op, name='/not_there_yet', timeout=30))
+            except GraphError as err:
+                outcome.append(err)
+
+        asking = threading.Thread(target=ask)
+        asking.start()
+        # in flight: this ping and the request
+        assert _wait(lambda: daemon.query('ping')['in_flight'] >= 2)
+        proc.terminate()
+        asking.join(30)
+        assert outcome == [None]
+        assert proc.wait(30) == 0
+    finally:
+        proc.kill()
+        proc.wait()
 
 
 # A daemon whose exit hangs holding the GIL, as Fast DDS 2.14's deadlock on destroying a

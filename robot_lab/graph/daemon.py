@@ -352,6 +352,12 @@ class _Server:
         # (node name, pid) the launchers of this graph announced -> when last seen.
         self.announced: dict[tuple[str, int], float] = {}
         self.graph = graph_dir()
+        # Connections being answered. At exit they are cut before the session closes: a
+        # request in flight then reads a destroyed node (s17's CI printed `graph daemon:
+        # InvalidHandle` for `topic info`), where a cut connection makes the command ask
+        # the graph itself.
+        self._in_flight: set[socket.socket] = set()
+        self._in_flight_lock = threading.Lock()
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
         from robot_lab.graph import actions, nodes, services, topics
@@ -375,7 +381,8 @@ class _Server:
             'action_info': lambda r: dataclasses.asdict(actions.action_info(name(r),
                                                                             session=sess)),
             'ping': lambda r: {'pid': os.getpid(),
-                               'age': time.monotonic() - self.session.created},
+                               'age': time.monotonic() - self.session.created,
+                               'in_flight': len(self._in_flight)},
             'node_list': lambda r: self.node_list(hidden(r)),
             'topic_list': lambda r: topics.topic_list(hidden(r), session=self.session),
             'service_list': lambda r: services.service_list_typed(hidden(r),
@@ -460,25 +467,32 @@ class _Server:
         self.stale.audit(full_node_names(self.session, include_hidden=True), live)
 
     def handle(self, conn: socket.socket) -> None:
-        with conn:
-            try:
-                conn.settimeout(5.0)
-                line = conn.makefile('rb').readline()
-                if not line.strip():
-                    return  # a probe (`is_running`): not a request, keeps nobody alive
-                request = json.loads(line)
-                self.last_request = time.monotonic()
-                handler = self.handlers().get(str(request.get('op')))
-                if handler is None:
-                    reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}"}
-                else:
-                    reply = {'result': handler(request)}
-            except RobotLabError as err:
-                reply = {'error': err.message, 'fix': err.fix}
-            except Exception as exc:  # a bad request must not take the daemon down
-                reply = {'error': f'graph daemon: {type(exc).__name__}: {exc}'}
-            with contextlib.suppress(OSError):
-                conn.sendall(json.dumps(reply).encode())
+        try:
+            self._answer(conn)
+        finally:
+            with self._in_flight_lock:
+                self._in_flight.discard(conn)
+            conn.close()
+
+    def _answer(self, conn: socket.socket) -> None:
+        try:
+            conn.settimeout(5.0)
+            line = conn.makefile('rb').readline()
+            if not line.strip():
+                return  # a probe (`is_running`): not a request, keeps nobody alive
+            request = json.loads(line)
+            self.last_request = time.monotonic()
+            handler = self.handlers().get(str(request.get('op')))
+            if handler is None:
+                reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}"}
+            else:
+                reply = {'result': handler(request)}
+        except RobotLabError as err:
+            reply = {'error': err.message, 'fix': err.fix}
+        except Exception as exc:  # a bad request must not take the daemon down
+            reply = {'error': f'graph daemon: {type(exc).__name__}: {exc}'}
+        with contextlib.suppress(OSError):
+            conn.sendall(json.dumps(reply).encode())
 
     def run(self, listener: Listener) -> int:
         listener.socket.settimeout(0.5)
@@ -514,10 +528,23 @@ class _Server:
                     conn, _ = listener.socket.accept()
                 except TimeoutError:
                     continue
+                with self._in_flight_lock:
+                    self._in_flight.add(conn)
                 threading.Thread(target=self.handle, args=(conn,), daemon=True).start()
         finally:
             listener.close()
+            self._cut_in_flight()
         return 0
+
+    def _cut_in_flight(self) -> None:
+        """End the requests still being answered, with no answer: their commands ask the
+        graph themselves (`query` returns None), rather than print what a closing session
+        gave or failed to give."""
+        self.stopping.set()
+        with self._in_flight_lock:
+            for conn in self._in_flight:
+                with contextlib.suppress(OSError):
+                    conn.shutdown(socket.SHUT_RDWR)
 
 
 def serve(idle_timeout: float = IDLE_TIMEOUT, listener: Listener | None = None,
