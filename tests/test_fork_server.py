@@ -192,3 +192,37 @@ def test_a_signal_to_a_forked_node_acts_as_on_a_fresh_one(start, tmp_path: Path,
                                     20).group(0)
         stop(proc)
     assert codes[True] == codes[False] == 'sensor_node-1]: process has finished cleanly'
+
+
+def _shared_dirty_kb(pid: int) -> int:
+    """Dirty pages the process shares: a forked node shares its server's imported heap."""
+    for line in Path(f'/proc/{pid}/smaps_rollup').read_text().splitlines():
+        if line.startswith('Shared_Dirty:'):
+            return int(line.split()[1])
+    raise AssertionError(f'no Shared_Dirty in /proc/{pid}/smaps_rollup')
+
+
+@pytest.mark.parametrize('package', ['robot_lab', 'path'])
+def test_a_launch_of_the_kits_package_starts_its_server_before_reading_the_file(  # type: ignore[no-untyped-def]
+        start, tmp_path: Path, package: str) -> None:
+    """`robot-lab launch robot_lab FILE` starts the server first (its imports overlap the
+    parse); the nodes are forked from that one server. A launch named by path may be a
+    student's: its server waits for the plan."""
+    from robot_lab.launch.resolve import find_launch_file
+
+    source = ['robot_lab', 'robot.launch.xml'] if package == 'robot_lab' else [
+        str(find_launch_file('robot_lab', 'robot.launch.xml'))]
+    proc = start('robot-lab', 'launch', '-d', *source,
+                 env={'ROS_LOG_DIR': str(tmp_path), 'ROBOT_LAB_FORK_SERVER': '1'})
+    when = ('before the launch file was read' if package == 'robot_lab'
+            else 'for the first Python node')
+    server = int(proc.wait_for(rf'fork server \[pid (\d+)\] started {when}', 60).group(1))
+    proc.wait_for(r'\[robot\]: Status:', 60)
+    servers = [p.pid for p in psutil.Process(proc.popen.pid).children()
+               if SERVER in p.cmdline()]
+    assert servers == [server]
+    nodes = launched_nodes(proc.popen.pid)
+    assert len(nodes) == 3 and all(_shared_dirty_kb(n.pid) > 4096 for n in nodes), [
+        (n.cmdline(), _shared_dirty_kb(n.pid)) for n in nodes]
+    proc.popen.send_signal(signal.SIGINT)
+    assert proc.popen.wait(30) == 0, proc.output

@@ -14,6 +14,7 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from robot_lab.launch.fork_client import ForkServer, start_early
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.parameters import check_param_files
 from robot_lab.launch.plan import (
@@ -118,17 +119,20 @@ def main(args: argparse.Namespace) -> int:
     listener = _graph_listener()
     announcement = LaunchAnnouncement(graph_dir())
     announcement.starting()
+    forks = start_early(source) if file is not None else None
     try:
         plan = describe_launch(source, file, parse_launch_arguments(argv))
         if args.show_all:
             for spec in plan.processes():
                 spec.output = 'both'
         return run(plan, noninteractive=args.noninteractive, debug=args.debug,
-                   graph_listener=listener, announcement=announcement)
+                   graph_listener=listener, announcement=announcement, fork_server=forks)
     finally:
         announcement.close()
         if listener is not None:
             listener.close()  # a no-op once handed to the daemon
+        if forks is not None:
+            forks.discard()  # unused if the file failed to load; else closed already
 
 
 def _graph_listener() -> Listener | None:
@@ -142,7 +146,8 @@ def _graph_listener() -> Listener | None:
 def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
         on_start: Callable[[Supervisor], None] | None = None,
         graph_listener: Listener | None = None,
-        announcement: LaunchAnnouncement | None = None) -> int:
+        announcement: LaunchAnnouncement | None = None,
+        fork_server: ForkServer | None = None) -> int:
     """Run `plan` in this (main) thread, Ctrl-C and SIGTERM stopping it in order.
 
     A graph daemon runs beside the nodes, so `robot-lab node list` in another terminal
@@ -154,5 +159,6 @@ def run(plan: LaunchPlan, *, noninteractive: bool, debug: bool = False,
     output = LaunchOutput(sys.stdout, debug=debug, log_dir=plan.log_dir)
     supervisor = Supervisor(plan, output, noninteractive=noninteractive,
                             graph_daemon=not daemon.disabled(),
-                            graph_listener=graph_listener, announcement=announcement)
+                            graph_listener=graph_listener, announcement=announcement,
+                            fork_server=fork_server)
     return run_supervisor(supervisor, on_start=on_start)

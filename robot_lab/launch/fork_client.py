@@ -10,7 +10,10 @@ the server, is exec'd as before. A forked node is this process's child, as an ex
 is; the handle waits for it through a pidfd, in Popen's terms.
 
 The server is started before the first node and imports what the nodes will; every node
-waits for it rather than being exec'd meanwhile. Measured (bench/bench_launch.py --quick
+waits for it rather than being exec'd meanwhile. For the kit's own package it starts before
+the launch file is read (start_early): with three busy loops beside a CI run, launch ->
+first Status as a multiple of the bare trio went from 1.62-2.00x to 0.88-1.15x (3 A/B
+pairs, 2026-11-28). Measured (bench/bench_launch.py --quick
 --quiet --fork-server both, 2 cores, 2026-11-26), launch -> first Status as a multiple of
 three bare rclpy processes: exec 1.35-1.51x; the first node exec'd while the server imports
 and the rest forked 1.02-1.07x, 78 MB USS; all forked 0.78-0.80x, 61 MB. With two busy
@@ -36,7 +39,8 @@ from typing import IO, Any
 from robot_lab.launch.plan import ProcessSpec
 from robot_lab.process import spawn
 
-__all__ = ['ENABLE', 'SAFE_PACKAGES', 'ForkServer', 'ForkedProcess', 'enabled', 'interpreter_of']
+__all__ = ['ENABLE', 'SAFE_PACKAGES', 'ForkServer', 'ForkedProcess', 'enabled', 'interpreter_of',
+           'start_early']
 
 ENABLE = 'ROBOT_LAB_FORK_SERVER'
 SAFE_PACKAGES = frozenset({'robot_lab'})
@@ -53,6 +57,27 @@ def enabled(environ: Mapping[str, str] | None = None) -> bool:
 
 def _startup(env: Mapping[str, str]) -> dict[str, str]:
     return {k: v for k, v in env.items() if not k.startswith(_RUNTIME)}
+
+
+def start_early(package: str) -> ForkServer | None:
+    """A server started before `package`'s launch file is read, when its nodes may be forked.
+
+    A launcher reads the launch file before it knows its nodes, then waited for the server's
+    imports; on a loaded host that chain of one process at a time got one share of the CPU
+    while three exec'd nodes got three. Started first, the server imports while the file is
+    parsed. Only for a package whose nodes may fork (a student's are exec'd: a server would
+    only take CPU from them); the supervisor closes it if no node needs it.
+    """
+    if package not in SAFE_PACKAGES or not enabled():
+        return None
+    from robot_lab.env import apply_ros_defaults
+
+    env = dict(os.environ)
+    apply_ros_defaults(env)
+    try:
+        return ForkServer(env)
+    except OSError:
+        return None
 
 
 def interpreter_of(spec: ProcessSpec) -> str | None:
@@ -134,6 +159,10 @@ class ForkServer:
         finally:
             theirs.close()
 
+    @property
+    def pid(self) -> int:
+        return self._proc.pid
+
     def accepts(self, env: Mapping[str, str]) -> bool:
         return self.error is None and _startup(env) == self._env
 
@@ -195,6 +224,14 @@ class ForkServer:
                 self.error = str(message.get('error', 'not ready'))
             else:
                 self._replies.append(message)
+
+    def discard(self) -> None:
+        """End a server that forked nothing at once (a launch whose file failed to load,
+        or whose nodes are all exec'd): waiting for its imports would only delay the exit."""
+        with contextlib.suppress(OSError):
+            self._ours.close()
+        self._proc.kill()
+        self._proc.wait()
 
     def close(self) -> None:
         """The server exits once its socket closes (the nodes are ours, not its)."""

@@ -68,7 +68,8 @@ class Supervisor:
     def __init__(self, plan: LaunchPlan, output: LaunchOutput, *,
                  noninteractive: bool = True, graph_daemon: bool = False,
                  graph_listener: Listener | None = None,
-                 announcement: LaunchAnnouncement | None = None) -> None:
+                 announcement: LaunchAnnouncement | None = None,
+                 fork_server: ForkServer | None = None) -> None:
         self.plan = plan
         self.output = output
         self.noninteractive = noninteractive
@@ -102,6 +103,7 @@ class Supervisor:
         self._sigint_seen = False
         self._closed = False
         self._forks: ForkServer | None = None  # unless ROBOT_LAB_FORK_SERVER=0: see fork_client
+        self._early_forks = fork_server  # started before the plan existed (start_early)
 
     # --- requests from other threads (Ctrl-C handler, notebook handle) -------------------
 
@@ -286,14 +288,23 @@ class Supervisor:
         return env
 
     def _start_fork_server(self) -> None:
-        """Before the first spawn, so its imports run while the launcher gets going."""
-        if not enabled():
-            return
-        for spec in self.plan.processes():
+        """Before the first spawn, so its imports run while the launcher gets going; or
+        the one started before the plan existed, if it suits the first forkable node."""
+        early, self._early_forks = self._early_forks, None
+        for spec in self.plan.processes() if enabled() else []:
             if interpreter_of(spec) is not None:
-                with contextlib.suppress(OSError):  # no server: every node is exec'd
-                    self._forks = ForkServer(self._environment(spec))
-                return
+                env = self._environment(spec)
+                if early is not None and early.accepts(env):
+                    self._forks, early, when = early, None, 'before the launch file was read'
+                else:
+                    with contextlib.suppress(OSError):  # no server: every node is exec'd
+                        self._forks, when = ForkServer(env), 'for the first Python node'
+                if self._forks is not None:
+                    self.output.launcher('DEBUG', 'launch',
+                                         f'fork server [pid {self._forks.pid}] started {when}')
+                break
+        if early is not None:
+            early.discard()
 
     def _start(self, record: ProcessRecord) -> None:
         if self.is_shutdown:
