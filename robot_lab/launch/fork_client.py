@@ -11,9 +11,10 @@ is; the handle waits for it through a pidfd, in Popen's terms.
 
 The server is started before the first node and imports what the nodes will; every node
 waits for it rather than being exec'd meanwhile. For the kit's own package it starts before
-the launch file is read (start_early): with three busy loops beside a CI run, launch ->
-first Status as a multiple of the bare trio went from 1.62-2.00x to 0.88-1.15x (3 A/B
-pairs, 2026-11-28). Measured (bench/bench_launch.py --quick
+the launch file is read (start_early). Launch -> first Status as a multiple of the bare
+trio, three busy loops, 2026-11-28: beside a CI run, 3 A/B pairs, 1.62-2.00x before,
+0.88-1.15x after (a second series of the same code: 1.26-1.43x); bench_launch --quick
+--idle 1 --busy 3, 5 runs, 1.34x (1.65x the day before). Measured (bench/bench_launch.py --quick
 --quiet --fork-server both, 2 cores, 2026-11-26), launch -> first Status as a multiple of
 three bare rclpy processes: exec 1.35-1.51x; the first node exec'd while the server imports
 and the rest forked 1.02-1.07x, 78 MB USS; all forked 0.78-0.80x, 61 MB. With two busy
