@@ -65,6 +65,11 @@ first Status 0.51 s against the bare trio's 0.75: the launch is a chain of one p
 time, and beside busy loops a chain gets one share of the CPU, three bare processes three);
 USS launcher + fork server + 3 nodes 63 MB.
 
+Measured 2026-11-28 later, the fork server started before the launch file is read (--quick):
+--idle 1 0.73x (0.57 / 0.78 s, 5 runs), --quiet 1.07x (0.57 / 0.53 s); with three busy
+loops 1.34x (0.94 / 0.70 s, 5 runs), then 1.65x, 1.34x, 1.26x (9 runs each). USS launcher
++ fork server + 3 nodes 62-63 MB.
+
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
 

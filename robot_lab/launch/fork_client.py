@@ -14,7 +14,8 @@ waits for it rather than being exec'd meanwhile. For the kit's own package it st
 the launch file is read (start_early). Launch -> first Status as a multiple of the bare
 trio, three busy loops, 2026-11-28: beside a CI run, 3 A/B pairs, 1.62-2.00x before,
 0.88-1.15x after (a second series of the same code: 1.26-1.43x); bench_launch --quick
---idle 1 --busy 3, 5 runs, 1.34x (1.65x the day before). Measured (bench/bench_launch.py --quick
+--idle 1 --busy 3: 1.34x (5 runs), then 1.65, 1.34, 1.26x (9 runs each), against 1.65x
+(5 runs) the day before: within the load's noise of 1.3. Measured (bench/bench_launch.py --quick
 --quiet --fork-server both, 2 cores, 2026-11-26), launch -> first Status as a multiple of
 three bare rclpy processes: exec 1.35-1.51x; the first node exec'd while the server imports
 and the rest forked 1.02-1.07x, 78 MB USS; all forked 0.78-0.80x, 61 MB. With two busy
