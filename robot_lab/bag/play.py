@@ -398,10 +398,18 @@ class Player:
 
     def _wait_for_matches(self) -> None:
         """Give subscribers the graph already knows the chance to match before message 1."""
+        from robot_lab.graph.discovery import host_participants_seen
+
         sess = self._session
+        # Every participant on the host seen, where the host's sockets can be counted: a
+        # fixed window let a young player publish before it knew a loaded host's listener
+        # (CI: the first 26 messages lost at --rate 4).
+        everyone = host_participants_seen(sess)
         deadline = time.monotonic() + MATCH_TIMEOUT
         while not self._stop and time.monotonic() < deadline:
-            settled = time.monotonic() - getattr(sess, 'created', 0.0) >= DISCOVERY_WINDOW
+            seen = everyone()
+            settled = seen if seen is not None else (
+                time.monotonic() - getattr(sess, 'created', 0.0) >= DISCOVERY_WINDOW)
             matched = all(pub.get_subscription_count() >= self._matchable(pub)
                           for pub in self._publishers.values()) and self._services_ready()
             if settled and matched:
