@@ -4,6 +4,11 @@ of `pytest notebooks --nbval-lax` with `./kit test`'s nbval flags, one notebook 
 (`-n 0`), and the slowest cells. Each run prints the host's load average, since the
 notebooks wait on real processes and a busy host stretches every number.
 
+Each run starts as `./kit test` does: test-run domains and a fresh workspace, so notebook
+01 creates the package and `colcon build` builds it alone. (Before, the runs shared
+~/robot_lab_ws: 01's build built every package the later notebooks had left there, and its
+`ros2 run` found a sensor written by an earlier run and ran it for the whole 5 s.)
+
     .venv/bin/python bench/bench_nbval.py [--runs 3] [NOTEBOOK ...]
 """
 
@@ -12,9 +17,11 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from collections import defaultdict
 from pathlib import Path
@@ -36,10 +43,16 @@ def one_run(notebooks: list[str]) -> tuple[dict[str, float], dict[str, float], f
     """Seconds per notebook, per cell ('nb::Cell n'), the wall time and pytest's summary."""
     cmd = [sys.executable, '-m', 'pytest', *notebooks, *NBVAL_FLAGS, '-n', '0',
            '--durations=0', '--durations-min=0', '-p', 'no:randomly', '-q']
+    workspace = tempfile.mkdtemp(prefix='bench_nbval_ws_')
+    env = dict(os.environ, PATH=f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}',
+               ROBOT_LAB_WORKSPACE=workspace)
+    env.setdefault('ROBOT_LAB_TEST_DOMAIN_BASE', '0')
     began = time.monotonic()
-    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False,
-                          env=dict(os.environ, PATH=f'{Path(sys.executable).parent}'
-                                                    f'{os.pathsep}{os.environ["PATH"]}'))
+    try:
+        done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False,
+                              env=env)
+    finally:
+        shutil.rmtree(workspace, ignore_errors=True)
     wall = time.monotonic() - began
     per_notebook: dict[str, float] = defaultdict(float)
     per_cell: dict[str, float] = defaultdict(float)
