@@ -20,7 +20,7 @@ import pytest
 from conftest import BIN, Proc, run_cli
 
 from robot_lab.graph import daemon
-from robot_lab.graph.daemon import StaleNames
+from robot_lab.graph.stale_names import StaleNames
 
 NODES = ['/controller', '/robot', '/sensor']
 LEAVE_WITHIN = 3.0

@@ -30,7 +30,8 @@ def add_no_daemon(parser: argparse.ArgumentParser) -> None:
                         help='Do not spawn nor use an already running daemon')
 
 
-def ask_daemon(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
+def ask_daemon(args: argparse.Namespace, op: str, *, timeout: float = 8.0,
+               **params: Any) -> Any | None:
     """The daemon's answer for a graph verb, or None: then the verb asks the graph itself
     and, as ros2cli does, starts a daemon for the next command. It does so as it exits:
     the answer is not slowed, and a launch started a moment before (which binds the
@@ -39,7 +40,7 @@ def ask_daemon(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
         return None
     from robot_lab.graph.daemon import query, start_for_later
 
-    answer = query(op, **params)
+    answer = query(op, timeout=timeout, **params)
     if answer is None:
         atexit.register(start_for_later)
     return answer

@@ -1,15 +1,26 @@
-"""`robot-lab param list|get|set|delete|describe|dump|load`: prints what `ros2 param …` prints."""
+"""`robot-lab param list|get|set|delete|describe|dump|load`: prints what `ros2 param …` prints.
+
+Each verb asks the graph daemon first, whose warm session has the node's parameter
+services already discovered; without one it asks the node itself (and starts a daemon for
+the next command, as the graph verbs do).
+"""
 
 from __future__ import annotations
 
 import argparse
 import re
 import sys
+from typing import Any
 
 from robot_lab.cli import run_sub_verb
 from robot_lab.cli.daemon import add_no_daemon, ask_daemon
 
 HELP = 'Various param related sub-commands'
+
+# A param answer may wait for the node (5 s) and then for its reply (5 s), longer for
+# `list` over every node: a daemon that takes longer than the graph verbs' 8 s is still
+# answering, and asking the node again would set a parameter twice.
+_ANSWER_TIMEOUT = 60.0
 
 # ParameterType -> the label `ros2 param get` prints before the value
 _GET_LABELS = {
@@ -71,17 +82,21 @@ def main(args: argparse.Namespace) -> int:
     })
 
 
-def _list(args: argparse.Namespace) -> int:
-    from robot_lab.graph import api
+def _ask(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
+    return ask_daemon(args, op, timeout=_ANSWER_TIMEOUT, name=args.node_name, **params)
 
-    # ros2param takes the node names from the daemon when one runs: a warm graph is
-    # complete where a fresh process may not have heard every node yet.
-    among: list[str] | None = None
-    if not args.node_name:
-        among = ask_daemon(args, 'node_list', include_hidden=args.include_hidden_nodes)
-        if among is None:
-            among = api.node_list(include_hidden=args.include_hidden_nodes)
-    by_node = api.param_list(args.node_name, prefixes=args.param_prefixes, among=among)
+
+def _list(args: argparse.Namespace) -> int:
+    answer = _ask(args, 'param_list', prefixes=args.param_prefixes,
+                  include_hidden=args.include_hidden_nodes)
+    if answer is not None:
+        among, by_node = answer['among'], answer['by_node']
+    else:
+        from robot_lab.graph import api
+
+        among = None if args.node_name else api.node_list(
+            include_hidden=args.include_hidden_nodes)
+        by_node = api.param_list(args.node_name, prefixes=args.param_prefixes, among=among)
     pattern = re.compile(args.filter[0]) if args.filter else None
     for node in sorted(set(among or by_node)):
         if node not in by_node:  # ros2param's line, on stdout, and on to the next node
@@ -95,16 +110,19 @@ def _list(args: argparse.Namespace) -> int:
             print(f'{node}:')
         types = {}
         if args.param_type:
-            types = {n: api.param_describe(node, n).type for n in names}
+            types = {n: _description(args, n, node)['type'] for n in names}
         for name in names:
             print(f'  {name} (type: {types[name]})' if args.param_type else f'  {name}')
     return 0
 
 
 def _get(args: argparse.Namespace) -> int:
-    from robot_lab.graph.parameters import param_get_typed
+    answer = _ask(args, 'param_get', parameter=args.parameter_name)
+    if answer is None:
+        from robot_lab.graph.parameters import param_get_text
 
-    ptype, value = param_get_typed(args.node_name, args.parameter_name, unset_ok=True)
+        answer = param_get_text(args.node_name, args.parameter_name)
+    ptype, value = answer
     if ptype == 0:
         # ros2param's words and exit status for a parameter the node does not have
         print(value if args.hide_type else 'Parameter not set.')
@@ -116,67 +134,104 @@ def _get(args: argparse.Namespace) -> int:
 
 
 def _set(args: argparse.Namespace) -> int:
-    from robot_lab.graph.parameters import set_parameters
+    answer = _ask(args, 'param_set', parameter=args.parameter_name, value=args.value)
+    if answer is None:
+        from dataclasses import asdict
 
-    (result,) = set_parameters(args.node_name, {args.parameter_name: args.value})
-    if result.successful:
-        print('Set parameter successful' + (f': {result.reason}' if result.reason else ''))
+        from robot_lab.graph.parameters import set_parameters
+
+        answer = [asdict(r) for r in set_parameters(args.node_name,
+                                                    {args.parameter_name: args.value})]
+    (result,) = answer
+    reason = f": {result['reason']}" if result['reason'] else ''
+    if result['successful']:
+        print('Set parameter successful' + reason)
     else:
         # ros2cli prints the node's reason on stderr and still exits 0
-        print('Setting parameter failed' + (f': {result.reason}' if result.reason else ''),
-              file=sys.stderr)
+        print('Setting parameter failed' + reason, file=sys.stderr)
     return 0
 
 
 def _delete(args: argparse.Namespace) -> int:
-    from robot_lab.graph.parameters import param_delete
+    result = _ask(args, 'param_delete', parameter=args.parameter_name)
+    if result is None:
+        from dataclasses import asdict
 
-    result = param_delete(args.node_name, args.parameter_name)
-    reason = f': {result.reason}' if result.reason else ''
-    if result.successful:
+        from robot_lab.graph.parameters import param_delete
+
+        result = asdict(param_delete(args.node_name, args.parameter_name))
+    reason = f": {result['reason']}" if result['reason'] else ''
+    if result['successful']:
         print('Deleted parameter successfully' + reason)
     else:  # ros2param: the node's reason on stderr, exit code 0
         print('Deleting parameter failed' + reason, file=sys.stderr)
     return 0
 
 
-def _describe(args: argparse.Namespace) -> int:
-    from robot_lab.graph import api
+def _description(args: argparse.Namespace, name: str, node: str | None = None) -> Any:
+    """One parameter's ParamDescription, as a dict, from the daemon or the node."""
+    node = node or args.node_name
+    answer = ask_daemon(args, 'param_describe', timeout=_ANSWER_TIMEOUT, name=node,
+                        parameter=name)
+    if answer is None:
+        from dataclasses import asdict
 
+        from robot_lab.graph.parameters import param_describe
+
+        answer = asdict(param_describe(node, name))
+    return answer
+
+
+def _describe(args: argparse.Namespace) -> int:
     for name in args.parameter_names:
-        d = api.param_describe(args.node_name, name)
-        print('Parameter name:', d.name)
-        print('  Type:', d.type)
-        if d.description:
-            print('  Description:', d.description)
+        d = _description(args, name)
+        print('Parameter name:', d['name'])
+        print('  Type:', d['type'])
+        if d['description']:
+            print('  Description:', d['description'])
         print('  Constraints:')
-        if d.read_only:
+        if d['read_only']:
             print('    Read only: true')
-        if d.min_value is not None:
-            print('    Min value:', d.min_value)
-            print('    Max value:', d.max_value)
-            if d.step:
-                print('    Step:', d.step)
-        if d.additional_constraints:
-            print('    Additional constraints:', d.additional_constraints)
+        if d['min_value'] is not None:
+            print('    Min value:', d['min_value'])
+            print('    Max value:', d['max_value'])
+            if d['step']:
+                print('    Step:', d['step'])
+        if d['additional_constraints']:
+            print('    Additional constraints:', d['additional_constraints'])
     return 0
 
 
 def _dump(args: argparse.Namespace) -> int:
-    from robot_lab.graph import api
+    text = _ask(args, 'param_dump')
+    if text is None:
+        from robot_lab.graph.parameters import param_dump
 
-    print(api.param_dump(args.node_name, as_yaml=True))
+        text = param_dump(args.node_name, as_yaml=True)
+    print(text)
     return 0
 
 
 def _load(args: argparse.Namespace) -> int:
-    from robot_lab.graph import api
+    from robot_lab.params import load_param_file
 
-    for result in api.param_load(args.node_name, args.parameter_file,
-                                 use_wildcard=not args.no_use_wildcard):
-        reason = f': {result.reason}' if result.reason else ''
-        if result.successful:
-            print(f'Set parameter {result.name} successful{reason}')
+    # Read here: a file's errors name it as the user wrote it, and the daemon may run in
+    # another folder.
+    sections = load_param_file(args.parameter_file)
+    use_wildcard = not args.no_use_wildcard
+    results = _ask(args, 'param_load', sections=sections, file=args.parameter_file,
+                   use_wildcard=use_wildcard)
+    if results is None:
+        from dataclasses import asdict
+
+        from robot_lab.graph.parameters import load_sections
+
+        results = [asdict(r) for r in load_sections(args.node_name, sections,
+                                                    args.parameter_file, use_wildcard)]
+    for result in results:
+        reason = f": {result['reason']}" if result['reason'] else ''
+        if result['successful']:
+            print(f"Set parameter {result['name']} successful{reason}")
         else:
-            print(f'Set parameter {result.name} failed{reason}', file=sys.stderr)
+            print(f"Set parameter {result['name']} failed{reason}", file=sys.stderr)
     return 0

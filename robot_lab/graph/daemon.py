@@ -35,6 +35,7 @@ from typing import IO, Any
 from robot_lab.env import switched_on
 from robot_lab.errors import GraphError, RobotLabError
 from robot_lab.graph.expected import graph_dir, process_alive
+from robot_lab.graph.stale_names import StaleNames
 from robot_lab.shared_memory import HEARING_CHECK, lost_ports
 
 __all__ = [
@@ -94,8 +95,9 @@ def query(op: str, *, timeout: float = 8.0, env: Mapping[str, str] | None = None
           **params: Any) -> Any | None:
     """The daemon's answer to `op`, or None when no daemon serves this graph.
 
-    None (rather than an error) also when the daemon does not answer within `timeout`:
-    the caller then asks the graph itself, which is slower but still right.
+    None (rather than an error) also when the daemon does not answer within `timeout`, or
+    does not know `op` (it is older than this client): the caller then asks the graph
+    itself, which is slower but still right.
     """
     if disabled():
         return None
@@ -113,6 +115,8 @@ def query(op: str, *, timeout: float = 8.0, env: Mapping[str, str] | None = None
     try:
         reply = json.loads(b''.join(chunks))
     except ValueError:
+        return None
+    if reply.get('unknown'):
         return None
     if 'error' in reply:
         raise GraphError(reply['error'], fix=reply.get('fix'))
@@ -272,73 +276,6 @@ def stop(timeout: float = 10.0, env: Mapping[str, str] | None = None) -> bool:
 
 # --- the daemon process ------------------------------------------------------------------
 
-# How long a node name may be listed more often than it has endpoints before the daemon
-# calls the extra entries stale: a node just discovered has its name a moment before its
-# endpoints, a node that left takes its endpoints with it.
-STALE_AFTER = 2.5
-
-
-class StaleNames:
-    """Drops node names that stay in a long-lived graph after their node is gone.
-
-    rmw keeps node names per participant from `ros_discovery_info` messages; a message
-    taken after its participant was removed brings the participant back with its nodes,
-    and nothing removes it again (ros2/ros2#1413: `ros2 node list` through the daemon
-    listed /robot and /sensor for 10+ minutes after notebook 06, twice after the next
-    launch, while `--no-daemon` was right). Endpoints leave with their participant, so a
-    name listed more times than it has /parameter_events or /rosout publishers, for longer
-    than STALE_AFTER, is listed only as often as it has them. A fresh session (no daemon)
-    cannot hold such entries and is not filtered.
-
-    Each name keeps the ages of its entries without endpoints, oldest first: an entry that
-    gains endpoints is the newest one (a node just discovered), an entry that leaves the
-    list is the oldest (a ghost that went). So the next launch of the same nodes beside
-    old ghosts is listed at once, each name once, before its endpoints arrive.
-    """
-
-    def __init__(self, stale_after: float = STALE_AFTER) -> None:
-        self.stale_after = stale_after
-        self._waiting: dict[str, list[float]] = {}  # name -> since when, per extra entry
-        self._live: dict[str, int] = {}
-        self._lock = threading.Lock()
-
-    def audit(self, listed: list[str], live: Mapping[str, int],
-              now: float | None = None) -> None:
-        """Note which names are listed more often than they have endpoints, since when."""
-        now = time.monotonic() if now is None else now
-        counts: dict[str, int] = {}
-        for name in listed:
-            counts[name] = counts.get(name, 0) + 1
-        with self._lock:
-            for name in set(counts) | set(self._waiting):
-                extra = max(0, counts.get(name, 0) - live.get(name, 0))
-                waiting = self._waiting.get(name, [])
-                gained = live.get(name, 0) > self._live.get(name, 0)
-                while len(waiting) > extra:  # endpoints came (newest) or an entry went
-                    waiting.pop(-1 if gained else 0)
-                waiting.extend([now] * (extra - len(waiting)))
-                if waiting:
-                    self._waiting[name] = waiting
-                else:
-                    self._waiting.pop(name, None)
-            self._live = {name: live.get(name, 0) for name in counts}
-
-    def filter(self, listed: list[str], live: Mapping[str, int],
-               now: float | None = None) -> list[str]:
-        """`listed` without the entries that have been stale for STALE_AFTER."""
-        now = time.monotonic() if now is None else now
-        self.audit(listed, live, now)
-        with self._lock:
-            hidden = {name: sum(now - since >= self.stale_after for since in waiting)
-                      for name, waiting in self._waiting.items()}
-        shown = {name: listed.count(name) - hidden.get(name, 0) for name in set(listed)}
-        kept: list[str] = []
-        for name in listed:
-            if kept.count(name) < shown[name]:
-                kept.append(name)
-        return kept
-
-
 class _Server:
     """Answers graph queries from a session that stays warm between them."""
 
@@ -358,9 +295,11 @@ class _Server:
         # the graph itself.
         self._in_flight: set[socket.socket] = set()
         self._in_flight_lock = threading.Lock()
+        self.answered: dict[str, int] = {}  # op -> requests taken, errors too (`ping`)
 
     def handlers(self) -> dict[str, Callable[[dict[str, Any]], Any]]:
         from robot_lab.graph import actions, nodes, services, topics
+        from robot_lab.graph import parameters as params
 
         def hidden(request: dict[str, Any]) -> bool:
             return bool(request.get('include_hidden', False))
@@ -382,13 +321,40 @@ class _Server:
                                                                             session=sess)),
             'ping': lambda r: {'pid': os.getpid(),
                                'age': time.monotonic() - self.session.created,
-                               'in_flight': len(self._in_flight)},
+                               'in_flight': len(self._in_flight),
+                               'answered': dict(self.answered)},
             'node_list': lambda r: self.node_list(hidden(r)),
             'topic_list': lambda r: topics.topic_list(hidden(r), session=self.session),
             'service_list': lambda r: services.service_list_typed(hidden(r),
                                                                   session=self.session),
             'stop': lambda r: self.stopping.set(),
+            # Beyond ros2cli, whose param verbs each start a participant and wait to
+            # discover the node's services (0.45-0.65 s a command on a quiet host, where
+            # the daemon's warm clients answer in 0.15 s): the param verbs.
+            'param_list': self.param_list,
+            'param_get': lambda r: params.param_get_text(name(r), r['parameter'],
+                                                         session=sess),
+            'param_set': lambda r: [dataclasses.asdict(x) for x in params.set_parameters(
+                name(r), {r['parameter']: str(r['value'])}, session=sess)],
+            'param_delete': lambda r: dataclasses.asdict(
+                params.param_delete(name(r), r['parameter'], session=sess)),
+            'param_describe': lambda r: dataclasses.asdict(
+                params.param_describe(name(r), r['parameter'], session=sess)),
+            'param_dump': lambda r: params.param_dump(name(r), as_yaml=True, session=sess),
+            'param_load': lambda r: [dataclasses.asdict(x) for x in params.load_sections(
+                name(r), r['sections'], str(r['file']), bool(r.get('use_wildcard', True)),
+                session=sess)],
         }
+
+    def param_list(self, request: dict[str, Any]) -> dict[str, Any]:
+        """`param list`: of one node, or of every node the warm graph lists."""
+        from robot_lab.graph.parameters import param_list
+
+        node = request.get('name') or None
+        among = None if node else self.node_list(bool(request.get('include_hidden')))
+        by_node = param_list(node, prefixes=list(request.get('prefixes') or []),
+                             among=among, session=self.session)
+        return {'among': among, 'by_node': by_node}
 
     def _live(self) -> tuple[dict[str, int], dict[str, int]]:
         """Per name: instances that are alive, and instances whose process has ended.
@@ -484,8 +450,13 @@ class _Server:
             self.last_request = time.monotonic()
             handler = self.handlers().get(str(request.get('op')))
             if handler is None:
-                reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}"}
+                # `unknown`: a client newer than this daemon asks the graph itself
+                reply: dict[str, Any] = {'error': f"unknown request {request.get('op')!r}",
+                                         'unknown': True}
             else:
+                with self._in_flight_lock:
+                    op = str(request['op'])
+                    self.answered[op] = self.answered.get(op, 0) + 1
                 reply = {'result': handler(request)}
         except RobotLabError as err:
             reply = {'error': err.message, 'fix': err.fix}

@@ -28,10 +28,12 @@ __all__ = [
     'ParamDescription',
     'SetResult',
     'call_parameter_service',
+    'load_sections',
     'param_delete',
     'param_describe',
     'param_dump',
     'param_get',
+    'param_get_text',
     'param_list',
     'param_load',
     'param_set',
@@ -187,6 +189,13 @@ def param_get_typed(node: str, name: str, session: Session | None = None,
     return int(values[0].type), _python_value(values[0])
 
 
+def param_get_text(node: str, name: str,
+                   session: Session | None = None) -> tuple[int, str]:
+    """(ParameterType, the value as `ros2 param get` prints it); (0, 'None') if unset."""
+    ptype, value = param_get_typed(node, name, session=session, unset_ok=True)
+    return ptype, str(value)
+
+
 def type_label(ptype: int) -> str:
     """ros2param's name for a ParameterType value: 'integer', 'double', ..."""
     return _TYPE_STRINGS.get(ptype, f'unknown ({ptype})')
@@ -335,9 +344,15 @@ def param_load(node: str, file: str | os.PathLike[str], use_wildcard: bool = Tru
     """
     from robot_lab.params import load_param_file
 
+    return load_sections(node, load_param_file(Path(file)), str(file), use_wildcard,
+                         session=session)
+
+
+def load_sections(node: str, sections: dict[str, dict[str, Any]], file: str,
+                  use_wildcard: bool = True, session: Session | None = None) -> list[SetResult]:
+    """`param_load` of a file already read (a `param load` the graph daemon answers)."""
     sess = get_session(session)
     full = _target(sess, node)
-    sections = load_param_file(Path(file))
     values: dict[str, Any] = {}
     for pattern in (('/**',) if use_wildcard else ()) + (full, full.lstrip('/')):
         values.update(sections.get(pattern, {}))
