@@ -83,6 +83,31 @@ def test_plot_collects_real_samples_and_draws_them(system: None) -> None:
         plot.close()
 
 
+def test_a_headless_picture_waits_for_its_data_not_for_its_bound(system: None) -> None:
+    """Headless (nbval, autograde) a view draws once it holds PICTURE_SPAN of every series,
+    however long its bound; too short a bound draws what came by then."""
+    from robot_lab.widgets.live_view import PICTURE_SPAN
+
+    plot = Plot('/sensor/temperature', '/cmd_vel/linear/x', headless_seconds=60.0)
+    try:
+        began = time.monotonic()
+        plot._collect_headless()
+        waited = time.monotonic() - began
+        assert waited < 30.0, waited  # the data came, not the bound
+        for series in plot.series:
+            times = [t for t, _ in series.samples]
+            assert times[-1] - times[0] >= PICTURE_SPAN, (series.path, times)
+    finally:
+        plot.close()
+    short = Plot('/sensor/temperature', headless_seconds=0.3)
+    try:  # 0.3 s cannot hold a second of samples: it draws at its bound
+        short._collect_headless()
+        assert short._picture_ready() or time.monotonic() - short.t0 >= 0.3
+    finally:
+        short.close()
+    short._collect_headless()  # closed: returns at once
+
+
 def test_plot_live_view_sends_new_samples_not_pictures(system: None) -> None:
     """The browser draws: the kernel sends a full window once, then only the new samples."""
     plot = Plot('/sensor/temperature', '/cmd_vel/linear/x', window=5.0, fps=20.0)

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import GraphError
-from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.live_view import PICTURE_SPAN, LiveView
 from robot_lab.widgets.output import owned_by_cell
 
 if TYPE_CHECKING:
@@ -480,6 +480,13 @@ class Plot(LiveView):
     def _collect_headless(self) -> None:
         if self.bag is None:  # a bag's plot is complete from the start
             super()._collect_headless()
+
+    def _picture_ready(self) -> bool:
+        """Every series holds PICTURE_SPAN seconds of samples (a line, not a dot)."""
+        with self._lock:
+            return all(len(s.samples) >= 2
+                       and s.samples[-1][0] - s.samples[0][0] >= PICTURE_SPAN
+                       for s in self.series)
 
     def __repr__(self) -> str:
         counts = ', '.join(f'{s.path}: {len(s.samples)} samples' for s in self.series)

@@ -15,7 +15,7 @@ import time
 from collections import deque
 from typing import TYPE_CHECKING, NamedTuple
 
-from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.live_view import PICTURE_SPAN, LiveView
 from robot_lab.widgets.output import owned_by_cell
 
 if TYPE_CHECKING:
@@ -68,6 +68,7 @@ class RobotView(LiveView):
         self.count = 0
         self._pose = Pose(0.0, 0.0, 0.0)
         self._twist = (0.0, 0.0)
+        self._first: float | None = None
         self._last: float | None = None
         self._path: deque[Pose] = deque([self._pose], maxlen=20_000)
         self._pending: list[float] = []
@@ -98,9 +99,17 @@ class RobotView(LiveView):
                 self._pose = integrate(self._pose, *self._twist, dt)
                 self._path.append(self._pose)
                 self._pending.extend(self._pose)
+            if self._first is None:
+                self._first = now
             self._last = now
             self._twist = (float(twist.linear.x), float(twist.angular.z))
             self.count += 1
+
+    def _picture_ready(self) -> bool:
+        """The robot has driven on commands for PICTURE_SPAN seconds (a path, not a dot)."""
+        with self._lock:
+            return (self._first is not None and self._last is not None
+                    and self._last - self._first >= PICTURE_SPAN)
 
     # -- data ------------------------------------------------------------------------
     @property
