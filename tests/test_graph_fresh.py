@@ -15,6 +15,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from conftest import BIN, Proc, run_cli
@@ -218,6 +219,41 @@ def test_a_command_without_a_daemon_starts_one_for_the_next() -> None:
     finally:
         if terminal.poll() is None:
             terminal.kill()
+        daemon.stop()
+
+
+def test_a_lessons_kernel_keeps_a_daemon_for_its_commands_and_takes_it_along(
+        tmp_path: Path) -> None:
+    """A notebook's `!ros2 …` runs in a session of its own (IPython's pseudo-terminal) that
+    ends with the command: a daemon it started ended at once, and every command in a
+    lesson was cold. The lesson's set-up starts one that serves its `!` commands and ends
+    with the kernel, even a kernel killed with -9."""
+    from jupyter_client.manager import start_new_kernel
+
+    daemon.stop()
+    lesson = 5  # setup() puts lesson 05 on base + 5: this module's domain
+    env = {**os.environ, 'ROBOT_LAB_DAEMON_AUTOSTART': '1', 'ROBOT_LAB_HEADLESS': '1',
+           'ROBOT_LAB_NOTEBOOK_DOMAIN_BASE': str(int(os.environ['ROS_DOMAIN_ID']) - lesson),
+           'ROBOT_LAB_WORKSPACE': str(tmp_path)}
+    manager, client = start_new_kernel(kernel_name='robot_lab', startup_timeout=60, env=env)
+    try:
+        printed: list[str] = []
+        client.execute_interactive(
+            "from robot_lab.grading import setup\nlesson = setup('05_inspect_and_verify')\n"
+            "!ros2 node list --all\n!ros2 node list --all",
+            timeout=60, output_hook=lambda msg: printed.append(
+                msg['content'].get('text', '') if msg['msg_type'] == 'stream' else ''))
+        assert '/_robot_lab_' in ''.join(printed), printed  # the daemon's own node
+        assert daemon.wait_until_running(timeout=20)
+        assert daemon.query('ping')['answered'].get('node_list', 0) >= 2
+        kernel = manager.provisioner.pid  # type: ignore[union-attr]
+        os.kill(kernel, signal.SIGKILL)
+        deadline = time.monotonic() + 20
+        while daemon.is_running() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not daemon.is_running()  # it ended with its kernel
+    finally:
+        manager.shutdown_kernel(now=True)
         daemon.stop()
 
 

@@ -42,6 +42,7 @@ __all__ = [
     'AUTOSTART_VARIABLE',
     'IDLE_TIMEOUT',
     'NO_DAEMON_VARIABLE',
+    'OWNER_VARIABLE',
     'Listener',
     'disabled',
     'is_running',
@@ -62,6 +63,8 @@ NO_DAEMON_VARIABLE = 'ROBOT_LAB_NO_DAEMON'
 # Set to 0 to keep graph verbs from starting a daemon when none runs (the test suite: a
 # daemon per test domain would outlive each run by up to IDLE_TIMEOUT).
 AUTOSTART_VARIABLE = 'ROBOT_LAB_DAEMON_AUTOSTART'
+# The process whose end ends a daemon a command starts (default: the command's session).
+OWNER_VARIABLE = 'ROBOT_LAB_DAEMON_OWNER'
 # In the daemon's command line, so `pgrep -f robot-lab` finds it like the kit's other
 # processes.
 _FLAG = '--robot-lab-graph-daemon'
@@ -221,23 +224,25 @@ def start(*, detached: bool, idle_timeout: float = IDLE_TIMEOUT,
                  pass_fds=fds)
 
 
-def start_for_later(env: Mapping[str, str] | None = None) -> subprocess.Popen[bytes] | None:
+def start_for_later(env: Mapping[str, str] | None = None,
+                    owner: int | None = None) -> subprocess.Popen[bytes] | None:
     """Start a daemon for this graph when none serves it, without waiting for it.
 
     What ros2cli does when a command finds no daemon: this command answers from its own
     session, the next ones get warm, complete answers (a participant started outside the
     kit announces itself only every 3 s, so a cold command can miss it). The daemon ends
-    with the caller's session (its terminal, a CI job) or after IDLE_TIMEOUT, and runs at
-    a lower CPU priority than the command that started it.
+    with `owner`: by default the process OWNER_VARIABLE names (a kernel names itself), else
+    the caller's session (its terminal, a CI job); or after IDLE_TIMEOUT. It runs at a
+    lower CPU priority than the command that started it.
     """
     if disabled() or os.environ.get(AUTOSTART_VARIABLE, '1') == '0':
         return None
-    try:
-        owner = os.getsid(0)
-    except OSError:
+    if owner is None:
+        owner = _named_owner()
+        if owner in (os.getpid(), 1):
+            return None  # nobody to outlive: a daemon started now would only exit again
+    if owner is None or not process_alive(owner):
         return None
-    if owner in (os.getpid(), 1) or not process_alive(owner):
-        return None  # nobody to outlive: a daemon started now would only exit again
     listener = Listener.bind(env)
     if listener is None:
         return None  # a daemon (or a launch about to start one) holds this graph
@@ -247,6 +252,23 @@ def start_for_later(env: Mapping[str, str] | None = None) -> subprocess.Popen[by
         return None
     finally:
         listener.close(unlink=False)
+
+
+def _named_owner() -> int | None:
+    """The process a daemon started by a command should end with.
+
+    A notebook's `!ros2 …` runs in a session of its own (IPython gives each `!` command a
+    pseudo-terminal), led by a shell that ends with the command: a daemon that ended with
+    that session ended at once, and every command in the notebook was cold. The kernel
+    names itself in OWNER_VARIABLE (grading.setup).
+    """
+    named = os.environ.get(OWNER_VARIABLE, '').strip()
+    if named.isdigit():
+        return int(named)
+    try:
+        return os.getsid(0)
+    except OSError:
+        return None
 
 
 def wait_until_running(timeout: float = 10.0, env: Mapping[str, str] | None = None,
