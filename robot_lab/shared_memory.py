@@ -100,7 +100,7 @@ def sweep_dead_segments(shm_dir: Path = SHM_DIR, min_age: float = 10.0) -> Swept
     return swept
 
 
-def lost_ports(pid: int | None = None) -> list[int]:
+def lost_ports(pid: int | None = None, listening: set[int] | None = None) -> list[int]:
     """The shared-memory ports process `pid` (default: this one) listens on whose file
     another process removed: ports on which it no longer hears anyone new.
 
@@ -113,7 +113,7 @@ def lost_ports(pid: int | None = None) -> list[int]:
     participant logged `Failed init_port fastrtps_port7006: open_and_lock_file failed`.
     rmw_fastrtps adds the transport itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST,
     so no profile can turn it off. The owner still maps the removed file: /proc/PID/maps
-    shows it `(deleted)`.
+    shows it `(deleted)`. `listening`: its `listening_ports`, when the caller has them.
     """
     proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
@@ -121,7 +121,9 @@ def lost_ports(pid: int | None = None) -> list[int]:
         removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_bytes())}
     except OSError:  # gone, or not ours
         return []
-    return sorted(removed & listening_ports(pid)) if removed else []
+    if not removed:
+        return []
+    return sorted(removed & (listening_ports(pid) if listening is None else listening))
 
 
 def listening_ports(pid: int | None = None) -> set[int]:
@@ -167,7 +169,9 @@ def deaf_processes(domain: int) -> list[tuple[int, str, list[int]]]:
         uids = proc.info['uids']
         if uids is None or uids.effective != os.getuid():
             continue
-        lost = lost_ports(proc.pid)
-        if lost and not listening_ports(proc.pid).isdisjoint(ports):
+        listening = listening_ports(proc.pid)
+        if listening.isdisjoint(ports):
+            continue  # another domain's, or no participant at all
+        if lost := lost_ports(proc.pid, listening):
             found.append((proc.pid, ' '.join(proc.info['cmdline'] or []), lost))
     return found

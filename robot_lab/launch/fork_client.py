@@ -68,16 +68,15 @@ def start_early(package: str) -> ForkServer | None:
     imports; on a loaded host that chain of one process at a time got one share of the CPU
     while three exec'd nodes got three. Started first, the server imports while the file is
     parsed. Only for a package whose nodes may fork (a student's are exec'd: a server would
-    only take CPU from them); the supervisor closes it if no node needs it.
+    only take CPU from them); the supervisor discards it (kills it at once) if no node
+    needs it or its environment does not suit the first forkable node.
     """
     if package not in SAFE_PACKAGES or not enabled():
         return None
-    from robot_lab.env import apply_ros_defaults
+    from robot_lab.env import ros_environment
 
-    env = dict(os.environ)
-    apply_ros_defaults(env)
     try:
-        return ForkServer(env)
+        return ForkServer(ros_environment())
     except OSError:
         return None
 
