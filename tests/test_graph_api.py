@@ -171,6 +171,18 @@ def test_topic_hz_rate(system: dict[str, Proc]) -> None:
     assert str(stats).startswith('average rate: ')
 
 
+def test_topic_hz_ends_once_its_intervals_span_enough(system: dict[str, Proc]) -> None:
+    """`enough`: a rate check ends with a second of intervals, not at its 30 s bound."""
+    from robot_lab.graph.topics import ENOUGH_INTERVALS
+
+    stats = robot_lab.topic_hz('/sensor/temperature', duration=30, enough=1.0)
+    check_ten_hertz(stats.rate, stats.min, stats.max)
+    # ended on the first poll (every 50 ms) that saw a second: about 10 intervals at
+    # 10 Hz, never the 300 of the bound
+    assert stats.window >= ENOUGH_INTERVALS and stats.window / stats.rate >= 1.0
+    assert stats.window < 100, stats
+
+
 def test_services_and_interfaces(system: dict[str, Proc]) -> None:
     assert '/sensor/get_parameters' in robot_lab.service_list()
     typed = dict(robot_lab.service_list(types=True))

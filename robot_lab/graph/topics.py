@@ -314,6 +314,11 @@ def echo(topic: str, count: int = 1, timeout: float = 5.0, field: str | None = N
     )
 
 
+# The fewest intervals `topic_hz(enough=...)` ends on: the mean of fewer swings with one
+# late message.
+ENOUGH_INTERVALS = 5
+
+
 @dataclass
 class HzStats:
     """ros2 topic hz's numbers: rate (Hz) and min/max/std dev of the intervals (s)."""
@@ -389,8 +394,10 @@ def rate_subscription(name: str, window: int = DEFAULT_WINDOW, type_timeout: flo
 
 
 def topic_hz(topic: str, window: int = DEFAULT_WINDOW, duration: float = 5.0,
-             session: Session | None = None) -> HzStats:
-    """Measure `topic`'s rate for `duration` seconds (ros2 topic hz's definitions).
+             session: Session | None = None, enough: float | None = None) -> HzStats:
+    """Measure `topic`'s rate for `duration` seconds (ros2 topic hz's definitions), or
+    only until the intervals measured span `enough` seconds (at least ENOUGH_INTERVALS of
+    them): a check needs a rate, not the whole duration.
 
     GraphError when fewer than two messages arrive (no interval to measure).
     """
@@ -398,6 +405,9 @@ def topic_hz(topic: str, window: int = DEFAULT_WINDOW, duration: float = 5.0,
     try:
         end = time.monotonic() + duration
         while time.monotonic() < end:
+            if enough is not None and (stats := meter.meter.stats()) is not None \
+                    and stats.window >= ENOUGH_INTERVALS and stats.window >= enough * stats.rate:
+                break
             time.sleep(min(0.05, max(0.0, end - time.monotonic())))
     finally:
         meter.close()

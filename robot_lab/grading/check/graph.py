@@ -164,12 +164,14 @@ def topic_publishes(topic: str, msg_type: str | None = None,
 
 @judged
 def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
-               attempts: int = 2) -> None:
+               attempts: int = 2, enough: float = 1.0) -> None:
     """`topic` is published between `low` and `high` Hz (`ros2 topic hz`'s average).
 
-    On a loaded machine DDS can deliver a burst that skews one short window, so a rate
-    outside the band is measured again (up to `attempts` windows); a publisher that really
-    runs at the wrong rate fails every one of them.
+    A window ends once its intervals span `enough` seconds (the whole `duration` for a
+    slow or silent publisher): waiting out 2 s cost every rate check in the course a
+    second. On a loaded machine DDS can deliver a burst that skews one short window, so a
+    rate outside the band is measured again (up to `attempts` windows); a publisher that
+    really runs at the wrong rate fails every one of them.
     """
     from robot_lab.graph.api import topic_hz
 
@@ -177,7 +179,7 @@ def topic_rate(topic: str, low: float, high: float, duration: float = 2.0,
     rates: list[float] = []
     for _ in range(max(1, attempts)):
         try:
-            stats = topic_hz(name, duration=duration)
+            stats = topic_hz(name, duration=duration, enough=enough)
         except RobotLabError as err:
             raise CheckError(f'{name} at {low:g}–{high:g} Hz', err.message,
                               f'is the publisher running? `robot-lab topic info -v {name}`'
