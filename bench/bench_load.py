@@ -91,11 +91,14 @@ for line in os.fdopen(int(sys.argv[-1])):
             print('report', json.dumps(arrivals), flush=True)
 """
 
-# A simulated student kernel: the kit's session, the reference system launched as a
-# notebook does, then one `param_get` per line on stdin.
+# A simulated student kernel: a lesson's set-up (with the graph daemon it keeps for the
+# notebook's commands), the kit's session, the reference system launched as a notebook
+# does, then one `param_get` per line on stdin.
 KERNEL = r"""
 import sys, time
 import robot_lab
+from robot_lab.grading import setup
+setup('04_parameters')
 handle = robot_lab.launch('robot_lab', 'robot.launch.xml')
 robot_lab.wait_for_nodes(['/sensor', '/controller', '/robot'], timeout=600)
 print('up', time.time(), flush=True)
