@@ -106,31 +106,35 @@ def test_the_daemon_answers_the_param_verbs_as_the_node_itself_does(
     """Beyond ros2cli, a running daemon answers the param verbs from its warm session: each
     prints, on both streams, with the exit code, what the command prints asking the node
     itself (ROBOT_LAB_NO_DAEMON=1), and the daemon counts the answers it gave."""
-    from robot_lab.graph.daemon import query
+    from robot_lab.graph.daemon import query, stop
 
     assert run_cli('daemon', 'start').returncode == 0
-    values = tmp_path / 'values.yaml'
-    values.write_text('/sensor:\n  ros__parameters:\n    noise_level: 0.1\n    nope: 1\n')
-    commands = [
-        ('param', 'get', '/sensor', 'sensor_rate'), ('param', 'get', '/robot', 'robot_name'),
-        ('param', 'get', '/nobody', 'x'), ('param', 'list', '/controller'),
-        ('param', 'list', '--param-type', '/robot'), ('param', 'list'),
-        ('param', 'describe', '/sensor', 'noise_level', 'sensor_rate'),
-        ('param', 'dump', '/robot'), ('param', 'set', '/sensor', 'noise_level', '0.1'),
-        ('param', 'set', '/sensor', 'sensor_rate', 'fast'),
-        ('param', 'load', '/sensor', str(values)), ('param', 'delete', '/sensor', 'noise_level'),
-    ]
-    before = query('ping')['answered']
-    for args in commands:
-        by_daemon = run_cli(*args)
-        by_node = run_cli(*args, env={'ROBOT_LAB_NO_DAEMON': '1'})
-        assert (by_daemon.returncode, by_daemon.stdout, by_daemon.stderr) == \
-            (by_node.returncode, by_node.stdout, by_node.stderr), args
-    after = query('ping')['answered']
-    for op, times in (('param_get', 3), ('param_list', 3), ('param_describe', 5),
-                      ('param_dump', 1), ('param_set', 2), ('param_load', 1),
-                      ('param_delete', 1)):
-        assert after.get(op, 0) - before.get(op, 0) == times, (op, before, after)
+    try:
+        values = tmp_path / 'values.yaml'
+        values.write_text('/sensor:\n  ros__parameters:\n    noise_level: 0.1\n    nope: 1\n')
+        commands = [
+            ('param', 'get', '/sensor', 'sensor_rate'), ('param', 'get', '/robot', 'robot_name'),
+            ('param', 'get', '/nobody', 'x'), ('param', 'list', '/controller'),
+            ('param', 'list', '--param-type', '/robot'), ('param', 'list'),
+            ('param', 'describe', '/sensor', 'noise_level', 'sensor_rate'),
+            ('param', 'dump', '/robot'), ('param', 'set', '/sensor', 'noise_level', '0.1'),
+            ('param', 'set', '/sensor', 'sensor_rate', 'fast'),
+            ('param', 'load', '/sensor', str(values)),
+            ('param', 'delete', '/sensor', 'noise_level'),
+        ]
+        before = query('ping')['answered']
+        for args in commands:
+            by_daemon = run_cli(*args)
+            by_node = run_cli(*args, env={'ROBOT_LAB_NO_DAEMON': '1'})
+            assert (by_daemon.returncode, by_daemon.stdout, by_daemon.stderr) == \
+                (by_node.returncode, by_node.stdout, by_node.stderr), args
+        after = query('ping')['answered']
+        for op, times in (('param_get', 3), ('param_list', 3), ('param_describe', 5),
+                          ('param_dump', 1), ('param_set', 2), ('param_load', 1),
+                          ('param_delete', 1)):
+            assert after.get(op, 0) - before.get(op, 0) == times, (op, before, after)
+    finally:
+        stop()  # the suite starts no daemon that outlives its test
 
 
 def test_param_set_noise_then_echo_shows_base_temperature(system: dict[str, Proc]) -> None:
