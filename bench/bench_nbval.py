@@ -1,15 +1,17 @@
-"""How long nbval takes over the notebooks (issue 22: goal <= 90 s for all of them): the
-time per notebook (kernel start, every cell, shutdown) and in total, median over RUNS runs
-of `pytest notebooks --nbval-lax` with `./kit test`'s nbval flags, one notebook at a time
-(`-n 0`), and the slowest cells. Each run prints the host's load average, since the
-notebooks wait on real processes and a busy host stretches every number.
+"""How long nbval takes over the notebooks (issue 22: goal <= 90 s for all of them), run as
+`./kit test notebooks` runs them: lessons 01-06 in order on one worker (each builds on the
+package the one before left), the lessons that stand alone (00, 07-10) beside them on the
+others (`--workers`, the kit's 4 by default; `--workers 0`: one notebook at a time). It
+prints the wall time of the command, the time per notebook (kernel start, every cell,
+shutdown), the median over RUNS runs, and the slowest cells. Each run prints the host's load
+average, since the notebooks wait on real processes and a busy host stretches every number.
 
-Each run starts as `./kit test` does: test-run domains and a fresh workspace, so notebook
-01 creates the package and `colcon build` builds it alone. (Before, the runs shared
-~/robot_lab_ws: 01's build built every package the later notebooks had left there, and its
-`ros2 run` found a sensor written by an earlier run and ran it for the whole 5 s.)
+Each run starts as `./kit test` does: test-run domains and, per worker, a fresh workspace
+(tests/conftest.py), so notebook 01 creates the package and `colcon build` builds it alone.
+(Before session 19 the runs shared ~/robot_lab_ws: 01's build built every package the later
+notebooks had left there, and its `ros2 run` found a sensor an earlier run had written.)
 
-    .venv/bin/python bench/bench_nbval.py [--runs 3] [NOTEBOOK ...]
+    .venv/bin/python bench/bench_nbval.py [--runs 3] [--workers 4] [NOTEBOOK ...]
 """
 
 from __future__ import annotations
@@ -17,19 +19,14 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import shutil
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-# As `./kit test` runs them (kit: the `test` verb).
-NBVAL_FLAGS = ['--nbval-lax', '--nbval-cell-timeout', '280',
-               '--nbval-sanitize-with', 'notebooks/nbval_sanitize.cfg']
 _DURATION = re.compile(r'^(?P<secs>[\d.]+)s (?P<phase>setup|call|teardown)\s+'
                        r'notebooks/(?P<nb>[^:]+)::(?P<cell>Cell \d+)')
 _RESULT = re.compile(r'^=*\s*(?P<summary>\d+ passed.*|.*failed.*)\s*=*$')
@@ -39,20 +36,14 @@ def _load() -> str:
     return ' '.join(f'{x:.2f}' for x in os.getloadavg())
 
 
-def one_run(notebooks: list[str]) -> tuple[dict[str, float], dict[str, float], float, str]:
+def one_run(notebooks: list[str], workers: int
+            ) -> tuple[dict[str, float], dict[str, float], float, str]:
     """Seconds per notebook, per cell ('nb::Cell n'), the wall time and pytest's summary."""
-    cmd = [sys.executable, '-m', 'pytest', *notebooks, *NBVAL_FLAGS, '-n', '0',
-           '--durations=0', '--durations-min=0', '-p', 'no:randomly', '-q']
-    workspace = tempfile.mkdtemp(prefix='bench_nbval_ws_')
-    env = dict(os.environ, PATH=f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}',
-               ROBOT_LAB_WORKSPACE=workspace)
+    cmd = [str(ROOT / 'kit'), 'test', *notebooks, '--durations=0', '--durations-min=0', '-q']
+    env = dict(os.environ, ROBOT_LAB_TEST_WORKERS=str(workers))
     env.setdefault('ROBOT_LAB_TEST_DOMAIN_BASE', '0')
     began = time.monotonic()
-    try:
-        done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False,
-                              env=env)
-    finally:
-        shutil.rmtree(workspace, ignore_errors=True)
+    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False, env=env)
     wall = time.monotonic() - began
     per_notebook: dict[str, float] = defaultdict(float)
     per_cell: dict[str, float] = defaultdict(float)
@@ -73,23 +64,27 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--runs', type=int, default=3)
+    parser.add_argument('--workers', type=int, default=4,
+                        help='pytest-xdist workers, as `./kit test` (0: one notebook at a time)')
     parser.add_argument('--slowest', type=int, default=12, help='cells to list')
     parser.add_argument('notebooks', nargs='*', default=['notebooks'])
     args = parser.parse_args()
     runs = []
     for index in range(1, args.runs + 1):
         before = _load()
-        notebooks, cells, wall, summary = one_run(args.notebooks)
+        notebooks, cells, wall, summary = one_run(args.notebooks, args.workers)
         runs.append((notebooks, cells, wall))
         print(f'run {index}/{args.runs}: {sum(notebooks.values()):.1f} s in nbval items, '
               f'{wall:.1f} s wall ({summary}); load average {before} -> {_load()}', flush=True)
     names = sorted({name for notebooks, _, _ in runs for name in notebooks})
-    print(f'\nnbval, median of {len(runs)} run(s), seconds per notebook:')
+    print(f'\nnbval on {args.workers or "no"} workers, median of {len(runs)} run(s), '
+          'seconds per notebook:')
     for name in names:
         print(f'  {statistics.median(r[0].get(name, 0.0) for r in runs):7.1f}  {name}')
     total = statistics.median(sum(r[0].values()) for r in runs)
-    print(f'  {total:7.1f}  total (goal <= 90 s); wall '
-          f'{statistics.median(r[2] for r in runs):.1f} s')
+    print(f'  {total:7.1f}  total, one after another')
+    print(f'  {statistics.median(r[2] for r in runs):7.1f}  wall: `./kit test notebooks` from '
+          'start to end (goal <= 90 s)')
     every_cell = {cell for _, per_cell, _ in runs for cell in per_cell}
     slowest = sorted(((statistics.median(r[1].get(cell, 0.0) for r in runs), cell)
                       for cell in every_cell), reverse=True)[:args.slowest]

@@ -8,6 +8,7 @@ import fcntl
 import os
 import queue
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -23,6 +24,8 @@ import pytest
 
 from robot_lab.domain import JOB_POOL_VARIABLE
 from robot_lab.env import apply_ros_defaults
+from robot_lab.grading.course import first_of_chain, run_workspace
+from robot_lab.graph.daemon import AUTOSTART_VARIABLE
 from robot_lab.process import spawn, stop
 
 REPO = Path(__file__).resolve().parents[1]
@@ -46,7 +49,7 @@ JOB_POOLS = {'run': '215-226', 'docs_console': '227-229', 'grading_apart': '230-
 os.environ[JOB_POOL_VARIABLE] = JOB_POOLS['run']
 # Graph verbs start no daemon of their own here (one per test domain would outlive the run);
 # tests/test_graph_fresh.py turns it on where it checks it.
-os.environ['ROBOT_LAB_DAEMON_AUTOSTART'] = '0'
+os.environ[AUTOSTART_VARIABLE] = '0'
 
 # Where each run's domains go (offsets from the base; `./kit test` uses base 0). Modules run
 # a few at a time (`./kit test` runs pytest-xdist workers), so a module leases a domain of
@@ -109,6 +112,34 @@ def pytest_configure(config: pytest.Config) -> None:
         _HOST_CLAIM.append(claim)
 
 
+def _fresh_run_workspace() -> None:
+    """Remove the workspace this process's notebook kernels build in (nbval's lessons), if
+    any: each run starts from an empty one, and /tmp does not fill with old runs' builds."""
+    shutil.rmtree(run_workspace(os.getpid()), ignore_errors=True)
+
+
+def pytest_sessionstart(session: pytest.Session) -> None:
+    _fresh_run_workspace()  # one a crashed run left under this pid
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    _fresh_run_workspace()
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item) -> Any:
+    """A notebook's kernel (started as nbval sets up its first cell) keeps a graph daemon as a
+    student's does (grading.setup): it ends with the kernel, so nothing outlives the run, and
+    the notebook's `!ros2` commands answer warm, as they do for a student."""
+    if not item.nodeid.startswith('notebooks/'):
+        return (yield)
+    os.environ[AUTOSTART_VARIABLE] = '1'
+    try:
+        return (yield)
+    finally:
+        os.environ[AUTOSTART_VARIABLE] = '0'
+
+
 def domain_at(offset: int) -> int:
     """The domain at `offset` of this run's layout (above), wrapped into 1-101."""
     return (_BASE + offset - 1) % 101 + 1
@@ -123,7 +154,9 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'tests/test_grade_package.py',       # ~230 s: one class graded
                'tests/test_docs_console.py',        # ~180 s: the nbgrader loop as printed
                'tests/browser/test_browser_mistakes.py',  # ~160 s: 01-03 in Chromium
-               'notebooks',                         # nbval, in course order
+               'notebooks/01',                      # nbval: lessons 01-06, ~51 s
+               'notebooks/10', 'notebooks/07',      # ~38 s and ~29 s
+               'notebooks/09', 'notebooks/08', 'notebooks/00',
                'tests/test_grade_contained.py', 'tests/test_grading.py',
                'tests/test_cli_inspect.py', 'tests/test_lab_bench.py',
                'tests/test_grade_workflow.py', 'tests/test_tutorials.py',
@@ -133,14 +166,17 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
 
 
 def _group(nodeid: str) -> str:
-    """The unit of work a worker gets: a test module, or all notebooks (nbval runs them in
-    order, in one workspace: 02 builds on the package 01 created).
+    """The unit of work a worker gets: a test module, or a chain of lessons (nbval runs
+    01-06 in order, in one workspace: 02 builds on the package 01 created; each lesson that
+    stands alone is a chain of its own, run beside the others).
 
     The browser modules are groups of their own, each with its own lesson domains: as one
     group (taking turns in 80-88) they were ~820 s on one worker, the end of every run.
     """
     path = nodeid.split('::', 1)[0]
-    return 'notebooks' if path.startswith('notebooks/') else path
+    if path.startswith('notebooks/'):
+        return f'notebooks/{first_of_chain(Path(path).name):02d}'
+    return path
 
 
 @pytest.hookimpl(tryfirst=True)

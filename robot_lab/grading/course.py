@@ -55,6 +55,19 @@ def _number(notebook: str) -> int:
     return int(found.group(1)) if found else 0
 
 
+# Lessons 01-06 build one package (my_robot_system), each on the one before; 00 and 07-10
+# start from nothing of the student's (07 and 08 create packages of their own, 09 its
+# interfaces, 10 runs turtlesim's tutorials).
+_CONTINUED = range(2, 7)
+
+
+def first_of_chain(notebook: str) -> int:
+    """The lesson whose work `notebook` continues (itself when it stands alone): a test run
+    runs a chain in order, in one workspace, and the chains beside each other."""
+    number = _number(notebook)
+    return 1 if number in _CONTINUED else number
+
+
 def _autograding() -> bool:
     return os.environ.get('NBGRADER_EXECUTION', '').strip() == 'autograde'
 
@@ -85,6 +98,13 @@ def _domain(notebook: str) -> int:
 _fresh: list[Path] = []
 
 
+def run_workspace(parent: int) -> Path:
+    """The workspace of the kernels process `parent` starts in a test run (nbval, or a
+    pytest-xdist worker of `./kit test`): one folder, so notebook 02 finds the package
+    notebook 01 created; the run removes it when it ends (tests/conftest.py)."""
+    return Path(tempfile.gettempdir()) / f'robot_lab_ws-{os.getuid()}-{parent}'
+
+
 def _workspace() -> Path:
     if _autograding():
         if not _fresh:  # one per kernel, however often the set-up cell runs
@@ -92,10 +112,7 @@ def _workspace() -> Path:
             atexit.register(shutil.rmtree, _fresh[0], True)
         os.environ['ROBOT_LAB_WORKSPACE'] = str(_fresh[0])
     elif 'ROBOT_LAB_WORKSPACE' not in os.environ and is_headless():
-        # One folder per test run (the kernels of one nbval run share a parent), so
-        # notebook 02 finds the package notebook 01 created.
-        run = tempfile.gettempdir() + f'/robot_lab_ws-{os.getuid()}-{os.getppid()}'
-        os.environ['ROBOT_LAB_WORKSPACE'] = run
+        os.environ['ROBOT_LAB_WORKSPACE'] = str(run_workspace(os.getppid()))
     from robot_lab.pkg.workspace import workspace_dir
 
     return workspace_dir()
