@@ -82,21 +82,22 @@ def main(args: argparse.Namespace) -> int:
     })
 
 
-def _ask(args: argparse.Namespace, op: str, **params: Any) -> Any | None:
-    return ask_daemon(args, op, timeout=_ANSWER_TIMEOUT, name=args.node_name, **params)
+def _answer(args: argparse.Namespace, op: str, node: str | None = None, **request: Any) -> Any:
+    """The daemon's answer; without a daemon, the node's own through this command's session
+    (graph.parameters.answer: the same data either way)."""
+    node = args.node_name if node is None else node
+    found = ask_daemon(args, op, timeout=_ANSWER_TIMEOUT, name=node, **request)
+    if found is not None:
+        return found
+    from robot_lab.graph.parameters import answer
+
+    return answer(op, {'name': node, **request})
 
 
 def _list(args: argparse.Namespace) -> int:
-    answer = _ask(args, 'param_list', prefixes=args.param_prefixes,
-                  include_hidden=args.include_hidden_nodes)
-    if answer is not None:
-        among, by_node = answer['among'], answer['by_node']
-    else:
-        from robot_lab.graph import api
-
-        among = None if args.node_name else api.node_list(
-            include_hidden=args.include_hidden_nodes)
-        by_node = api.param_list(args.node_name, prefixes=args.param_prefixes, among=among)
+    answer = _answer(args, 'param_list', prefixes=args.param_prefixes,
+                     include_hidden=args.include_hidden_nodes)
+    among, by_node = answer['among'], answer['by_node']
     pattern = re.compile(args.filter[0]) if args.filter else None
     for node in sorted(set(among or by_node)):
         if node not in by_node:  # ros2param's line, on stdout, and on to the next node
@@ -117,12 +118,7 @@ def _list(args: argparse.Namespace) -> int:
 
 
 def _get(args: argparse.Namespace) -> int:
-    answer = _ask(args, 'param_get', parameter=args.parameter_name)
-    if answer is None:
-        from robot_lab.graph.parameters import param_get_text
-
-        answer = param_get_text(args.node_name, args.parameter_name)
-    ptype, value = answer
+    ptype, value = _answer(args, 'param_get', parameter=args.parameter_name)
     if ptype == 0:
         # ros2param's words and exit status for a parameter the node does not have
         print(value if args.hide_type else 'Parameter not set.')
@@ -134,15 +130,7 @@ def _get(args: argparse.Namespace) -> int:
 
 
 def _set(args: argparse.Namespace) -> int:
-    answer = _ask(args, 'param_set', parameter=args.parameter_name, value=args.value)
-    if answer is None:
-        from dataclasses import asdict
-
-        from robot_lab.graph.parameters import set_parameters
-
-        answer = [asdict(r) for r in set_parameters(args.node_name,
-                                                    {args.parameter_name: args.value})]
-    (result,) = answer
+    (result,) = _answer(args, 'param_set', parameter=args.parameter_name, value=args.value)
     reason = f": {result['reason']}" if result['reason'] else ''
     if result['successful']:
         print('Set parameter successful' + reason)
@@ -153,13 +141,7 @@ def _set(args: argparse.Namespace) -> int:
 
 
 def _delete(args: argparse.Namespace) -> int:
-    result = _ask(args, 'param_delete', parameter=args.parameter_name)
-    if result is None:
-        from dataclasses import asdict
-
-        from robot_lab.graph.parameters import param_delete
-
-        result = asdict(param_delete(args.node_name, args.parameter_name))
+    result = _answer(args, 'param_delete', parameter=args.parameter_name)
     reason = f": {result['reason']}" if result['reason'] else ''
     if result['successful']:
         print('Deleted parameter successfully' + reason)
@@ -170,16 +152,7 @@ def _delete(args: argparse.Namespace) -> int:
 
 def _description(args: argparse.Namespace, name: str, node: str | None = None) -> Any:
     """One parameter's ParamDescription, as a dict, from the daemon or the node."""
-    node = node or args.node_name
-    answer = ask_daemon(args, 'param_describe', timeout=_ANSWER_TIMEOUT, name=node,
-                        parameter=name)
-    if answer is None:
-        from dataclasses import asdict
-
-        from robot_lab.graph.parameters import param_describe
-
-        answer = asdict(param_describe(node, name))
-    return answer
+    return _answer(args, 'param_describe', node, parameter=name)
 
 
 def _describe(args: argparse.Namespace) -> int:
@@ -203,12 +176,7 @@ def _describe(args: argparse.Namespace) -> int:
 
 
 def _dump(args: argparse.Namespace) -> int:
-    text = _ask(args, 'param_dump')
-    if text is None:
-        from robot_lab.graph.parameters import param_dump
-
-        text = param_dump(args.node_name, as_yaml=True)
-    print(text)
+    print(_answer(args, 'param_dump'))
     return 0
 
 
@@ -219,15 +187,8 @@ def _load(args: argparse.Namespace) -> int:
     # another folder.
     sections = load_param_file(args.parameter_file)
     use_wildcard = not args.no_use_wildcard
-    results = _ask(args, 'param_load', sections=sections, file=args.parameter_file,
-                   use_wildcard=use_wildcard)
-    if results is None:
-        from dataclasses import asdict
-
-        from robot_lab.graph.parameters import load_sections
-
-        results = [asdict(r) for r in load_sections(args.node_name, sections,
-                                                    args.parameter_file, use_wildcard)]
+    results = _answer(args, 'param_load', sections=sections, file=args.parameter_file,
+                      use_wildcard=use_wildcard)
     for result in results:
         reason = f": {result['reason']}" if result['reason'] else ''
         if result['successful']:

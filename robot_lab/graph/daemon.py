@@ -20,6 +20,7 @@ import contextlib
 import dataclasses
 import faulthandler
 import fcntl
+import functools
 import json
 import os
 import signal
@@ -353,30 +354,9 @@ class _Server:
             # Beyond ros2cli, whose param verbs each start a participant and wait to
             # discover the node's services (0.45-0.65 s a command on a quiet host, where
             # the daemon's warm clients answer in 0.15 s): the param verbs.
-            'param_list': self.param_list,
-            'param_get': lambda r: params.param_get_text(name(r), r['parameter'],
-                                                         session=sess),
-            'param_set': lambda r: [dataclasses.asdict(x) for x in params.set_parameters(
-                name(r), {r['parameter']: str(r['value'])}, session=sess)],
-            'param_delete': lambda r: dataclasses.asdict(
-                params.param_delete(name(r), r['parameter'], session=sess)),
-            'param_describe': lambda r: dataclasses.asdict(
-                params.param_describe(name(r), r['parameter'], session=sess)),
-            'param_dump': lambda r: params.param_dump(name(r), as_yaml=True, session=sess),
-            'param_load': lambda r: [dataclasses.asdict(x) for x in params.load_sections(
-                name(r), r['sections'], str(r['file']), bool(r.get('use_wildcard', True)),
-                session=sess)],
+            **{op: functools.partial(params.answer, op, session=sess, listed=self.node_list)
+               for op in params.PARAM_OPS},
         }
-
-    def param_list(self, request: dict[str, Any]) -> dict[str, Any]:
-        """`param list`: of one node, or of every node the warm graph lists."""
-        from robot_lab.graph.parameters import param_list
-
-        node = request.get('name') or None
-        among = None if node else self.node_list(bool(request.get('include_hidden')))
-        by_node = param_list(node, prefixes=list(request.get('prefixes') or []),
-                             among=among, session=self.session)
-        return {'among': among, 'by_node': by_node}
 
     def _live(self) -> tuple[dict[str, int], dict[str, int]]:
         """Per name: instances that are alive, and instances whose process has ended.

@@ -11,7 +11,8 @@ import os
 import threading
 import time
 import weakref
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -27,6 +28,7 @@ if TYPE_CHECKING:
 __all__ = [
     'ParamDescription',
     'SetResult',
+    'answer',
     'call_parameter_service',
     'load_sections',
     'param_delete',
@@ -363,3 +365,41 @@ def load_sections(node: str, sections: dict[str, dict[str, Any]], file: str,
         )
     return set_parameters(full, values, session=sess)
 
+
+
+def answer(op: str, request: Mapping[str, Any], session: Session | None = None,
+           listed: Callable[[bool], list[str]] | None = None) -> Any:
+    """A `param` verb's answer as plain data (the daemon sends it as JSON): the daemon
+    answers from its warm session, a command without one from its own, so both print the
+    same. `listed(include_hidden)`: the nodes `param list` goes through when given none (the
+    daemon's own list; by default the graph's)."""
+    sess = get_session(session)
+    name = str(request.get('name') or '')
+    parameter = str(request.get('parameter', ''))
+    if op == 'param_list':
+        hidden = bool(request.get('include_hidden'))
+        among = None if name else (listed(hidden) if listed is not None
+                                   else node_list(include_hidden=hidden, session=sess))
+        return {'among': among,
+                'by_node': param_list(name or None, list(request.get('prefixes') or []),
+                                      sess, among=among)}
+    if op == 'param_get':
+        return list(param_get_text(name, parameter, session=sess))
+    if op == 'param_set':
+        return [asdict(r) for r in set_parameters(name, {parameter: str(request['value'])},
+                                                  session=sess)]
+    if op == 'param_delete':
+        return asdict(param_delete(name, parameter, session=sess))
+    if op == 'param_describe':
+        return asdict(param_describe(name, parameter, session=sess))
+    if op == 'param_dump':
+        return param_dump(name, as_yaml=True, session=sess)
+    if op == 'param_load':
+        return [asdict(r) for r in load_sections(
+            name, request['sections'], str(request['file']),
+            bool(request.get('use_wildcard', True)), session=sess)]
+    raise ValueError(f'no param op {op!r}')
+
+
+PARAM_OPS = ('param_list', 'param_get', 'param_set', 'param_delete', 'param_describe',
+             'param_dump', 'param_load')
