@@ -29,6 +29,8 @@ import threading
 import time
 from pathlib import Path
 
+from busy import busy_loops
+
 os.environ.setdefault('ROS_DOMAIN_ID', '79')
 
 from robot_lab.env import ros_environment  # after the domain is chosen
@@ -199,23 +201,20 @@ def delivery_under_load(work: Path, busy: int, shallow: bool,
             f'{t}: {{history: keep_last, depth: 10, reliability: reliable}}\n'
             for t in counts))
         cmd += ['--qos-profile-overrides-path', str(overrides)]
-    spinning = [spawn([sys.executable, '-c', 'while True: pass']) for _ in range(busy)]
     try:
-        player = spawn(cmd, env=ros_environment())
-        try:
-            player.wait(timeout)
-        except subprocess.TimeoutExpired:
-            stop(player)
-        total = sum(counts.values())
-        seen, still = -1, time.monotonic()
-        while sum(got.values()) < total and time.monotonic() - still < 3.0:
-            time.sleep(0.05)  # polling the counts until complete or 3 s without news
-            if sum(got.values()) != seen:
-                seen, still = sum(got.values()), time.monotonic()
+        with busy_loops(busy):
+            player = spawn(cmd, env=ros_environment())
+            try:
+                player.wait(timeout)
+            except subprocess.TimeoutExpired:
+                stop(player)
+            total = sum(counts.values())
+            seen, still = -1, time.monotonic()
+            while sum(got.values()) < total and time.monotonic() - still < 3.0:
+                time.sleep(0.05)  # polling the counts until complete or 3 s without news
+                if sum(got.values()) != seen:
+                    seen, still = sum(got.values()), time.monotonic()
     finally:
-        for proc in spinning:
-            proc.kill()
-            proc.wait()
         for sub in subs:
             node.destroy_subscription(sub)
     worst = min(got[t] / n for t, n in counts.items())

@@ -28,6 +28,8 @@ import sys
 import time
 from pathlib import Path
 
+from busy import busy_loops
+
 os.environ.setdefault('ROS_DOMAIN_ID', '58')
 
 import robot_lab
@@ -43,7 +45,6 @@ VERBS = {
     'action list -t': ['action', 'list', '-t'],
 }
 NODES = ['/controller', '/fibonacci_action_server', '/robot', '/sensor', '/switch']
-BUSY = 'while True: pass'
 
 
 def start_system() -> list[subprocess.Popen[bytes]]:
@@ -128,15 +129,14 @@ def main() -> int:
     parser.add_argument('--modes', default='warm,cold')
     args = parser.parse_args()
     system = start_system()
-    busy: list[subprocess.Popen[bytes]] = []
     rows: list[tuple[str, str]] = []
     try:
         expected = expected_answers()
-        busy = [spawn([sys.executable, '-c', BUSY]) for _ in range(args.busy)]
-        for mode in args.modes.split(','):
-            rows += measure(mode, args.rounds, expected)
+        with busy_loops(args.busy):
+            for mode in args.modes.split(','):
+                rows += measure(mode, args.rounds, expected)
     finally:
-        for proc in busy + system:
+        for proc in system:
             stop(proc)
     load = os.getloadavg()[0]
     width = max(len(name) for name, _ in rows)

@@ -91,6 +91,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import psutil
+from busy import busy_loops
 from memory import group_private_mb, private_mb
 
 from robot_lab.env import ros_environment
@@ -371,11 +372,8 @@ def main() -> None:
         env_fork = dict(env, ROBOT_LAB_FORK_SERVER='1')
         alone: dict[str, list[tuple[float, float]]] = {n: [] for n in NODE_EXECUTABLES}
         interpreter: dict[str, list[float]] = {'pass': [], 'import rclpy': []}
-        busy = [subprocess.Popen([sys.executable, '-c', 'while True: pass'])
-                for _ in range(args.busy)]
         with contextlib.ExitStack() as loops:
-            for proc in busy:
-                loops.callback(proc.kill)
+            loops.enter_context(busy_loops(args.busy))
             crowded = loops.enter_context(crowd(env, -1 if args.quiet else args.idle))
             launch_run(env)  # writes the bytecode cache; not counted
             load = os.getloadavg()[0]

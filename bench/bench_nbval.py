@@ -11,7 +11,7 @@ Each run starts as `./kit test` does: test-run domains and, per worker, a fresh 
 (Before session 19 the runs shared ~/robot_lab_ws: 01's build built every package the later
 notebooks had left there, and its `ros2 run` found a sensor an earlier run had written.)
 
-    .venv/bin/python bench/bench_nbval.py [--runs 3] [--workers 4] [NOTEBOOK ...]
+    .venv/bin/python bench/bench_nbval.py [--runs 3] [--workers 4] [--busy 0] [NOTEBOOK ...]
 """
 
 from __future__ import annotations
@@ -25,6 +25,8 @@ import sys
 import time
 from collections import defaultdict
 from pathlib import Path
+
+from busy import busy_loops
 
 ROOT = Path(__file__).resolve().parent.parent
 _DURATION = re.compile(r'^(?P<secs>[\d.]+)s (?P<phase>setup|call|teardown)\s+'
@@ -66,19 +68,21 @@ def main() -> None:
     parser.add_argument('--runs', type=int, default=3)
     parser.add_argument('--workers', type=int, default=4,
                         help='pytest-xdist workers, as `./kit test` (0: one notebook at a time)')
+    parser.add_argument('--busy', type=int, default=0, help='busy loops beside the runs')
     parser.add_argument('--slowest', type=int, default=12, help='cells to list')
     parser.add_argument('notebooks', nargs='*', default=['notebooks'])
     args = parser.parse_args()
     runs = []
     for index in range(1, args.runs + 1):
         before = _load()
-        notebooks, cells, wall, summary = one_run(args.notebooks, args.workers)
+        with busy_loops(args.busy):
+            notebooks, cells, wall, summary = one_run(args.notebooks, args.workers)
         runs.append((notebooks, cells, wall))
         print(f'run {index}/{args.runs}: {sum(notebooks.values()):.1f} s in nbval items, '
               f'{wall:.1f} s wall ({summary}); load average {before} -> {_load()}', flush=True)
     names = sorted({name for notebooks, _, _ in runs for name in notebooks})
-    print(f'\nnbval on {args.workers or "no"} workers, median of {len(runs)} run(s), '
-          'seconds per notebook:')
+    print(f'\nnbval on {args.workers or "no"} workers, {args.busy} busy loops, median of '
+          f'{len(runs)} run(s), seconds per notebook:')
     for name in names:
         print(f'  {statistics.median(r[0].get(name, 0.0) for r in runs):7.1f}  {name}')
     total = statistics.median(sum(r[0].values()) for r in runs)

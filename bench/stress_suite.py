@@ -28,8 +28,9 @@ import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from busy import busy_loops
+
 ROOT = Path(__file__).resolve().parent.parent
-BUSY = 'while True: pass'
 
 
 def failures(junit: Path) -> dict[str, str]:
@@ -75,16 +76,11 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix='robot_lab-stress-') as tmp:
         for index in range(1, args.runs + 1):
             junit = Path(tmp) / f'run{index}.xml'
-            busy = [subprocess.Popen([sys.executable, '-c', BUSY]) for _ in range(args.busy)]
             started = time.monotonic()
-            try:
+            with busy_loops(args.busy):
                 done = subprocess.run(pytest_command(args.modules, args.workers, extra, junit),
                                       cwd=ROOT, env=env, stdout=subprocess.PIPE,
                                       stderr=subprocess.STDOUT, text=True, check=False)
-            finally:
-                for proc in busy:
-                    proc.kill()
-                    proc.wait()
             took = time.monotonic() - started
             failed = failures(junit)
             counts.update(failed.keys())
