@@ -326,8 +326,8 @@ def test_recording_tutorial(system: dict[str, Proc], tmp_path: Path) -> None:
     assert re.fullmatch(
         r'\nFiles:             subset_0\.mcap\nBag size:          [\d.]+ KiB\n'
         r'Storage id:        mcap\nROS Distro:        jazzy\nDuration:          [\d.]+s\n'
-        r'Start:             \w{3} \d\d \d{4} [\d:.]+ \([\d.]+\)\n'
-        r'End:               \w{3} \d\d \d{4} [\d:.]+ \([\d.]+\)\nMessages:          \d+\n'
+        r'Start:             \w{3} [ \d]\d \d{4} [\d:.]+ \([\d.]+\)\n'
+        r'End:               \w{3} [ \d]\d \d{4} [\d:.]+ \([\d.]+\)\nMessages:          \d+\n'
         r'Topic information: Topic: /\S+ \| Type: \S+ \| Count: \d+ \| '
         r'Serialization Format: cdr\n'
         r'                   Topic: /\S+ \| Type: \S+ \| Count: \d+ \| '
