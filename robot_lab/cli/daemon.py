@@ -30,7 +30,7 @@ def add_no_daemon(parser: argparse.ArgumentParser) -> None:
                         help='Do not spawn nor use an already running daemon')
 
 
-def ask_daemon(args: argparse.Namespace, op: str, *, timeout: float = 8.0,
+def ask_daemon(args: argparse.Namespace, op: str, *, timeout: float | None = None,
                **params: Any) -> Any | None:
     """The daemon's answer for a graph verb, or None: then the verb asks the graph itself
     and, as ros2cli does, starts a daemon for the next command. It does so as it exits:
@@ -38,9 +38,9 @@ def ask_daemon(args: argparse.Namespace, op: str, *, timeout: float = 8.0,
     graph's socket first thing) keeps the daemon of its own."""
     if getattr(args, 'no_daemon', False):
         return None
-    from robot_lab.graph.daemon import query, start_for_later
+    from robot_lab.graph.daemon import QUERY_TIMEOUT, query, start_for_later
 
-    answer = query(op, timeout=timeout, **params)
+    answer = query(op, timeout=QUERY_TIMEOUT if timeout is None else timeout, **params)
     if answer is None:
         atexit.register(start_for_later)
     return answer

@@ -44,6 +44,7 @@ __all__ = [
     'IDLE_TIMEOUT',
     'NO_DAEMON_VARIABLE',
     'OWNER_VARIABLE',
+    'QUERY_TIMEOUT',
     'Listener',
     'disabled',
     'is_running',
@@ -58,6 +59,10 @@ __all__ = [
 
 # `ros2 daemon start`'s daemon also exits after two hours without a request.
 IDLE_TIMEOUT = 2 * 60 * 60.0
+# How long a command waits for the daemon's answer before asking the graph itself: above
+# the longest the daemon settles an answer (discovery.NAMES_TIMEOUT, counted in time the
+# daemon ran), with room for a host that runs it only part of the time.
+QUERY_TIMEOUT = 20.0
 EXIT_WITHIN = 20.0  # s for the daemon's own exit, before its watchdog ends it (_main)
 # Set (to anything but 0) to make every command use its own session, like --no-daemon.
 NO_DAEMON_VARIABLE = 'ROBOT_LAB_NO_DAEMON'
@@ -95,7 +100,7 @@ def _connect(path: Path, timeout: float) -> socket.socket | None:
     return sock
 
 
-def query(op: str, *, timeout: float = 8.0, env: Mapping[str, str] | None = None,
+def query(op: str, *, timeout: float = QUERY_TIMEOUT, env: Mapping[str, str] | None = None,
           **params: Any) -> Any | None:
     """The daemon's answer to `op`, or None when no daemon serves this graph.
 
