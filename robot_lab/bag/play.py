@@ -447,11 +447,6 @@ class Player:
                 with self._cond:
                     if self.delay > 0 and self._cond.wait_for(lambda: self._stop, self.delay):
                         break  # stopped during the delay
-                    self._anchor_bag = first
-                    self._anchor_wall = time.monotonic()
-                    self._position_ns = first
-                if self._clock is not None:
-                    self._clock.start()  # from the bag's first instant on (once)
                 if not self._play_once(first) or not self.loop:
                     break
             if self._clock is not None:
@@ -479,6 +474,17 @@ class Player:
         with self._cond:
             self._cond.notify_all()  # a play_next() waiting for a message that never comes
 
+    def _start_clock(self, first: int) -> None:
+        """The bag's clock starts at `first` now, with the first message read: opening the
+        bag and reading up to a start offset are not playback time. Anchored before them,
+        a loaded CI host published the first 12 messages of `--rate 2` at once."""
+        with self._cond:
+            self._anchor_bag = first
+            self._anchor_wall = time.monotonic()
+            self._position_ns = first
+        if self._clock is not None:
+            self._clock.start()  # from the bag's first instant on (once)
+
     def _play_once(self, first: int) -> bool:
         with open_bag(self.bag) as reader:
             conns = [c for c in reader.connections
@@ -488,7 +494,11 @@ class Player:
             # rosbag2 seeks only for a start offset: a message stamped before the metadata's
             # starting_time (rosbag2's own 5-file split test bag has them) still plays.
             since = first if self.start_offset > 0 else None
+            anchored = False
             for conn, stamp, data in bag_messages(reader, conns, start=since):
+                if not anchored:
+                    self._start_clock(first)
+                    anchored = True
                 if self.until_ns == 0 or 0 < self.until_ns < stamp:
                     break  # --playback-duration / --playback-until reached
                 how = self._wait_until(stamp)
