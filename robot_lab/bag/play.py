@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from robot_lab.bag.clock import ClockPublisher
 from robot_lab.bag.console import log_line
-from robot_lab.bag.qos import load_overrides, publisher_qos
+from robot_lab.bag.qos import deep_history, load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
 from robot_lab.bag.selection import Selection
 from robot_lab.bag.services import (
@@ -42,11 +42,6 @@ DISCOVERY_WINDOW = 0.6  # one lease announcement of the kit's Fast DDS profile, 
 MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
 # KEEP_ALL publishers: how many messages may wait for acknowledgement at once.
 ACK_WINDOW = 100
-# Reliable volatile topics: publisher history up to this deep (a subscriber may fall this
-# far behind before the player waits for it). Waiting for acknowledgements alone costs up
-# to a heartbeat period per wait: bench_bag measured the split test bag under load taking
-# more than 300 s with depth 10.
-DEEP_HISTORY = 1000
 ACK_POLL = 0.1  # s between looks at `stop()` while a subscriber catches up
 FLUSH_TIMEOUT = 30.0  # longest wait at the end for subscribers to acknowledge the rest
 
@@ -245,7 +240,7 @@ class Player:
                     self.qos_overrides, self.log,
                 )
                 self.qos[conn.topic] = qos
-                history = qos if conn.topic in self.qos_overrides else self._history_for(
+                history = qos if conn.topic in self.qos_overrides else deep_history(
                     qos, sum(int(c.msgcount) for c in wanted if c.topic == conn.topic))
                 self._publishers[conn.topic] = self._node.create_publisher(
                     cls, conn.topic, history
@@ -527,25 +522,6 @@ class Player:
                         self._cond.notify_all()  # play_next() is waiting for this one
         self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
-
-    def _history_for(self, offered: QoSProfile, messages: int) -> QoSProfile:
-        """The publisher's profile: what the recorded QoS offers, with a history deep
-        enough (≤ DEEP_HISTORY) that a reliable subscriber falling behind does not lose
-        messages to overwriting. The depth is no part of QoS matching; a transient-local
-        topic keeps its depth, since late joiners get the whole history (and so does an
-        override: the user chose that depth)."""
-        import copy
-
-        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
-
-        if offered.reliability != ReliabilityPolicy.RELIABLE:
-            return offered
-        profile = offered
-        if (offered.history == HistoryPolicy.KEEP_LAST
-                and offered.durability == DurabilityPolicy.VOLATILE):
-            profile = copy.copy(offered)
-            profile.depth = max(offered.depth, min(messages, DEEP_HISTORY))
-        return profile
 
     def _room_in_history(self, topic: str) -> bool:
         """Before a reliable volatile topic's next message: once its history holds `depth`

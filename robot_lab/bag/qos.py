@@ -21,10 +21,15 @@ from robot_lab.errors import BagError
 if TYPE_CHECKING:
     from rclpy.qos import QoSProfile
 
-__all__ = ['DEFAULT_DEPTH', 'adapt_offer', 'load_overrides', 'profile_from_recorded',
-           'publisher_qos']
+__all__ = ['DEEP_HISTORY', 'DEFAULT_DEPTH', 'adapt_offer', 'deep_history', 'load_overrides',
+           'profile_from_recorded', 'publisher_qos']
 
 DEFAULT_DEPTH = 10  # rmw_qos_profile_default.depth: rosbag2's Rosbag2QoS() and default_history()
+# Reliable volatile topics: the player's history up to this deep (a subscriber may fall this
+# far behind before the player waits for it). Waiting for acknowledgements alone costs up
+# to a heartbeat period per wait: bench_bag measured the split test bag under load taking
+# more than 300 s with depth 10.
+DEEP_HISTORY = 1000
 _INFINITE_NS = 2**63 - 1
 # What Foxy-era rmw implementations wrote for "infinite"; rosbag2 reads them as infinite.
 _FOXY_INFINITE = {(0x7FFFFFFF, 0xFFFFFFFF), (0x7FFFFFFF, 0x7FFFFFFF),
@@ -210,3 +215,22 @@ def load_overrides(path: str | Path) -> dict[str, QoSProfile]:
         raise BagError(f"QoS overrides file '{file}' must map topic names to profiles",
                        fix='e.g. "/chatter: {reliability: reliable, durability: volatile}"')
     return {str(topic): _override(file, str(topic), entry) for topic, entry in doc.items()}
+
+
+def deep_history(offered: QoSProfile, messages: int) -> QoSProfile:
+    """The player's profile for a topic of `messages` messages: what the recorded QoS
+    offers, with a history deep enough (<= DEEP_HISTORY) that a reliable subscriber falling
+    behind does not lose messages to overwriting. The depth is no part of QoS matching; a
+    transient-local topic keeps its depth, since late joiners get the whole history (and
+    so does an override: the user chose that depth)."""
+    import copy
+
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
+
+    if (offered.reliability != ReliabilityPolicy.RELIABLE
+            or offered.history != HistoryPolicy.KEEP_LAST
+            or offered.durability != DurabilityPolicy.VOLATILE):
+        return offered
+    profile = copy.copy(offered)
+    profile.depth = max(offered.depth, min(messages, DEEP_HISTORY))
+    return profile
