@@ -286,6 +286,27 @@ def test_play_republishes_the_recorded_messages(bags: dict[str, Path]) -> None:
         listener.close()
 
 
+def test_play_start_offset_skips_the_bags_first_seconds(bags: dict[str, Path]) -> None:
+    """`--start-offset 1.5` plays exactly the messages from 1.5 s into the bag on (the
+    rate test covered it until it played the whole recording)."""
+    from std_msgs.msg import String
+
+    from robot_lab.bag.info import bag_info
+
+    start = bag_info(bags['mcap']).start_ns
+    recorded = [msg.data for t, msg in rosbags_messages(bags['mcap'], '/robot/status')
+                if t >= start + 1_500_000_000]
+    listener = _Listener('/robot/status', String)
+    try:
+        _play(str(bags['mcap']), '--topics', '/robot/status', '--start-offset', '1.5')
+        deadline = time.monotonic() + 3
+        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert recorded and listener.values == recorded
+    finally:
+        listener.close()
+
+
 def test_play_rate_two_halves_the_gaps(bags: dict[str, Path]) -> None:
     """The whole 3 s recording, ~60 gaps: a host that does not run the player for 0.6 s
     (s23C2: its first 12 of 22 messages after `--start-offset 1.5` went out at once) still
