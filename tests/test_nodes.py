@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 from pathlib import Path
 
 import pytest
@@ -125,6 +126,42 @@ def test_sigint_exits_cleanly(start) -> None:
     assert proc.popen.wait(timeout=10) == 0
     proc._reader.join(timeout=5)
     assert 'Traceback' not in proc.output
+
+
+# A node whose callback never returns (a student's `while True` in a timer), run with the
+# kit's run_node and a 1 s STOP_LIMIT: the callback is where the stack must point.
+STUCK_NODE = r"""
+import sys, threading
+import robot_lab.nodes.base as base
+from rclpy.node import Node
+
+base.STOP_LIMIT = 1.0
+
+
+class Stuck(Node):
+    def __init__(self):
+        super().__init__('stuck')
+        self.create_timer(0.05, self.never_returns)
+
+    def never_returns(self):
+        print('in the callback', flush=True)
+        threading.Event().wait()
+
+
+base.run_node(Stuck, sys.argv)
+"""
+
+
+def test_a_node_that_cannot_stop_says_where_it_hangs(start) -> None:
+    # Before, SIGINT and SIGTERM only set a flag that a stuck node never reads: it ran until
+    # SIGKILL (a launch's, 15 s later) and said nothing (a CI run's sensor, once).
+    proc = start(sys.executable, '-c', STUCK_NODE)
+    proc.wait_for('in the callback')
+    proc.popen.send_signal(signal.SIGINT)
+    assert proc.popen.wait(timeout=30) == 1
+    proc._reader.join(timeout=5)
+    assert 'Timeout (0:00:01)!' in proc.output, proc.output
+    assert 'in never_returns' in proc.output, proc.output
 
 
 def test_ros2_run_is_robot_lab_run(start) -> None:

@@ -2,15 +2,22 @@
 
 from __future__ import annotations
 
+import faulthandler
 import signal
 import sys
 import threading
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
-__all__ = ['declare', 'run_node']
+__all__ = ['STOP_LIMIT', 'declare', 'run_node']
 
 N = TypeVar('N')
+# Seconds from the first SIGINT or SIGTERM to a node's exit before it prints every
+# thread's stack and exits with code 1. A launch sends SIGTERM 5 s after SIGINT and SIGKILL
+# 10 s after that; a node stuck below Python (in rclpy or DDS) runs no signal handler, so
+# it would die at SIGKILL without saying where it hung. Once in 5 loaded CI runs a sensor
+# stopped 0.34 s after it started did just that.
+STOP_LIMIT = 10.0
 
 
 def declare(
@@ -55,6 +62,8 @@ def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None,
     flag; the spin loop returns to Python at least every 0.1 s to see it, then the node and
     the context are shut down in order. Re-arming SIGINT also undoes the "ignored"
     disposition a process inherits when started with `&` from a non-interactive shell.
+    The first signal also arms faulthandler's watchdog (a C thread, which needs no GIL):
+    a node not gone `STOP_LIMIT` s later prints where each thread is and exits.
     `threads` > 1 spins a MultiThreadedExecutor, for a node whose callback may block while
     others must run (an action server's execute callback and its cancel requests).
     """
@@ -65,6 +74,8 @@ def run_node(factory: Callable[[], Any], args: Sequence[str] | None = None,
     stop = threading.Event()
 
     def _request_stop(signum: int, frame: object) -> None:
+        if not stop.is_set():
+            faulthandler.dump_traceback_later(STOP_LIMIT, exit=True)
         stop.set()
 
     signal.signal(signal.SIGINT, _request_stop)
