@@ -105,7 +105,10 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
                 fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
                 held.append(fd)
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        listed = run_cli('node', 'list', env={'ROBOT_LAB_DAEMON_AUTOSTART': '0'})
+        # A fresh participant, never a daemon's answer: a launch earlier in the run can
+        # leave one on this domain (s24B3: it answered, nothing hit a held port).
+        listed = run_cli('node', 'list', env={'ROBOT_LAB_DAEMON_AUTOSTART': '0',
+                                              'ROBOT_LAB_NO_DAEMON': '1'})
     finally:
         for fd in held:
             os.close(fd)
