@@ -14,9 +14,11 @@ __all__ = ['STOP_LIMIT', 'declare', 'run_node']
 N = TypeVar('N')
 # Seconds from the first SIGINT or SIGTERM to a node's exit before it prints every
 # thread's stack and exits with code 1. A launch sends SIGTERM 5 s after SIGINT and SIGKILL
-# 10 s after that; a node stuck below Python (in rclpy or DDS) runs no signal handler, so
-# it would die at SIGKILL without saying where it hung. Once in 5 loaded CI runs a sensor
-# stopped 0.34 s after it started did just that.
+# 10 s after that; a node stuck once told to stop (a callback that never returns, rclpy or
+# DDS hanging in the shutdown) never acts on the flag the signals set, so it would die at
+# SIGKILL without saying where it hung. Once in 5 loaded CI runs a sensor stopped 0.34 s
+# after it started hung so (where, unknown: a node stuck in C before its handler ran is not
+# covered, and prints nothing).
 STOP_LIMIT = 10.0
 
 
