@@ -242,6 +242,12 @@ class _Listener:
             self.values.append(getattr(msg, self.field))
             self.times.append(info['source_timestamp'] * 1e-9)
 
+    def wait_count(self, count: int, timeout: float) -> None:
+        """Until `count` messages are in, or `timeout` s; the caller asserts on them."""
+        deadline = time.monotonic() + timeout
+        while len(self.values) < count and time.monotonic() < deadline:
+            time.sleep(0.02)  # poll interval of a condition wait
+
     def close(self) -> None:
         self.session.node.destroy_subscription(self.sub)
 
@@ -278,9 +284,7 @@ def test_play_republishes_the_recorded_messages(bags: dict[str, Path]) -> None:
     listener = _Listener('/sensor/temperature', Float32)
     try:
         _play(str(bags['mcap']))
-        deadline = time.monotonic() + 3
-        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
-            time.sleep(0.02)
+        listener.wait_count(len(recorded), 3)
         assert listener.values == recorded
     finally:
         listener.close()
@@ -299,9 +303,7 @@ def test_play_start_offset_skips_the_bags_first_seconds(bags: dict[str, Path]) -
     listener = _Listener('/robot/status', String)
     try:
         _play(str(bags['mcap']), '--topics', '/robot/status', '--start-offset', '1.5')
-        deadline = time.monotonic() + 3
-        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
-            time.sleep(0.02)
+        listener.wait_count(len(recorded), 3)
         assert recorded and listener.values == recorded
     finally:
         listener.close()
@@ -380,9 +382,7 @@ def test_seed_db3_single_file_info_and_play(bags: dict[str, Path]) -> None:
     listener = _Listener('/robot/status', String)
     try:
         _play(str(db3), '--topics', '/robot/status', '--rate', '4')
-        deadline = time.monotonic() + 3
-        while len(listener.values) < len(recorded) and time.monotonic() < deadline:
-            time.sleep(0.02)
+        listener.wait_count(len(recorded), 3)
         assert listener.values == recorded
     finally:
         listener.close()
