@@ -103,3 +103,17 @@ def test_drives_stops_waiting_when_the_command_ends_without_printing() -> None:
                              seconds=LONG)
     assert failed.value.expected == f"`{command}` to print 'publishing #3'"
     assert failed.value.seen.startswith("it printed 'publishing #1: ")
+
+
+def test_prints_judges_a_command_it_had_to_stop_by_what_came_before_the_ctrl_c() -> None:
+    """A client whose answer never comes is stopped at the deadline; its KeyboardInterrupt
+    traceback is the check's doing, not the student's (stop 39's CI showed only that)."""
+    command = ("trap 'echo Traceback; echo KeyboardInterrupt; exit 130' INT; "
+               "echo 'Sending goal'; sleep 3600 & wait")
+    with pytest.raises(CheckError) as failed:
+        check.command_prints(command, r'Travelled', seconds=1.0)
+    seen = failed.value.seen
+    assert seen.startswith('it was still running ') and 'stopped it with Ctrl-C' in seen
+    assert seen.endswith("its last line was 'Sending goal'")
+    assert not any('KeyboardInterrupt' in line for line in failed.value.details)
+    assert not _left('sleep 3600')

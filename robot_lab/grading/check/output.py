@@ -97,6 +97,9 @@ class _Terminal:
                                      stderr=subprocess.STDOUT, text=True,
                                      start_new_session=True, preexec_fn=child_setup)
         self.lines: list[str] = []
+        self.running_for: float | None = None  # s: still running when the check stopped it
+        self._started = time.monotonic()
+        self._before_stop = 0  # lines printed before the check's Ctrl-C (not its traceback)
         self._reader = threading.Thread(target=self._read, name='robot_lab-check-command',
                                         daemon=True)
         self._reader.start()
@@ -127,6 +130,9 @@ class _Terminal:
     def stop(self) -> None:
         """Ctrl-C to everything it started (its output ends when they all have), then
         SIGKILL to what is left 5 s later."""
+        if self.proc.poll() is None:
+            self.running_for = time.monotonic() - self._started
+            self._before_stop = len(self.lines)
         for sig in (signal.SIGINT, signal.SIGKILL):
             with contextlib.suppress(ProcessLookupError):
                 os.killpg(self.proc.pid, sig)
@@ -137,10 +143,23 @@ class _Terminal:
             self.proc.wait(5.0)
 
     def not_printed(self, pattern: str) -> CheckError:
-        lines = [line for line in self.lines if line.strip()]
-        return CheckError(f'`{self.command}` to print {_shown(pattern)}',
-                          f'it printed {lines[-1].strip()!r}' if lines else 'it printed nothing',
-                          'read the last line: it names what is missing and how to fix it',
+        """What the command printed instead; a command the check had to stop is judged by
+        what it printed before the Ctrl-C, not by the KeyboardInterrupt that stopped it."""
+        expected = f'`{self.command}` to print {_shown(pattern)}'
+        if self.running_for is None:
+            lines = [line for line in self.lines if line.strip()]
+            return CheckError(expected, f'it printed {lines[-1].strip()!r}' if lines
+                              else 'it printed nothing',
+                              'read the last line: it names what is missing and how to fix it',
+                              lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
+        lines = [line for line in self.lines[:self._before_stop] if line.strip()]
+        waited = f'it was still running {self.running_for:.0f} s later, when the check ' \
+                 'stopped it with Ctrl-C'
+        return CheckError(expected, waited + (f'; its last line was {lines[-1].strip()!r}'
+                                              if lines else ', having printed nothing'),
+                          'it waits for something that never comes: is what it needs running '
+                          '(a server, a publisher, in this ROS domain), and does your code '
+                          'get past its wait (a spin until the future is done)?',
                           lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
 
 
