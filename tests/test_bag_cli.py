@@ -20,6 +20,8 @@ import pytest
 import yaml
 from conftest import BIN, Proc, run_cli
 
+from robot_lab.grading.check.base import wait_until
+
 TOPICS = ('/sensor/temperature', '/robot/status', '/cmd_vel')
 # An MCAP file's start (magic, header record with profile 'ros2'), as a killed recorder
 # leaves it: no footer after it.
@@ -244,9 +246,7 @@ class _Listener:
 
     def wait_count(self, count: int, timeout: float) -> None:
         """Until `count` messages are in, or `timeout` s; the caller asserts on them."""
-        deadline = time.monotonic() + timeout
-        while len(self.values) < count and time.monotonic() < deadline:
-            time.sleep(0.02)  # poll interval of a condition wait
+        wait_until(lambda: len(self.values) >= count, timeout, interval=0.02)
 
     def close(self) -> None:
         self.session.node.destroy_subscription(self.sub)

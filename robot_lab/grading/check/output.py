@@ -145,21 +145,19 @@ class _Terminal:
     def not_printed(self, pattern: str) -> CheckError:
         """What the command printed instead; a command the check had to stop is judged by
         what it printed before the Ctrl-C, not by the KeyboardInterrupt that stopped it."""
-        expected = f'`{self.command}` to print {_shown(pattern)}'
         if self.running_for is None:
             lines = [line for line in self.lines if line.strip()]
-            return CheckError(expected, f'it printed {lines[-1].strip()!r}' if lines
-                              else 'it printed nothing',
-                              'read the last line: it names what is missing and how to fix it',
-                              lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
-        lines = [line for line in self.lines[:self._before_stop] if line.strip()]
-        waited = f'it was still running {self.running_for:.0f} s later, when the check ' \
-                 'stopped it with Ctrl-C'
-        return CheckError(expected, waited + (f'; its last line was {lines[-1].strip()!r}'
-                                              if lines else ', having printed nothing'),
-                          'it waits for something that never comes: is what it needs running '
-                          '(a server, a publisher, in this ROS domain), and does your code '
-                          'get past its wait (a spin until the future is done)?',
+            seen = f'it printed {lines[-1].strip()!r}' if lines else 'it printed nothing'
+            hint = 'read the last line: it names what is missing and how to fix it'
+        else:
+            lines = [line for line in self.lines[:self._before_stop] if line.strip()]
+            seen = (f'it was still running {self.running_for:.0f} s later, when the check '
+                    'stopped it with Ctrl-C' + (f'; its last line was {lines[-1].strip()!r}'
+                                                if lines else ', having printed nothing'))
+            hint = ('it waits for something that never comes: is what it needs running '
+                    '(a server, a publisher, in this ROS domain), and does your code get '
+                    'past its wait (a spin until the future is done)?')
+        return CheckError(f'`{self.command}` to print {_shown(pattern)}', seen, hint,
                           lines[-4:] if len(lines) > 1 else [], 'What it printed last:')
 
 
