@@ -331,7 +331,11 @@ def test_play_rate_two_halves_the_gaps(bags: dict[str, Path]) -> None:
         assert len(times) == expected
         slopes[rate] = _schedule_slope(recorded, times)
     assert 0.8 < slopes['1'] < 1.2  # as recorded
-    assert 0.4 < slopes['2'] / slopes['1'] < 0.6
+    # Half the gaps, never less (a player is never early). A player slower than the
+    # 25 ms gaps of --rate 2 widens them: 0.64 with a CI run and a test loop beside
+    # this one (the player 0.4 s behind after 1.5 s). Ignoring the rate (1) or
+    # inverting it (2) stays out of the range.
+    assert 0.4 < slopes['2'] / slopes['1'] < 0.75
 
 
 def test_the_bag_clock_starts_with_the_first_message_read(
