@@ -125,6 +125,7 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
     # nothing but the answer: node names, if a participant left on the domain has nodes
     assert all(line.startswith('/') for line in listed.stdout.splitlines()), listed.stdout
 
+
 # A requester whose response reader the server's writer never matches: its request writer
 # is transient-local (a volatile reader takes that), its response reader asks for
 # transient-local data, which the server's volatile response writer never offers.
