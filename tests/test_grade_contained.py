@@ -164,6 +164,16 @@ def _ignores_input(pkg: Path) -> None:
           'speed = max(-limit, min(limit, gain * (msg.data - target)))', 'speed = 0.5')
 
 
+def _laggy(pkg: Path) -> None:
+    """An honest controller that takes 80 ms a reading, as one can on a loaded host: it
+    keeps up with the 10 Hz sensor, but fed at 20 Hz its queue of 10 readings fills and its
+    commands trail the input by 0.8 s."""
+    node = pkg / PKG / 'controller_node.py'
+    _edit(node, 'import rclpy\n', 'import time\n\nimport rclpy\n')
+    _edit(node, '    def on_distance(self, msg):\n',
+          '    def on_distance(self, msg):\n        time.sleep(0.08)\n')
+
+
 def _saturated(pkg: Path) -> None:
     _edit(pkg / 'config' / 'params.yaml', 'gain: 0.8', 'gain: 50.0')
 
@@ -231,6 +241,7 @@ def _hostile(pkg: Path, root: Path, port: int) -> None:
 
 VARIANTS: dict[str, Callable[[Path], None]] = {
     'solo': _one_process, 'ignorer': _ignores_input, 'saturated': _saturated,
+    'laggy': _laggy,
     'syntax': _syntax_error, 'missing_module': _missing_module, 'wrong_type': _wrong_type,
 }
 
@@ -312,7 +323,7 @@ def test_every_entry_has_a_row_and_the_run_exits_0(graded: dict[str, Any]) -> No
         assert str(graded['base']) not in text and 'robot_lab_grade_' not in text
 
 
-@pytest.mark.parametrize('student', ['alice', 'gus', 'solo', 'saturated', 'hostile'])
+@pytest.mark.parametrize('student', ['alice', 'gus', 'solo', 'saturated', 'laggy', 'hostile'])
 def test_correct_systems_get_full_marks(graded: dict[str, Any], student: str) -> None:
     row = _grades(graded['out'])[student]
     assert row['score'] == str(ALL_POINTS), (row, _feedback(graded, student))

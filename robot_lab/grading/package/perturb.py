@@ -9,6 +9,12 @@ the sensor itself produced — low, high, low — and reads the controller's com
 The controller follows its input when some numeric field of its command moves one way
 from low to high and back the other way from high to low: an input-ignoring controller
 (constant, or drifting with time) does not; a saturated but responsive one does.
+
+Each level is read once the controller has answered it, not after a fixed time: on a
+loaded host a controller's commands can trail its input by more than any fixed window
+(a queue of older readings still to work through), so a level's commands are the first
+steady run of them that differs from the previous level's, and a level that brings no
+change is read after `_PATIENCE` seconds.
 """
 
 from __future__ import annotations
@@ -30,9 +36,9 @@ if TYPE_CHECKING:
 __all__ = ['Response', 'drive_controller']
 
 _RATE = 20.0  # Hz the grader publishes at
-_SETTLE = 0.25  # s after a level change before commands count
-_WINDOW = 0.5  # s of commands read per level
-_FIRST = 3.0  # s to wait for the controller's first command
+_SAMPLES = 5  # commands read per level, from the first one that answered it
+_PATIENCE = 2.5  # s a level is held for a command that differs from the last level's
+_MATCH = 5.0  # s to wait for the controller's subscription to match the grader's publisher
 _SKIP = ('stamp', 'sec', 'nanosec', 'frame_id', 'seq')
 
 
@@ -50,10 +56,17 @@ class Response:
     why: str = ''  # why it was not tested
 
     def table(self) -> str:
+        """One line per level, the fields that moved between levels first, then those
+        that are not zero (a Twist's `linear.x`, not its three `angular` zeros)."""
+        def rank(key: str) -> tuple[bool, bool, str]:
+            values = [outputs.get(key) for _, outputs, _ in self.levels]
+            return len({repr(v) for v in values}) == 1, not any(values), key
+
+        keys = sorted({k for _, outputs, _ in self.levels for k in outputs}, key=rank)
         rows = []
         for level, outputs, count in self.levels:
             shown = ', '.join(f'{k} = {v:.3g}' if isinstance(v, float) else f'{k} = {v!r}'
-                              for k, v in list(outputs.items())[:3]) or '—'
+                              for k in keys[:3] if (v := outputs.get(k)) is not None) or '—'
             rows.append(f'- input {level:.3g} → {count} command(s): {shown}')
         return '\n'.join(rows)
 
@@ -143,6 +156,31 @@ def _summary(samples: list[Sample]) -> Sample:
     return summary
 
 
+def _moved(a: float | str, b: float | str) -> float:
+    """How far a field moved between two summaries, in units of its noise floor (a word
+    that changed moved by 2; numbers: the change over a scale of 1e-3 of their size)."""
+    if isinstance(a, str) or isinstance(b, str):
+        return 2.0 if a != b else 0.0
+    return abs(b - a) / (1e-6 + 1e-3 * max(abs(a), abs(b)))
+
+
+def _differs(before: Sample, sample: Sample) -> bool:
+    return any(_moved(before[k], sample[k]) > 1.0 for k in before.keys() & sample.keys())
+
+
+def _answered(samples: list[Sample], before: Sample | None) -> int | None:
+    """Where the commands that answer a level start (None: not yet): the first run of
+    `_SAMPLES` equal commands that differs from the previous level's. The grader's input
+    is constant, so a controller's answer to it is too; what it still sends from older
+    input (a varying sensor, a queue) is not, and a constant controller never differs."""
+    for i in range(len(samples) - _SAMPLES + 1):
+        run = samples[i:i + _SAMPLES]
+        if (not any(_differs(run[0], s) for s in run[1:])
+                and (before is None or _differs(before, run[0]))):
+            return i
+    return None
+
+
 def _follows(low1: Sample, high: Sample, low2: Sample) -> bool:
     for key in low1.keys() & high.keys() & low2.keys():
         a, b, c = low1[key], high[key], low2[key]
@@ -200,21 +238,39 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
         messages = {lvl: message_from_yaml(in_cls, _at_level(template, keys, lvl))
                     for lvl in (low, high)}
 
-        def hold(level: float, seconds: float, until: Callable[[], bool] | None = None) -> None:
-            end = time.monotonic() + seconds
-            while time.monotonic() < end and not (until and until()):
+        # Wait for the match (no command before it can answer the grader), then take the
+        # commands the controller sends on its own (a timer on its last reading) as the
+        # level before the first.
+        end = time.monotonic() + _MATCH
+        while time.monotonic() < end and not publisher.get_subscription_count():
+            time.sleep(0.05)
+        with lock:
+            before: Sample | None = (_summary([s for _, s in received[-_SAMPLES:]])
+                                     if received else None)
+
+        def hold(level: float) -> list[Sample]:
+            """Publish `level` until the controller has answered it (see `_answered`), at
+            most `_PATIENCE` s; the commands that answered, else the last ones sent."""
+            with lock:
+                first = len(received)
+            end = time.monotonic() + _PATIENCE
+            while True:
                 publisher.publish(messages[level])
                 time.sleep(1.0 / _RATE)
-
-        hold(low, _FIRST, until=lambda: len(received) > 0)  # matched and answering
+                with lock:
+                    new = [s for _, s in received[first:]]
+                start = _answered(new, before)
+                if start is not None:
+                    return new[start:start + _SAMPLES]
+                if time.monotonic() >= end:
+                    return new[-_SAMPLES:]
 
         def drive(levels: tuple[float, float]) -> bool:
+            nonlocal before
             summaries, counts = [], []
             for level in (levels[0], levels[1], levels[0]):
-                start = time.monotonic()
-                hold(level, _SETTLE + _WINDOW)
-                with lock:
-                    window = [s for t, s in received if t >= start + _SETTLE]
+                window = hold(level)
+                before = _summary(window) if window else before
                 summaries.append(_summary(window))
                 counts.append(len(window))
                 response.levels.append((level, summaries[-1], len(window)))
