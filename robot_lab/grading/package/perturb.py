@@ -220,14 +220,14 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
     resume, how = paused
     node = sess.node
     lock = threading.Lock()
-    received: list[tuple[float, Sample]] = []
+    received: list[Sample] = []  # the commands, in the order they came
 
     def on_command(msg: Any) -> None:
         with contextlib.suppress(Exception):
             data = message_to_dict(msg)
             sample: Sample = {**dict(_texts(data)), **dict(_leaves(data))}
             with lock:
-                received.append((time.monotonic(), sample))
+                received.append(sample)
 
     publisher = node.create_publisher(in_cls, sensor.name, 10)
     subscription = node.create_subscription(
@@ -245,8 +245,7 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
         while time.monotonic() < end and not publisher.get_subscription_count():
             time.sleep(0.05)
         with lock:
-            before: Sample | None = (_summary([s for _, s in received[-_SAMPLES:]])
-                                     if received else None)
+            before: Sample | None = _summary(received[-_SAMPLES:]) if received else None
 
         def hold(level: float) -> list[Sample]:
             """Publish `level` until the controller has answered it (see `_answered`), at
@@ -258,7 +257,7 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
                 publisher.publish(messages[level])
                 time.sleep(1.0 / _RATE)
                 with lock:
-                    new = [s for _, s in received[first:]]
+                    new = received[first:]
                 start = _answered(new, before)
                 if start is not None:
                     return new[start:start + _SAMPLES]
@@ -270,8 +269,8 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
             summaries, counts = [], []
             for level in (levels[0], levels[1], levels[0]):
                 window = hold(level)
-                before = _summary(window) if window else before
                 summaries.append(_summary(window))
+                before = summaries[-1] if window else before
                 counts.append(len(window))
                 response.levels.append((level, summaries[-1], len(window)))
             return all(counts) and _follows(*summaries)
