@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -91,6 +92,37 @@ def bench_sandbox_cost(args: argparse.Namespace, one: object, sandboxed: float) 
           f'({sandboxed - plain:+.2f} s per student)')
 
 
+def _children_cpu() -> float:
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return used.ru_utime + used.ru_stime
+
+
+def bench_fork_cost(args: argparse.Namespace, one: object) -> None:
+    """CPU seconds per submission (every process of its job, each reaped by its parent),
+    the student's nodes exec'd (ROBOT_LAB_FORK_SERVER=0) against forked from the launcher's
+    fork server, runs interleaved so both see the same load."""
+    cpu: dict[str, list[float]] = {'0': [], '1': []}
+    wall: dict[str, list[float]] = {'0': [], '1': []}
+    saved = os.environ.get('ROBOT_LAB_FORK_SERVER')
+    try:
+        for _ in range(args.runs):
+            for mode in ('0', '1'):
+                os.environ['ROBOT_LAB_FORK_SERVER'] = mode
+                began, used = time.monotonic(), _children_cpu()
+                one()  # type: ignore[operator]
+                cpu[mode].append(_children_cpu() - used)
+                wall[mode].append(time.monotonic() - began)
+    finally:
+        if saved is None:
+            os.environ.pop('ROBOT_LAB_FORK_SERVER', None)
+        else:
+            os.environ['ROBOT_LAB_FORK_SERVER'] = saved
+    med = {m: statistics.median(v) for m, v in cpu.items()}
+    print(f"package submission CPU (job, launcher, nodes): nodes exec'd {med['0']:.2f} s, "
+          f"forked {med['1']:.2f} s ({med['1'] / med['0']:.2f}x); wall "
+          f"{statistics.median(wall['0']):.2f} -> {statistics.median(wall['1']):.2f} s")
+
+
 def bench_packages(args: argparse.Namespace) -> None:
     from robot_lab.grading.package.grade import grade_package, resolve_rubric
     from robot_lab.grading.package.submission import Submission
@@ -108,6 +140,7 @@ def bench_packages(args: argparse.Namespace) -> None:
     print(f'package submission, --jobs 1: median {median:.2f} s per submission '
           f'(runs {runs}; scores {", ".join(scores)})')
     bench_sandbox_cost(args, one, median)
+    bench_fork_cost(args, one)
     with tempfile.TemporaryDirectory() as tmp:
         class_dir = Path(tmp) / 'class'
         for i in range(args.class_size):

@@ -226,3 +226,41 @@ def test_a_launch_of_the_kits_package_starts_its_server_before_reading_the_file(
         (n.cmdline(), _shared_dirty_kb(n.pid)) for n in nodes]
     proc.popen.send_signal(signal.SIGINT)
     assert proc.popen.wait(30) == 0, proc.output
+
+
+def test_a_students_package_is_forked_and_looks_execd(start, seed_workspaces,  # type: ignore[no-untyped-def]
+                                                       tmp_path: Path) -> None:
+    """Lab 1.3's package, as a student builds it (console scripts with this venv's `#!`):
+    its nodes are forked too, and look, log and stop as exec'd ones (their Ctrl-C
+    tracebacks included: the seed's nodes do not catch KeyboardInterrupt)."""
+    seen: dict[bool, dict[str, dict[str, object]]] = {}
+    ends: dict[bool, list[str]] = {}
+    nodes = ('sensor_node', 'controller_node', 'robot_node')
+    for fork in (False, True):
+        proc = start('robot-lab', 'launch', 'my_robot_system', 'robot.launch.xml',
+                     'robot_name:=robot_alpha', cwd=seed_workspaces.fixed,
+                     env={**seed_workspaces.fixed_env, 'ROS_LOG_DIR': str(tmp_path),
+                          'ROBOT_LAB_FORK_SERVER': '1' if fork else '0'})
+        proc.wait_for(r'\[robot\]: Status: OK', 60)
+        launcher = proc.popen.pid
+        by_name = {Path(p.cmdline()[1]).name: p for p in launched_nodes(launcher)}
+        assert set(by_name) == set(nodes), {k: p.cmdline() for k, p in by_name.items()}
+        servers = [p for p in psutil.Process(launcher).children() if SERVER in p.cmdline()]
+        assert len(servers) == int(fork), [p.cmdline() for p in servers]
+        assert all(forked_from(by_name[n].pid, servers[0].pid) for n in nodes) if fork else True
+        assert all(p.ppid() == launcher for p in by_name.values())
+        seen[fork] = {name: looks(p, launcher) for name, p in by_name.items()}
+        for shown in seen[fork].values():  # the launch's own parameter file: a temp name
+            shown['cmdline'] = re.sub(rb'launch_params_\w+', b'N', shown['cmdline'])  # type: ignore[call-overload]
+        proc.popen.send_signal(signal.SIGINT)
+        assert proc.popen.wait(30) == 0, proc.output[-3000:]
+        ended = re.finditer(r'\[(\w+)-\d\]: process has (finished cleanly|died) \[pid \d+[^\]]*\]',
+                            proc.output)
+        ends[fork] = sorted(re.sub(r'pid \d+|launch_params_\w+', 'N', m.group(0)) for m in ended)
+        assert sum('KeyboardInterrupt' in ln for ln in proc.output.splitlines()) >= 3, \
+            proc.output[-3000:]
+    assert len(ends[True]) == 3 and ends[True] == ends[False], ends
+    for name, exec_looks in seen[False].items():
+        forked = seen[True][name]
+        assert forked == exec_looks, (name, {k: (v, exec_looks[k]) for k, v in forked.items()
+                                             if v != exec_looks[k]})

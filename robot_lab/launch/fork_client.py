@@ -2,8 +2,8 @@
 Popen-like handle for each node it forked.
 
 On by default; `ROBOT_LAB_FORK_SERVER=0` in the launcher's environment execs every node.
-A node goes through the server only if it is a `#!<this interpreter>` script of a package
-known to be safe to fork (the kit's own nodes), not run through a shell, and its
+A node goes through the server only if it is a package's `#!<this interpreter>` script (the
+kit's nodes and a student's ament_python ones alike), not run through a shell, and its
 environment matches the server's in everything the interpreter reads when it starts (only
 ROS's own variables, read at `rclpy.init`, may differ). Anything else, and any failure of
 the server, is exec'd as before. A forked node is this process's child, as an exec'd one
@@ -41,11 +41,12 @@ from typing import IO, Any
 from robot_lab.launch.plan import ProcessSpec
 from robot_lab.process import spawn
 
-__all__ = ['ENABLE', 'SAFE_PACKAGES', 'ForkServer', 'ForkedProcess', 'enabled', 'interpreter_of',
+__all__ = ['EARLY_PACKAGES', 'ENABLE', 'ForkServer', 'ForkedProcess', 'enabled', 'interpreter_of',
            'start_early']
 
 ENABLE = 'ROBOT_LAB_FORK_SERVER'
-SAFE_PACKAGES = frozenset({'robot_lab'})
+# Packages whose launch starts a server before its file is read (start_early).
+EARLY_PACKAGES = frozenset({'robot_lab'})
 # Read at rclpy.init or later, so a forked node may differ from the server in these.
 _RUNTIME = ('ROS_', 'RMW_', 'RCUTILS_', 'RCL_', 'FASTRTPS_', 'FASTDDS_', 'AMENT_', 'COLCON_')
 _READY_TIMEOUT = 120.0  # the server's imports, on a host as loaded as a class hub gets
@@ -67,11 +68,12 @@ def start_early(package: str) -> ForkServer | None:
     A launcher reads the launch file before it knows its nodes, then waited for the server's
     imports; on a loaded host that chain of one process at a time got one share of the CPU
     while three exec'd nodes got three. Started first, the server imports while the file is
-    parsed. Only for a package whose nodes may fork (a student's are exec'd: a server would
-    only take CPU from them); the supervisor discards it (kills it at once) if no node
-    needs it or its environment does not suit the first forkable node.
+    parsed. Only for the kit's package, whose nodes' environment is known before the file
+    is read; a student's package gets its server once the plan names its first node. The
+    supervisor discards it (kills it at once) if no node needs it or its environment does
+    not suit the first forkable node.
     """
-    if package not in SAFE_PACKAGES or not enabled():
+    if package not in EARLY_PACKAGES or not enabled():
         return None
     from robot_lab.env import ros_environment
 
@@ -83,7 +85,7 @@ def start_early(package: str) -> ForkServer | None:
 
 def interpreter_of(spec: ProcessSpec) -> str | None:
     """The `#!` interpreter of the node's script when the server may run it, else None."""
-    if spec.shell or spec.package not in SAFE_PACKAGES or not spec.cmd:
+    if spec.shell or not spec.package or not spec.cmd:
         return None
     script = spec.cmd[0]
     if not os.path.isabs(script) or not os.access(script, os.X_OK):

@@ -141,6 +141,11 @@ def _run_script(cmdline: list[str], script: str, argv: list[str]) -> int:
     sys.argv = [script, *argv]
     sys.orig_argv = list(cmdline)
     sys.path[0] = os.path.dirname(os.path.realpath(script))
+    # A folder on the path that did not exist when the server looked (a package built
+    # since) is cached as "no finder": an exec'd interpreter would look again.
+    for folder in [f for f, finder in sys.path_importer_cache.items() if finder is None]:
+        del sys.path_importer_cache[folder]
+    importlib.invalidate_caches()
     main = types.ModuleType('__main__')
     main.__dict__.update(__file__=script, __cached__=None, __builtins__=builtins,
                          __loader__=SourceFileLoader('__main__', script))
