@@ -18,7 +18,7 @@ import pytest
 from conftest import run_cli
 
 from robot_lab.env import apply_ros_defaults, ros_environment
-from robot_lab.graph.host_sockets import discovery_port
+from robot_lab.graph.host_sockets import discovery_port, discovery_ports
 
 USER_LIB = '/opt/user/lib'
 
@@ -94,11 +94,14 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
     to another; on stdout that line became part of `node list`'s answer (stop 31's CI)."""
     held, created = [], []
     try:
-        # Hold the lock of every port (discovery, then data: the next one) the first
-        # participants of this domain would take. A port whose lock is taken belongs to a
-        # live participant on this domain (a daemon or a launch an earlier module left):
-        # the fresh one skips its ID, as it does any ID whose UDP port is bound.
-        for participant in range(6):
+        # Hold the lock of every port (discovery, then data: the next one) of the first six
+        # participant IDs whose discovery port no one has bound: a fresh participant takes
+        # the lowest of those. An ID in use belongs to a live participant on this domain (a
+        # daemon, a launch an earlier module left, one still starting or leaving, with no
+        # node to list): s29A1 failed with six IDs from 0 up, none hit, no node listed.
+        bound = discovery_ports(ros_domain)
+        free = [p for p in range(120) if discovery_port(ros_domain, p) not in bound][:6]
+        for participant in free:
             for data in (0, 1):
                 port = discovery_port(ros_domain, participant) + data
                 path = Path(f'/dev/shm/fastrtps_port{port}_el')
@@ -107,7 +110,7 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
                 fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
                 try:
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                except BlockingIOError:
+                except BlockingIOError:  # a participant starting on it now: it takes the next
                     os.close(fd)
                     continue
                 held.append(fd)
@@ -121,7 +124,10 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
         for path in created:
             path.unlink(missing_ok=True)
     assert listed.returncode == 0, listed.stderr
-    assert 'open_and_lock_file failed' in listed.stderr  # the condition did happen
+    # the condition did happen
+    assert 'open_and_lock_file failed' in listed.stderr, (
+        f'IDs bound before: {sorted((p - discovery_port(ros_domain, 0)) // 2 for p in bound)}, '
+        f'held: {free}; stderr: {listed.stderr!r}')
     # nothing but the answer: node names, if a participant left on the domain has nodes
     assert all(line.startswith('/') for line in listed.stdout.splitlines()), listed.stdout
 
