@@ -100,7 +100,8 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
         # daemon, a launch an earlier module left, one still starting or leaving, with no
         # node to list): s29A1 failed with six IDs from 0 up, none hit, no node listed.
         bound = discovery_ports(ros_domain)
-        free = [p for p in range(120) if discovery_port(ros_domain, p) not in bound][:6]
+        in_use = [p for p in range(120) if discovery_port(ros_domain, p) in bound]
+        free = [p for p in range(120) if p not in in_use][:6]  # 120 IDs: a domain's ports
         for participant in free:
             for data in (0, 1):
                 port = discovery_port(ros_domain, participant) + data
@@ -126,7 +127,7 @@ def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -
     assert listed.returncode == 0, listed.stderr
     # the condition did happen
     assert 'open_and_lock_file failed' in listed.stderr, (
-        f'IDs bound before: {sorted((p - discovery_port(ros_domain, 0)) // 2 for p in bound)}, '
+        f'IDs bound before: {in_use}, '
         f'held: {free}; stderr: {listed.stderr!r}')
     # nothing but the answer: node names, if a participant left on the domain has nodes
     assert all(line.startswith('/') for line in listed.stdout.splitlines()), listed.stdout
