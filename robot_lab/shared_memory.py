@@ -13,7 +13,9 @@ participant creates the lock file an instant before it takes the lock, and a bus
 hold it between the two. Ports (`fastrtps_port*`) are left to Fast DDS, which takes over a
 dead port itself when it opens it again.
 
-A live participant's port can be taken over too, which leaves it deaf (`lost_ports`).
+A live participant's port can be taken over too, which leaves it deaf (`lost_ports`). The
+kit's profile sends its participants' data by UDP, so they listen on no port; a process run
+with a profile of the user's own (or none) still does, and is still named here.
 """
 
 from __future__ import annotations
@@ -111,19 +113,19 @@ def lost_ports(pid: int | None = None, listening: set[int] | None = None) -> lis
     that send into a file nobody reads, so the owner never hears them: in one CI run a
     test's session missed every node started after it for a minute, and each new
     participant logged `Failed init_port fastrtps_port7006: open_and_lock_file failed`.
-    rmw_fastrtps adds the transport itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST,
-    so no profile can turn it off. The owner still maps the removed file: /proc/PID/maps
+    rmw_fastrtps adds the transport itself under ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST;
+    the kit's profile only keeps data off it. The owner still maps the removed file: /proc/PID/maps
     shows it `(deleted)`. `listening`: its `listening_ports`, when the caller has them.
     """
+    if not (listening := listening_ports(pid) if listening is None else listening):
+        return []  # the kit's participants: their data comes by UDP
     proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
         # bytes: a node's maps are about 110 KB, and need no decoding
         removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_bytes())}
     except OSError:  # gone, or not ours
         return []
-    if not removed:
-        return []
-    return sorted(removed & (listening_ports(pid) if listening is None else listening))
+    return sorted(removed & listening)
 
 
 def listening_ports(pid: int | None = None) -> set[int]:

@@ -7,7 +7,6 @@ execve, so it differs from what the parent passed exactly when the child restart
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 import subprocess
@@ -18,7 +17,6 @@ import pytest
 from conftest import run_cli
 
 from robot_lab.env import apply_ros_defaults, ros_environment
-from robot_lab.graph.host_sockets import discovery_port, discovery_ports
 
 USER_LIB = '/opt/user/lib'
 
@@ -89,48 +87,76 @@ def test_non_python_child_runs_with_kit_environment() -> None:
     assert done.stdout.strip() == kit['LD_LIBRARY_PATH']
 
 
-def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(ros_domain: int) -> None:
-    """Fast DDS logs a taken shared-memory port ('open_and_lock_file failed') and moves on
-    to another; on stdout that line became part of `node list`'s answer (stop 31's CI)."""
-    held, created = [], []
-    try:
-        # Hold the lock of every port (discovery, then data: the next one) of the first six
-        # participant IDs whose discovery port no one has bound: a fresh participant takes
-        # the lowest of those. An ID in use belongs to a live participant on this domain (a
-        # daemon, a launch an earlier module left, one still starting or leaving, with no
-        # node to list): s29A1 failed with six IDs from 0 up, none hit, no node listed.
-        bound = discovery_ports(ros_domain)
-        in_use = [p for p in range(120) if discovery_port(ros_domain, p) in bound]
-        free = [p for p in range(120) if p not in in_use][:6]  # 120 IDs: a domain's ports
-        for participant in free:
-            for data in (0, 1):
-                port = discovery_port(ros_domain, participant) + data
-                path = Path(f'/dev/shm/fastrtps_port{port}_el')
-                if not path.exists():
-                    created.append(path)
-                fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
-                try:
-                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                except BlockingIOError:  # a participant starting on it now: it takes the next
-                    os.close(fd)
-                    continue
-                held.append(fd)
-        # A fresh participant, never a daemon's answer: a launch earlier in the run can
-        # leave one on this domain (s24B3: it answered, nothing hit a held port).
-        listed = run_cli('node', 'list', env={'ROBOT_LAB_DAEMON_AUTOSTART': '0',
-                                              'ROBOT_LAB_NO_DAEMON': '1'})
-    finally:
-        for fd in held:
-            os.close(fd)
-        for path in created:
-            path.unlink(missing_ok=True)
+def test_fast_dds_errors_go_to_stderr_not_into_a_verbs_output(tmp_path: Path) -> None:
+    """Fast DDS prints its own warnings and errors on stdout; there they became part of
+    `node list`'s answer (stop 31's CI: a taken shared-memory port). A stale profile file
+    in the working folder (Fast DDS reads ./DEFAULT_FASTRTPS_PROFILES.xml after the kit's)
+    makes it log errors every time."""
+    (tmp_path / 'DEFAULT_FASTRTPS_PROFILES.xml').write_text(
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>'
+        '<participant profile_name="stale"><rtps><no_such_setting>1</no_such_setting>'
+        '</rtps></participant></profiles></dds>\n')
+    # A fresh participant, never a daemon's answer.
+    listed = run_cli('node', 'list', cwd=tmp_path,
+                     env={'ROBOT_LAB_DAEMON_AUTOSTART': '0', 'ROBOT_LAB_NO_DAEMON': '1'})
     assert listed.returncode == 0, listed.stderr
     # the condition did happen
-    assert 'open_and_lock_file failed' in listed.stderr, (
-        f'IDs bound before: {in_use}, '
-        f'held: {free}; stderr: {listed.stderr!r}')
+    assert 'XMLPARSER' in listed.stderr and 'no_such_setting' in listed.stderr, listed.stderr
     # nothing but the answer: node names, if a participant left on the domain has nodes
     assert all(line.startswith('/') for line in listed.stdout.splitlines()), listed.stdout
+
+
+# A listener in one process, a talker in another: the listener says, once it has heard the
+# talker, which shared-memory ports it listens on.
+TALKER = r"""
+import rclpy
+from std_msgs.msg import String
+rclpy.init()
+node = rclpy.create_node('data_path_talker')
+pub = node.create_publisher(String, 'data_path', 10)
+node.create_timer(0.05, lambda: pub.publish(String(data='hello')))
+rclpy.spin(node)
+"""
+LISTENER = r"""
+import rclpy
+from std_msgs.msg import String
+from robot_lab.shared_memory import listening_ports
+rclpy.init()
+node = rclpy.create_node('data_path_listener')
+heard = []
+node.create_subscription(String, 'data_path', heard.append, 10)
+while not heard:
+    rclpy.spin_once(node, timeout_sec=1.0)
+print(heard[0].data, sorted(listening_ports()), flush=True)
+"""
+
+
+def _data_path(env: dict[str, str]) -> str:
+    talker = subprocess.Popen([sys.executable, '-c', TALKER], env=env)
+    try:
+        done = subprocess.run([sys.executable, '-c', LISTENER], env=env, capture_output=True,
+                              text=True, timeout=60)
+    finally:
+        talker.terminate()
+        talker.wait(30)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+def test_the_kits_participants_take_data_by_udp_not_by_a_shared_memory_port(
+        tmp_path: Path) -> None:
+    """Fast DDS replaces a shared-memory port whose owner misses a one-second health check
+    on a crowded host; the owner then never hears a newcomer (s29B1: a lesson's kernel).
+    The kit's profile sends data to its participants over loopback UDP, whose socket no
+    one can take over: they listen on no shared-memory port, and still hear each other."""
+    assert _data_path(ros_environment()) == 'hello []'
+    # A profile of the user's own keeps Fast DDS's default: shared-memory ports.
+    own = tmp_path / 'own.xml'
+    own.write_text('<?xml version="1.0" encoding="UTF-8"?>\n'
+                   '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"/>\n')
+    said = _data_path({**ros_environment(), 'FASTRTPS_DEFAULT_PROFILES_FILE': str(own)})
+    assert said.startswith('hello [') and said != 'hello []', said
 
 
 # A requester whose response reader the server's writer never matches: its request writer

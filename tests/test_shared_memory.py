@@ -1,5 +1,8 @@
 """A killed participant's shared-memory segment is swept; a live one's is never touched; a
-live one whose port Fast DDS took over is named, and the graph daemon so struck exits."""
+live one whose port Fast DDS took over is named, and the graph daemon so struck exits.
+
+The kit's own profile keeps its participants off shared-memory ports (test_env), so a
+take-over strikes only processes run with a profile of the user's own: these tests run so."""
 
 from __future__ import annotations
 
@@ -12,6 +15,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from robot_lab.domain import domain_ports
 from robot_lab.graph import daemon
 from robot_lab.pkg.doctor import doctor
@@ -22,6 +27,24 @@ from robot_lab.shared_memory import (
     lost_ports,
     sweep_dead_segments,
 )
+
+# A profile of the user's own (the kit then adds none): Fast DDS's default data path, its
+# shared-memory ports, with the kit's log settings.
+USER_PROFILE = """<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <log><use_default>FALSE</use_default><consumer><class>StdoutErrConsumer</class>
+    <property><name>stderr_threshold</name><value>Log::Kind::Warning</value></property>
+  </consumer></log>
+</dds>
+"""
+
+
+@pytest.fixture(autouse=True)
+def _users_profile(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    profile = tmp_path / 'fastdds.xml'
+    profile.write_text(USER_PROFILE)
+    monkeypatch.setenv('FASTRTPS_DEFAULT_PROFILES_FILE', str(profile))
+
 
 # A node that publishes once (Fast DDS maps its segment when it has data to send), says so,
 # and stays.
@@ -198,6 +221,8 @@ DEAF_CHECK = """
 import os, time
 from pathlib import Path
 from robot_lab.grading import check
+import pytest
+
 from robot_lab.domain import domain_ports
 from robot_lab.rclpy_session import session
 from robot_lab.shared_memory import listening_ports
