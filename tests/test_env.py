@@ -148,8 +148,8 @@ def test_the_kits_participants_take_data_by_udp_not_by_a_shared_memory_port(
         tmp_path: Path) -> None:
     """Fast DDS replaces a shared-memory port whose owner misses a one-second health check
     on a crowded host; the owner then never hears a newcomer (s29B1: a lesson's kernel).
-    The kit's profile sends data to its participants over loopback UDP, whose socket no
-    one can take over: they listen on no shared-memory port, and still hear each other."""
+    The kit's profile sends data to its participants by UDP, whose socket no one can take
+    over: they listen on no shared-memory port, and still hear each other."""
     assert _data_path(ros_environment()) == 'hello []'
     # A profile of the user's own keeps Fast DDS's default: shared-memory ports.
     own = tmp_path / 'own.xml'
