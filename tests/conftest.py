@@ -389,6 +389,22 @@ def venv_env(**extra: str) -> dict[str, str]:
     return {**os.environ, 'PATH': f'{BIN}{os.pathsep}{os.environ["PATH"]}', **extra}
 
 
+def users_profile(folder: Path) -> Path:
+    """A Fast DDS profile of the user's own in `folder` (the kit then adds none): Fast
+    DDS's default data path, its shared-memory ports, with the kit's log settings (its
+    warnings on stderr, off a child's stdout that a test reads)."""
+    profile = folder / 'users_fastdds.xml'
+    profile.write_text(
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">\n'
+        '  <log><use_default>FALSE</use_default><consumer><class>StdoutErrConsumer</class>\n'
+        '    <property><name>stderr_threshold</name><value>Log::Kind::Warning</value>'
+        '</property>\n'
+        '  </consumer></log>\n'
+        '</dds>\n')
+    return profile
+
+
 def run_cli(*args: str, timeout: float = 60.0, cwd: str | Path | None = None,
             env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
     """Run `robot-lab ARGS` to completion and return its output (text)."""

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import run_cli
+from conftest import run_cli, users_profile
 
 from robot_lab.env import apply_ros_defaults, ros_environment
 
@@ -152,9 +152,7 @@ def test_the_kits_participants_take_data_by_udp_not_by_a_shared_memory_port(
     over: they listen on no shared-memory port, and still hear each other."""
     assert _data_path(ros_environment()) == 'hello []'
     # A profile of the user's own keeps Fast DDS's default: shared-memory ports.
-    own = tmp_path / 'own.xml'
-    own.write_text('<?xml version="1.0" encoding="UTF-8"?>\n'
-                   '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"/>\n')
+    own = users_profile(tmp_path)
     said = _data_path({**ros_environment(), 'FASTRTPS_DEFAULT_PROFILES_FILE': str(own)})
     assert said.startswith('hello [') and said != 'hello []', said
 

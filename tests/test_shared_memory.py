@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import users_profile
 
 from robot_lab.domain import domain_ports
 from robot_lab.graph import daemon
@@ -28,22 +29,11 @@ from robot_lab.shared_memory import (
     sweep_dead_segments,
 )
 
-# A profile of the user's own (the kit then adds none): Fast DDS's default data path, its
-# shared-memory ports, with the kit's log settings.
-USER_PROFILE = """<?xml version="1.0" encoding="UTF-8"?>
-<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
-  <log><use_default>FALSE</use_default><consumer><class>StdoutErrConsumer</class>
-    <property><name>stderr_threshold</name><value>Log::Kind::Warning</value></property>
-  </consumer></log>
-</dds>
-"""
-
 
 @pytest.fixture(autouse=True)
 def _users_profile(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    profile = tmp_path / 'fastdds.xml'
-    profile.write_text(USER_PROFILE)
-    monkeypatch.setenv('FASTRTPS_DEFAULT_PROFILES_FILE', str(profile))
+    """These tests run with a profile of the user's own (see the module's docstring)."""
+    monkeypatch.setenv('FASTRTPS_DEFAULT_PROFILES_FILE', str(users_profile(tmp_path)))
 
 
 # A node that publishes once (Fast DDS maps its segment when it has data to send), says so,
@@ -221,8 +211,6 @@ DEAF_CHECK = """
 import os, time
 from pathlib import Path
 from robot_lab.grading import check
-import pytest
-
 from robot_lab.domain import domain_ports
 from robot_lab.rclpy_session import session
 from robot_lab.shared_memory import listening_ports
