@@ -1,9 +1,10 @@
 """The course in a real browser: every notebook run as a student runs it, and what they see.
 
 One JupyterLab (loopback, token) and one headless Chromium for the session, over a scratch
-copy of the course. Each notebook is opened in the page and run cell by cell with
-Shift+Enter, in course order (a notebook builds on the workspace of the ones before). After
-each cell the widgets it shows are probed in the page: a live plot draws and its sample
+copy of the course. Each notebook is opened in the page and run in course order (a notebook
+builds on the workspace of the ones before), a stretch of cells at a time as a student runs
+one (selected, Shift+Enter), each stretch ending at a cell that shows widgets. After such a
+cell its widgets are probed in the page: a live plot draws and its sample
 counts grow, a dragged slider reaches the running node and changes what the plot shows,
 the robot view moves, the graph view fits the column and names the launched nodes. Then:
 no error output, no "Error displaying widget", every code cell ran. Screenshots of every
@@ -105,14 +106,21 @@ class Course:
         page.on('pageerror', page_error)
         try:
             nb = Notebook(page, self.lab, f'notebooks/{name}')
-            for index in range(nb.count()):
+            kinds = nb.kinds()
+            probes = [i for i, (kind, text) in enumerate(kinds)
+                      if kind == 'code' and SHOWS_WIDGETS.search(text)]
+            first = 0
+            for last in [*probes, len(kinds) - 1]:
+                if last < first:
+                    continue
                 try:
-                    nb.run(index)
+                    nb.run_cells(first, last)
                 except AssertionError as err:
                     result.problems.append(str(err))
                     break
-                if nb.is_code(index) and SHOWS_WIDGETS.search(nb.source(index)):
-                    Probe(nb, index, result, self.shots).all()
+                if last in probes:
+                    Probe(nb, last, result, self.shots).all()
+                first = last + 1
             result.problems += [f'error output: {e}' for e in nb.errors()]
             result.problems += [f'cell {i} never ran' for i in nb.unrun()]
             result.problems += unrendered(nb)
