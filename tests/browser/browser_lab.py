@@ -322,7 +322,8 @@ class Notebook:
         if not wait_in_page(self.page, r"""([a, b]) => {
                 const cells = [...document.querySelectorAll(
                     '.jp-NotebookPanel:not(.lm-mod-hidden) .jp-Notebook .jp-Cell')]
-                    .slice(a, b + 1).filter(c => c.classList.contains('jp-CodeCell'));
+                    .slice(a, b + 1).filter(c => c.classList.contains('jp-CodeCell')
+                        && (c.querySelector('.jp-InputArea-editor')?.textContent || '').trim());
                 const prompts = cells.map(
                     c => c.querySelector('.jp-InputPrompt')?.textContent || '');
                 if (prompts.every(p => /\[\d+\]/.test(p))) return true;

@@ -91,7 +91,9 @@ def test_a_student_who_makes_mistakes(lab: tuple[Lab, Any, Path], name: str) -> 
     problems: list[str] = []
     try:
         nb = Notebook(page, running, f'notebooks/{name}.ipynb')
-        for index in range(nb.count()):
+        checks = {check: answer for answer, check in places.values()}
+        count, index = nb.count(), 0
+        while index < count:
             if index in places:
                 answer, check = places[index]
                 ladder = LADDERS[answer]
@@ -112,12 +114,18 @@ def test_a_student_who_makes_mistakes(lab: tuple[Lab, Any, Path], name: str) -> 
                             or 'Try: ' not in said or 'Traceback' in said:
                         problems.append(f'{answer} ({mistake}): the check said {said!r}')
                 _set_source(nb, index, cells[index].source)
-            nb.run(index)
-            if any(check == index for _a, check in places.values()):
-                answer = next(a for a, c in places.values() if c == index)
-                nb.shot(nb.cell(index), shots / f'{answer}-right.png')
-                if '✗' in nb.text(index):
-                    problems.append(f'{answer}: the right answer failed: {_said(nb, index)}')
+                nb.run(index)
+                last = index
+            else:  # up to the next answer cell or check, in one stretch (run_cells)
+                last = min([p - 1 for p in places if p > index]
+                           + [c for c in checks if c >= index] + [count - 1])
+                nb.run_cells(index, last)
+            if last in checks:
+                nb.shot(nb.cell(last), shots / f'{checks[last]}-right.png')
+                if '✗' in nb.text(last):
+                    problems.append(f'{checks[last]}: the right answer failed: '
+                                    f'{_said(nb, last)}')
+            index = last + 1
         problems += [f'error output: {e}' for e in nb.errors()]
     finally:
         browser_lab.close_notebooks(page, running)
