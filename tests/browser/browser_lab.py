@@ -37,6 +37,15 @@ LAB_SETTINGS = {'@jupyterlab/apputils-extension/notification': {'fetchNews': 'fa
                 '@jupyterlab/notebook-extension/tracker': {'windowingMode': 'none'},
                 '@jupyterlab/docmanager-extension/plugin': {'autosave': False}}
 ERROR_MIME = 'application/vnd.jupyter.error'
+# Page-side pieces the waits share (JavaScript): a cell that ran shows its number, `[3]`;
+# the visible notebook's code cells first..last that hold code, with their indices (an
+# empty one is never run, so never numbered).
+NUMBERED_JS = r"cell => /\[\d+\]/.test(cell.querySelector('.jp-InputPrompt')?.textContent || '')"
+CODE_CELLS_JS = r"""(a, b) => [...document.querySelectorAll(
+        '.jp-NotebookPanel:not(.lm-mod-hidden) .jp-Notebook .jp-Cell')]
+    .map((cell, index) => ({cell, index})).slice(a, b + 1)
+    .filter(({cell}) => cell.classList.contains('jp-CodeCell')
+        && (cell.querySelector('.jp-InputArea-editor')?.textContent || '').trim())"""
 
 
 def domain_base(offset: int = 80) -> int:
@@ -292,9 +301,8 @@ class Notebook:
         self.page.keyboard.press('Shift+Enter')
         if not self.is_code(index):
             return
-        if not wait_in_page(self.page, r"""cell => /\[\d+\]/.test(
-                cell.querySelector('.jp-InputPrompt')?.textContent || '')""",
-                            self.cell(index).element_handle(), timeout):
+        if not wait_in_page(self.page, NUMBERED_JS, self.cell(index).element_handle(),
+                            timeout):
             raise AssertionError(f'{self.path}: cell {index} not done after {timeout:g} s '
                                  f'({self.state(index)}):\n{self.source(index)[:300]}')
 
@@ -320,18 +328,16 @@ class Notebook:
             nb.mode = 'command'; nb.activeCellIndex = a; nb.deselectAll();
             nb.extendContiguousSelectionTo(b); nb.node.focus(); }""", [first, last])
         self.page.keyboard.press('Shift+Enter')
-        if not wait_in_page(self.page, r"""([a, b]) => {
-                const cells = [...document.querySelectorAll(
-                    '.jp-NotebookPanel:not(.lm-mod-hidden) .jp-Notebook .jp-Cell')]
-                    .slice(a, b + 1).filter(c => c.classList.contains('jp-CodeCell')
-                        && (c.querySelector('.jp-InputArea-editor')?.textContent || '').trim());
-                const prompts = cells.map(
-                    c => c.querySelector('.jp-InputPrompt')?.textContent || '');
-                if (prompts.every(p => /\[\d+\]/.test(p))) return true;
-                return !prompts.some(p => p.includes('*')) && cells.some(c => c.querySelector(
-                    '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.error"], '
-                    + '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"]'));
-            }""", [first, last], timeout):
+        if not wait_in_page(self.page, f"""([a, b]) => {{
+                const cells = ({CODE_CELLS_JS})(a, b).map(({{cell}}) => cell);
+                if (cells.every({NUMBERED_JS})) return true;
+                return !cells.some(c => (c.querySelector('.jp-InputPrompt')?.textContent || '')
+                                        .includes('*'))
+                    && cells.some(c => c.querySelector(
+                        '.jp-OutputArea-output[data-mime-type="{ERROR_MIME}"], '
+                        + '.jp-OutputArea-output[data-mime-type='
+                        + '"application/vnd.jupyter.stderr"]'));
+            }}""", [first, last], timeout):
             running = next((i for i in range(first, last + 1)
                             if '*' in self.prompt(i)), last)
             raise AssertionError(f'{self.path}: cells {first}-{last} not done after '
@@ -352,22 +358,6 @@ class Notebook:
 
     def prompt(self, index: int) -> str:
         return str(self.cell(index).locator('.jp-InputPrompt').text_content() or '')
-
-    def run_all(self, timeout: float = 300.0) -> None:
-        """Run ▸ Run All Cells from the menu bar, then wait until every code cell ran."""
-        self.page.locator('.lm-MenuBar-itemLabel:text-is("Run")').click()
-        self.page.locator('.lm-Menu-itemLabel:text-is("Run All Cells")').click()
-        prompts = self.page.locator('.jp-NotebookPanel:visible .jp-CodeCell .jp-InputPrompt')
-
-        def done() -> bool:
-            texts = prompts.all_text_contents()
-            return bool(texts) and all(re.search(r'\[\d+\]', t) for t in texts)
-
-        def stopped() -> bool:  # an error stops Run All: the rest never gets a number
-            return self.errors() != [] and not any('[*]' in t
-                                                   for t in prompts.all_text_contents())
-
-        wait_until(lambda: done() or stopped(), timeout, 0.25)
 
     def output(self, index: int) -> Any:
         return self.cell(index).locator('.jp-Cell-outputArea')
@@ -395,13 +385,9 @@ class Notebook:
     def unrun(self) -> list[int]:
         """Code cells that never ran (an empty one, as Shift+Enter adds at the end, aside).
         One question to the page: a locator per cell cost ~3 DevTools round trips each."""
-        return [int(i) for i in self.page.evaluate(r"""() => {
-            const cells = [...document.querySelectorAll(
-                '.jp-NotebookPanel:not(.lm-mod-hidden) .jp-Notebook .jp-Cell')];
-            return cells.flatMap((c, i) => c.classList.contains('jp-CodeCell')
-                && (c.querySelector('.jp-InputArea-editor')?.textContent || '').trim()
-                && !/\[\d+\]/.test(c.querySelector('.jp-InputPrompt')?.textContent || '')
-                ? [i] : []); }""")]
+        return [int(i) for i in self.page.evaluate(
+            f"""() => ({CODE_CELLS_JS})(0, Infinity)
+                .filter(({{cell}}) => !({NUMBERED_JS})(cell)).map(({{index}}) => index)""")]
 
     def save(self, timeout: float = 30.0) -> Path:
         """File ▸ Save (Ctrl+S), as a student saves; the file once JupyterLab wrote it."""
