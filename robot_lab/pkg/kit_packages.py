@@ -66,6 +66,7 @@ KIT_PACKAGES: tuple[str, ...] = (
     'example_interfaces',
     'action_tutorials_interfaces',
     'turtlesim',
+    'tf2_msgs',
 )
 
 # The contract for programs a kit package provides: package -> {executable: 'module:func'}.
