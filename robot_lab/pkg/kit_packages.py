@@ -67,6 +67,11 @@ KIT_PACKAGES: tuple[str, ...] = (
     'action_tutorials_interfaces',
     'turtlesim',
     'tf2_msgs',
+    # Chapter 7's robot description packages (data and launch files; programs below)
+    'robot_state_publisher',
+    'joint_state_publisher',
+    'urdf_launch',
+    'urdf_tutorial',
 )
 
 # The contract for programs a kit package provides: package -> {executable: 'module:func'}.
@@ -78,6 +83,12 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
         'turtle_teleop_key': 'robot_lab.turtlesim.teleop:main',
         'draw_square': 'robot_lab.turtlesim.draw_square:main',
         'mimic': 'robot_lab.turtlesim.mimic:main',
+    },
+    'robot_state_publisher': {
+        'robot_state_publisher': 'robot_lab.urdf.state_publisher:main',
+    },
+    'joint_state_publisher': {
+        'joint_state_publisher': 'robot_lab.urdf.joint_state_publisher:main',
     },
 }
 
