@@ -1,0 +1,70 @@
+"""The C library, loaded once per process (thread-safe), and errno turned into OSError.
+
+Loaded before any fork: a child between fork and exec (`process.child_setup`) must find
+it loaded, since it may take no lock another thread held at the fork.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+import threading
+
+__all__ = ['check', 'holding_gil', 'libc', 'loaded']
+
+_lock = threading.Lock()
+_libc: ctypes.CDLL | None = None
+_pylibc: ctypes.PyDLL | None = None
+_failed: OSError | None = None
+
+
+def _load() -> None:
+    global _libc, _pylibc, _failed
+    with _lock:
+        if _libc is not None or _failed is not None:
+            return
+        try:
+            if os.name != 'posix':
+                raise OSError('no C library of the kind the kit needs (not Linux)')
+            name = ctypes.util.find_library('c') or 'libc.so.6'
+            library = ctypes.CDLL(name, use_errno=True)
+            pylibrary = ctypes.PyDLL(name, use_errno=True)  # holds the GIL across a call
+            library.sbrk.restype = ctypes.c_void_p
+            library.pthread_self.restype = ctypes.c_void_p
+            pylibrary.syscall.restype = ctypes.c_long
+        except (OSError, AttributeError) as exc:
+            _failed = OSError(f'cannot load the C library: {exc}')
+            return
+        _pylibc, _libc = pylibrary, library
+
+
+def libc() -> ctypes.CDLL:
+    """The C library (calls release the GIL); OSError where there is none to load."""
+    if _libc is None:
+        _load()
+        if _libc is None:
+            raise _failed or OSError('no C library')
+    return _libc
+
+
+def holding_gil() -> ctypes.PyDLL:
+    """The C library through a handle whose calls keep the GIL (as os.fork does)."""
+    libc()
+    assert _pylibc is not None
+    return _pylibc
+
+
+def loaded() -> ctypes.CDLL | None:
+    """The C library if it is loaded already, else None, taking no lock: for code between
+    fork and exec."""
+    return _libc
+
+
+def check(result: int, what: str) -> int:
+    """`result` of a libc call that sets errno on -1 (or any negative): OSError naming
+    `what` and the error, else `result`."""
+    if result < 0:
+        errno = ctypes.get_errno()
+        raise OSError(errno, f'{what}: {os.strerror(errno)}')
+    return result

@@ -1,0 +1,104 @@
+"""Namespaces and mounts: unshare(2), mount(2), bind mounts and read-only remounts.
+
+The grader's sandbox (grading/package/sandbox.py, confinement.py) makes a job's own
+mount, PID, network and IPC namespaces, in a user namespace when it is not root. Ubuntu
+24.04 (AppArmor's restriction of unprivileged user namespaces) and Docker's default
+seccomp profile refuse that: `probe` says so, and the grader then refuses to run as root
+or grades without a sandbox.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import subprocess
+import sys
+
+from robot_lab.linux import procfs
+from robot_lab.linux.libc import check, libc
+
+__all__ = ['CLONE_NEWIPC', 'CLONE_NEWNET', 'CLONE_NEWNS', 'CLONE_NEWPID', 'CLONE_NEWUSER',
+           'MS_BIND', 'MS_NODEV', 'MS_NOEXEC', 'MS_NOSUID', 'MS_PRIVATE', 'MS_RDONLY', 'MS_REC',
+           'MS_REMOUNT', 'bind', 'job_namespaces', 'kept_flags', 'mount', 'mount_points',
+           'probe', 'remount', 'unshare']
+
+CLONE_NEWNS, CLONE_NEWIPC, CLONE_NEWUSER = 0x00020000, 0x08000000, 0x10000000
+CLONE_NEWPID, CLONE_NEWNET = 0x20000000, 0x40000000
+MS_RDONLY, MS_NOSUID, MS_NODEV, MS_NOEXEC = 1, 2, 4, 8
+MS_REMOUNT, MS_BIND, MS_REC, MS_PRIVATE = 32, 4096, 16384, 1 << 18
+MS_NOATIME, MS_NODIRATIME, MS_RELATIME = 1024, 2048, 1 << 21
+_ST_RELATIME = 4096
+_PROBE_TIMEOUT = 10.0
+
+
+def _bytes(text: str | None) -> bytes | None:
+    return os.fsencode(text) if text is not None else None
+
+
+def job_namespaces() -> int:
+    """The namespaces a grading job gets: mount, PID, network, IPC, and a user namespace
+    to make them in unless this process is root."""
+    flags = CLONE_NEWNS | CLONE_NEWPID | CLONE_NEWNET | CLONE_NEWIPC
+    return flags if os.geteuid() == 0 else flags | CLONE_NEWUSER
+
+
+def unshare(flags: int) -> None:
+    """Move this process into new namespaces (`CLONE_NEW*` flags); OSError if refused."""
+    check(libc().unshare(flags), f'unshare({flags:#x})')
+
+
+def mount(source: str | None, target: str, fstype: str | None, flags: int,
+          data: str | None = None) -> None:
+    """mount(2); OSError naming the target if refused."""
+    check(libc().mount(_bytes(source), _bytes(target), _bytes(fstype), ctypes.c_ulong(flags),
+                       _bytes(data)), f'mount {target}')
+
+
+def kept_flags(path: str) -> int:
+    """The flags a remount of `path` must keep (a user namespace may not clear them)."""
+    flag = os.statvfs(path).f_flag
+    kept = flag & (MS_NOSUID | MS_NODEV | MS_NOEXEC | MS_NOATIME | MS_NODIRATIME)
+    return kept | (MS_RELATIME if flag & _ST_RELATIME else 0)
+
+
+def remount(path: str, read_only: bool) -> None:
+    """Remount the bind mount at `path` read-only or writable, keeping its other flags."""
+    flags = MS_REMOUNT | MS_BIND | kept_flags(path) | (MS_RDONLY if read_only else 0)
+    mount(None, path, None, flags)
+
+
+def bind(source: str, target: str, recursive: bool = True) -> None:
+    """Bind `source` (a path, or /proc/self/fd/N of an O_PATH descriptor) at `target`."""
+    mount(source, target, None, MS_BIND | (MS_REC if recursive else 0))
+
+
+def mount_points() -> list[str]:
+    """This mount namespace's mount points, in mount order."""
+    return procfs.mount_points()
+
+
+def _try_in_child() -> int:
+    """In a fresh process: make the job's namespaces; 0 if the kernel allowed it."""
+    try:
+        unshare(job_namespaces())
+    except OSError as exc:
+        return exc.errno or 1
+    return 0
+
+
+def probe() -> str | None:
+    """Whether a process here may make a grading job's namespaces (asked in a child
+    process: unshare cannot be undone)."""
+    try:
+        done = subprocess.run([sys.executable, '-m', 'robot_lab.linux.namespaces'],
+                              capture_output=True, timeout=_PROBE_TIMEOUT, check=False)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f'cannot run the probe: {exc}'
+    if done.returncode == 0:
+        return None
+    return (f"unshare refused: {os.strerror(done.returncode)} (a container's seccomp "
+            'profile, or user namespaces restricted, as on Ubuntu 24.04)')
+
+
+if __name__ == '__main__':
+    sys.exit(_try_in_child())
