@@ -6,9 +6,13 @@ output is saturated from a broken one. So, with the student's sensor paused (its
 stopped, or the system relaunched with the sensor remapped away), the grader publishes
 messages of the sensor's type on the sensor's topic at three levels spanning the range
 the sensor itself produced — low, high, low — and reads the controller's commands at each.
-The controller follows its input when some numeric field of its command moves one way
-from low to high and back the other way from high to low: an input-ignoring controller
-(constant, or drifting with time) does not; a saturated but responsive one does.
+Every field of the command is read, whatever its type: numbers, booleans, strings, arrays
+and nested messages (a Twist, a Bool lamp switch, an Int32 level, a custom message). The
+controller follows its input when some field changes with it: a number that moves one way
+from low to high and back the other way from high to low, or a boolean or a word that
+flips at high and flips back at low (a lamp on below a threshold, a state 'OPEN'/'CLOSED').
+An input-ignoring controller (constant, or drifting with time) does not; a saturated but
+responsive one does.
 
 Each level is read once the controller has answered it, not after a fixed time: on a
 loaded host a controller's commands can trail its input by more than any fixed window
@@ -33,7 +37,7 @@ from robot_lab.grading.package.roles import Observation, Roles
 if TYPE_CHECKING:
     from robot_lab.rclpy_session import Session
 
-__all__ = ['Response', 'drive_controller']
+__all__ = ['Response', 'Value', 'command_fields', 'drive_controller']
 
 _RATE = 20.0  # Hz the grader publishes at
 _SAMPLES = 5  # commands read per level, from the first one that answered it
@@ -42,8 +46,11 @@ _MATCH = 5.0  # s to wait for the controller's subscription to match the grader'
 _SKIP = ('stamp', 'sec', 'nanosec', 'frame_id', 'seq')
 
 
-# One command seen: field path -> its number, or its text (a command may be a word)
-Sample = dict[str, float | str]
+# One command seen: field path -> its number, its truth value or its text (a lamp's
+# switch is a bool, a command may be a word)
+Value = float | bool | str
+Sample = dict[str, Value]
+_ITEMS = 64  # array items read per array field
 
 @dataclass
 class Response:
@@ -55,6 +62,12 @@ class Response:
     levels: list[tuple[float, Sample, int]] = field(default_factory=list)
     why: str = ''  # why it was not tested
 
+    def changed(self) -> list[str]:
+        """The command fields that took more than one value across the levels."""
+        keys = {k for _, outputs, _ in self.levels for k in outputs}
+        return sorted(k for k in keys
+                      if len({repr(outputs.get(k)) for _, outputs, _ in self.levels}) > 1)
+
     def table(self) -> str:
         """One line per level, the fields that moved between levels first, then those
         that are not zero (a Twist's `linear.x`, not its three `angular` zeros)."""
@@ -63,12 +76,19 @@ class Response:
             return len({repr(v) for v in values}) == 1, not any(values), key
 
         keys = sorted({k for _, outputs, _ in self.levels for k in outputs}, key=rank)
+        shown_keys = max(3, min(len(self.changed()), 6))
         rows = []
         for level, outputs, count in self.levels:
-            shown = ', '.join(f'{k} = {v:.3g}' if isinstance(v, float) else f'{k} = {v!r}'
-                              for k in keys[:3] if (v := outputs.get(k)) is not None) or '—'
+            shown = ', '.join(f'{k} = {_show(v)}' for k in keys[:shown_keys]
+                              if (v := outputs.get(k)) is not None) or '—'
             rows.append(f'- input {level:.3g} → {count} command(s): {shown}')
         return '\n'.join(rows)
+
+
+def _show(value: Value) -> str:
+    if isinstance(value, bool):
+        return str(value)
+    return f'{value:.3g}' if isinstance(value, float) else repr(value)
 
 
 def _leaves(data: object, prefix: str = '') -> Iterator[tuple[str, float]]:
@@ -132,14 +152,26 @@ def _at_level(template: dict[str, object], keys: set[str], level: float) -> dict
             for k, v in template.items()}
 
 
-def _texts(data: object, prefix: str = '') -> Iterator[tuple[str, str]]:
-    """Text leaves of a message dict (a command may be a word: 'HIGH', 'fan on')."""
+def command_fields(data: object, prefix: str = '') -> Iterator[tuple[str, Value | int]]:
+    """Every leaf of a command's message dict, stamps left out, as it is: numbers,
+    booleans and texts ('data', 'linear.x', 'lights[2].on', 'state')."""
     if isinstance(data, dict):
         for key, value in data.items():
             if key not in _SKIP:
-                yield from _texts(value, f'{prefix}{key}.')
-    elif isinstance(data, str):
-        yield prefix[:-1], data[:80]
+                yield from command_fields(value, f'{prefix}{key}.')
+    elif isinstance(data, list | tuple):
+        for i, value in enumerate(data[:_ITEMS]):
+            yield from command_fields(value, f'{prefix[:-1]}[{i}].')
+    elif isinstance(data, bool | str):
+        yield prefix[:-1], data[:80] if isinstance(data, str) else data
+    elif isinstance(data, int | float) and math.isfinite(float(data)):
+        yield prefix[:-1], data
+
+
+def _fields(data: object) -> Iterator[tuple[str, Value]]:
+    """The command's leaves, numbers as floats (an Int32's 3 and a Float64's 3.0 alike)."""
+    for key, value in command_fields(data):
+        yield key, value if isinstance(value, bool | str | float) else float(value)
 
 
 def _summary(samples: list[Sample]) -> Sample:
@@ -151,15 +183,16 @@ def _summary(samples: list[Sample]) -> Sample:
         numbers = [v for v in values if isinstance(v, float)]
         if len(numbers) == len(values):
             summary[key] = statistics.median(numbers)
-        else:
-            summary[key] = statistics.mode(str(v) for v in values)
+        else:  # a bool or a word: the most frequent (a field keeps its type)
+            summary[key] = statistics.mode(values)
     return summary
 
 
-def _moved(a: float | str, b: float | str) -> float:
+def _moved(a: Value, b: Value) -> float:
     """How far a field moved between two summaries, in units of its noise floor (a word
-    that changed moved by 2; numbers: the change over a scale of 1e-3 of their size)."""
-    if isinstance(a, str) or isinstance(b, str):
+    or a bool that changed moved by 2; numbers: the change over a scale of 1e-3 of their
+    size)."""
+    if not (isinstance(a, float) and isinstance(b, float)):
         return 2.0 if a != b else 0.0
     return abs(b - a) / (1e-6 + 1e-3 * max(abs(a), abs(b)))
 
@@ -184,8 +217,8 @@ def _answered(samples: list[Sample], before: Sample | None) -> int | None:
 def _follows(low1: Sample, high: Sample, low2: Sample) -> bool:
     for key in low1.keys() & high.keys() & low2.keys():
         a, b, c = low1[key], high[key], low2[key]
-        if isinstance(a, str) or isinstance(b, str) or isinstance(c, str):
-            if a != b and c != b:  # a word: it changes with the input and changes back
+        if not (isinstance(a, float) and isinstance(b, float) and isinstance(c, float)):
+            if a != b and c != b:  # a bool or a word: it flips with the input and back
                 return True
             continue
         up, down = b - a, c - b
@@ -225,7 +258,7 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
     def on_command(msg: Any) -> None:
         with contextlib.suppress(Exception):
             data = message_to_dict(msg)
-            sample: Sample = {**dict(_texts(data)), **dict(_leaves(data))}
+            sample: Sample = dict(_fields(data))
             with lock:
                 received.append(sample)
 

@@ -1,12 +1,21 @@
-"""`controller_commands`: a node turns the sensor's readings into commands."""
+"""`controller_commands`: a node turns the sensor's readings into commands.
+
+The commands may be of any type (robot_lab.grading.package.perturb reads every field), so
+the advice for a controller that does not follow its input fits what it publishes: a
+speed formula for a Twist, a threshold for a Bool lamp switch, a level or a state name for
+an integer or a string, the fields to set for a message of the student's own.
+"""
 
 from __future__ import annotations
 
+from typing import Any
+
+from robot_lab.grading.package.perturb import Value, command_fields
 from robot_lab.grading.package.registry import register
 from robot_lab.grading.package.rubric import RubricCheck
 from robot_lab.grading.package.state import JobState, Verdict
 
-__all__ = ['controller_commands']
+__all__ = ['command_hint', 'controller_commands']
 
 EXPECTED = 'a node that subscribes to the sensor topic and publishes commands derived from it'
 
@@ -38,9 +47,50 @@ def controller_commands(state: JobState, check: RubricCheck) -> Verdict:
         why = response.why if response is not None else 'not driven'
         return Verdict(True, EXPECTED, observed + f'\n\n(its response was not tested: {why})')
     observed += (f'\n\nThen {response.how}, low → high → low:\n\n' + response.table())
+    changed = response.changed()
+    moved = ('fields that changed with the input: ' + ', '.join(f'`{k}`' for k in changed[:8])
+             if changed else 'no field of the command changed with the input')
     if response.follows:
-        return Verdict(True, EXPECTED, observed + '\n\nits commands follow the input')
-    return Verdict(False, EXPECTED, observed + '\n\nits commands did not follow the input',
-                   'compute each command from the latest reading (e.g. speed = gain × (distance '
-                   '− target), capped), in the subscription callback or a timer that uses the '
-                   'last value received')
+        return Verdict(True, EXPECTED, observed + f'\n\nits commands follow the input ({moved})')
+    last = commands.values[-1] if commands and commands.values else {}
+    return Verdict(False, EXPECTED,
+                   observed + f'\n\nits commands did not follow the input ({moved})',
+                   command_hint(commands.types[0] if commands and commands.types else '',
+                                last))
+
+
+def command_hint(type_name: str, last: dict[str, Any]) -> str:
+    """How to make commands of this type follow the reading (`last`: a command's dict)."""
+    fields = dict(command_fields(last))
+    where = ('in the subscription callback, or in a timer that uses the last value '
+             'received, so that each command comes from the latest reading')
+    kinds = {_kind(v) for v in fields.values()}
+    short = type_name.rsplit('/', 1)[-1]
+    if short in ('Twist', 'TwistStamped', 'Accel', 'AccelStamped') or (
+            kinds == {'number'} and any(k.startswith(('linear', 'angular')) for k in fields)):
+        return ('compute each command from the latest reading (e.g. speed = gain × '
+                f'(distance − target), capped), {where}')
+    names = ', '.join(f'`{k}`' for k in list(fields)[:4]) or 'its fields'
+    if kinds == {'bool'}:
+        return (f'set {names} from the latest reading against a threshold (e.g. '
+                '`msg.data = reading < threshold`; with hysteresis, switch on below one '
+                f'threshold and off above a higher one), {where}')
+    if kinds == {'text'}:
+        return (f"choose the state ({names}) from the latest reading (e.g. `'ON' if "
+                f"reading < threshold else 'OFF'`), {where}")
+    if kinds == {'integer'}:
+        return (f'choose the level ({names}) from the latest reading (e.g. `0 if reading '
+                f'< low else 1 if reading < high else 2`), {where}')
+    if kinds == {'number'}:
+        return (f'compute {names} from the latest reading (e.g. gain × (reading − '
+                f'target), capped), {where}')
+    return (f'set the fields of your `{short or "command"}` message ({names}) from the '
+            f'latest reading, {where}')
+
+
+def _kind(value: Value | int) -> str:
+    if isinstance(value, bool):
+        return 'bool'
+    if isinstance(value, str):
+        return 'text'
+    return 'integer' if isinstance(value, int) else 'number'
