@@ -26,7 +26,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ['CheckOutcome', 'StudentReport', 'ascii_name', 'data_uri', 'run_summary',
+__all__ = ['CheckOutcome', 'StudentReport', 'ascii_name', 'data_uri', 'grader_errors',
+           'run_summary',
            'safe_name', 'write_outputs']
 
 
@@ -39,6 +40,7 @@ class CheckOutcome:
     score: float
     max_score: float
     output: str = ''
+    grader_error: str = ''  # the grader failed here: points kept, to regrade with --only
 
     @property
     def passed(self) -> bool:
@@ -208,14 +210,32 @@ def _to_html(markdown_text: str, title: str) -> str:
             f'</style></head><body>\n{body}</body></html>\n')
 
 
+def grader_errors(reports: Sequence[StudentReport]) -> list[tuple[str, list[str]]]:
+    """(student, the checks the grader failed on) for every student it failed somewhere:
+    their points were kept, and they are to be regraded with `--only`."""
+    found = []
+    for r in sorted(reports, key=lambda r: r.student):
+        checks = [c.id for c in r.checks if c.grader_error]
+        if checks or r.status == 'grader error':
+            found.append((r.student, checks))
+    return found
+
+
 def run_summary(reports: Sequence[StudentReport]) -> str:
-    """The run's last line: how many, and who was not fully graded (and why, briefly)."""
+    """The run's last line: how many, who was not fully graded (and why, briefly), and how
+    many grader errors there were, with the `--only` that regrades them."""
     short = [r for r in reports if r.status != 'graded']
     line = f'{len(reports)} student(s): {len(reports) - len(short)} fully graded'
-    if not short:
-        return line
-    names = ', '.join(f'{r.student} ({r.status})' for r in sorted(short, key=lambda r: r.student))
-    return f'{line}, {len(short)} not fully graded: {names}'
+    if short:
+        names = ', '.join(f'{r.student} ({r.status})'
+                          for r in sorted(short, key=lambda r: r.student))
+        line = f'{line}, {len(short)} not fully graded: {names}'
+    faults = grader_errors(reports)
+    if faults:
+        count = sum(max(1, len(checks)) for _, checks in faults)
+        line += (f'; {count} grader error(s) in {len(faults)} student(s), points kept: '
+                 f'regrade with --only {",".join(s for s, _ in faults)}')
+    return line
 
 
 def check_ids(reports: Iterable[StudentReport]) -> list[str]:

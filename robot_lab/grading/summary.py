@@ -1,8 +1,9 @@
 """`OUT/summary.html`: the class at a glance, for the instructor (one self-contained page).
 
 The score distribution (a histogram, embedded as a data URI), the pass rate of each check
-(where the class struggled), who scored 0, who was not fully graded and why, who handed in
-late, and the slowest jobs (what to look at when a run takes long).
+(where the class struggled), who scored 0, who was not fully graded and why, where the
+grader itself failed (points kept; the `--only` that regrades them), who handed in late,
+and the slowest jobs (what to look at when a run takes long).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from collections.abc import Sequence
 from datetime import datetime
 from pathlib import Path
 
-from robot_lab.grading.report import StudentReport, number
+from robot_lab.grading.report import StudentReport, grader_errors, number
 
 __all__ = ['write_summary']
 
@@ -52,6 +53,25 @@ def _people(title: str, anchor: str, rows: Sequence[Sequence[str]], head: Sequen
             none: str) -> str:
     content = _table(head, rows) if rows else f'<p>{html.escape(none)}</p>'
     return f'<h2 id="{anchor}">{html.escape(title)} ({len(rows)})</h2>{content}'
+
+
+def _grader_errors(reports: Sequence[StudentReport]) -> str:
+    """Where the grader failed: the checks (their points kept) and why, then the regrade."""
+    faults = grader_errors(reports)
+    by_student = {r.student: r for r in reports}
+    rows = []
+    for student, checks in faults:
+        report = by_student[student]
+        why = '; '.join(f'{c.id}: {c.grader_error}' for c in report.checks
+                        if c.grader_error) or report.error
+        rows.append([student, ', '.join(checks) or '(the job)', why])
+    section = _people('Grader errors (points kept)', 'grader-errors', rows,
+                      ['student', 'checks', 'what failed'], 'None: the grader never failed.')
+    if faults:
+        section += ('<p>Regrade them once the cause is fixed (or the host is quieter): '
+                    f'<code>robot-lab grade … -o OUT --only '
+                    f'{html.escape(",".join(s for s, _ in faults))}</code></p>')
+    return section
 
 
 def write_summary(path: Path, reports: Sequence[StudentReport], title: str = '',
@@ -99,6 +119,7 @@ def write_summary(path: Path, reports: Sequence[StudentReport], title: str = '',
     parts.append(_people('Scored 0', 'zero', zero, ['student', 'status'], 'Nobody.'))
     parts.append(_people('Not fully graded', 'not-graded', short,
                          ['student', 'status', 'why'], 'Everyone was fully graded.'))
+    parts.append(_grader_errors(reports))
     if not_handed_in:
         parts.append(_people('In the roster, no hand-in', 'missing',
                              [[s] for s in not_handed_in], ['student'], ''))

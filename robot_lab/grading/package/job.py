@@ -7,7 +7,9 @@ copied into a private workspace; its README, parameter and launch files found), 
 (`colcon build`, the kit's build), 'run' (robot_lab.grading.package.live: the student's
 own launch file under the kit's launcher, watched by an observer session). After each
 stage the rubric's checks registered for it (robot_lab.grading.package.registry) are
-scored; an exception in a check is the grader's error, reported as such, never a lost point.
+scored. The grader's own failures are never a lost point: an exception in a check, a stage
+that raised (`JobState.stage_faults`) or a fault a check reports (`Verdict.grader_error`)
+gives the check its points, marked as a grader error for a regrade (`--only`).
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from pathlib import Path
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.registry import Stage, registered_checks
-from robot_lab.grading.package.rubric import Rubric, load_rubric
+from robot_lab.grading.package.rubric import Rubric, RubricCheck, load_rubric
 from robot_lab.grading.package.state import JobState, Verdict
 from robot_lab.grading.package.submission import find_package
 from robot_lab.grading.report import CheckOutcome, StudentReport
@@ -45,9 +47,29 @@ def _outcome(state: JobState, check_id: str, verdict: Verdict) -> None:
                                             check.points, verdict.text())
 
 
+def _where(err: BaseException) -> str:
+    """`Type: message (file.py:line)`: the grader's failure, for the instructor."""
+    frames = traceback.extract_tb(err.__traceback__)
+    where = f' ({Path(frames[-1].filename).name}:{frames[-1].lineno})' if frames else ''
+    return f'{type(err).__name__}: {err}{where}'
+
+
+def _grader_error(state: JobState, check: RubricCheck, why: str, text: str = '') -> None:
+    """The check's points kept and the check marked: the grader failed, not the package."""
+    state.grader_errors.append(f'{check.id}: {why}')
+    state.outcomes[check.id] = CheckOutcome(
+        check.id, check.name, check.points, check.points,
+        f'**Grader error:** the grader failed while scoring this check ({why}); the points '
+        'are kept and the instructor has been told to regrade it. This is not a fault in '
+        'your package.' + (f'\n\nWhat the grader saw before it failed:\n\n{text}'
+                           if text else ''), grader_error=why)
+
+
 def score_stage(state: JobState, stage: Stage) -> None:
     """Score the rubric's checks registered for `stage`, in the rubric's order."""
     registered = registered_checks()
+    # A stage that raised leaves its checks and the later stages' without all their data.
+    fault = '; '.join(f'{s} stage: {why}' for s, why in state.stage_faults.items())
     for check in state.rubric.checks:
         entry = registered.get(check.id)
         if entry is None or entry.stage != stage:
@@ -55,16 +77,14 @@ def score_stage(state: JobState, stage: Stage) -> None:
         try:
             verdict = entry.run(state, check)
         except Exception as err:  # the grader's own fault: the student keeps the points
-            frame = traceback.extract_tb(err.__traceback__)[-1]
-            where = f'{Path(frame.filename).name}:{frame.lineno}'
-            state.grader_errors.append(f'{check.id}: {type(err).__name__}: {err} ({where})')
-            state.outcomes[check.id] = CheckOutcome(
-                check.id, check.name, check.points, check.points,
-                f'**Grader error:** the grader failed while scoring this check '
-                f'({type(err).__name__} at {where}); the points are kept and the instructor '
-                'has been told. This is not a fault in your package.')
+            _grader_error(state, check, _where(err))
             continue
-        _outcome(state, check.id, verdict)
+        if verdict.grader_error:
+            _grader_error(state, check, verdict.grader_error, verdict.text())
+        elif fault and verdict.fraction < 1:
+            _grader_error(state, check, fault, verdict.text())
+        else:
+            _outcome(state, check.id, verdict)
 
 
 def param_files_of(package: Path) -> list[Path]:
@@ -160,16 +180,29 @@ def run_job(job_dir: Path, rubric: Rubric | None = None) -> int:
                                               err.fix or ''))
         _write(job_dir, state, student, started=started)
         return 0
-    target = _workspace(package, unpacked, ws)
-    state.package = target
-    state.package_name = target.name
-    state.param_files = param_files_of(target)
-    state.launch_files = launch_files_of(target)
+    try:
+        target = _workspace(package, unpacked, ws)
+        state.package = target
+        state.package_name = target.name
+        state.param_files = param_files_of(target)
+        state.launch_files = launch_files_of(target)
+    except Exception as err:  # copying and listing the files: the grader's own calls
+        state.stage_faults['files'] = _where(err)
+        state.live.grader_fault = state.stage_faults['files']
     stages: tuple[tuple[Stage, Callable[[], None]], ...] = (
         ('files', lambda: None), ('build', lambda: _build(state, ws)),
         ('run', lambda: live.run_system(job_dir, ws, state)))
     for stage, prepare in stages:
-        prepare()
+        if state.package is not None and not state.stage_faults:
+            try:
+                prepare()
+            except Exception as err:  # the grader's own fault: its checks keep the points
+                traceback.print_exc()
+                state.stage_faults[stage] = _where(err)
+                state.live.grader_fault = state.live.grader_fault or state.stage_faults[stage]
+                if not state.live.not_run:
+                    state.live.not_run = (f'the grader failed in the {stage} stage: '
+                                          f'{state.stage_faults[stage]}')
         score_stage(state, stage)
         _write(job_dir, state, student, started=started)
         _stage(stage, started)

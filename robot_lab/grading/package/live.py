@@ -6,6 +6,11 @@ The student's launch file runs under the kit's launcher; a parameter file that r
 refuse is left out (so the behaviour can still be graded; `params_file` reports it) and a
 package without a launch file gets every executable started (so only `launch_file` and
 `params_used` are lost). The observer is this process's session in the job's domain.
+
+The grader's own calls here (the graph queries of the watch, parameter reads, the
+perturbation) can fail on a loaded host: each failure is kept as a grader fault for the
+checks it concerns (robot_lab.grading.package.state), never read as the student's
+("no node holds it"). A parameter read is retried while the job's budget allows.
 """
 
 from __future__ import annotations
@@ -18,10 +23,10 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import ParamFileError, RobotLabError
-from robot_lab.grading.package.perturb import drive_controller
+from robot_lab.grading.package.perturb import Response, drive_controller
 from robot_lab.grading.package.roles import infer_roles, observe
 from robot_lab.grading.package.state import JobState, ParamReading, code
 
@@ -124,18 +129,45 @@ def _matches(pattern: str, node: str) -> bool:
     return wanted == node or (wanted.startswith('/**/') and node.endswith(wanted[3:]))
 
 
+# Parameter reads: each is tried up to _READ_TRIES times (each try waits up to the parameter
+# client's own timeouts), all of them within _READS_BUDGET s and never into the last
+# _RESERVE s of the job's budget (the run checks still have to be scored and written).
+_READ_TRIES = 3
+_READS_BUDGET = 60.0
+_RESERVE = 30.0
+
+
+def _read_param(sess: Session, node: str, name: str, deadline: float) -> tuple[bool, Any, str]:
+    """(answered, value or None when the node does not hold it, the grader's error)."""
+    from robot_lab.graph.parameters import param_get_typed
+
+    error, pause = 'not tried: the time for parameter reads had run out', 0.25
+    for attempt in range(_READ_TRIES):
+        if time.monotonic() >= deadline:
+            break
+        try:
+            kind, value = param_get_typed(node, name, session=sess, unset_ok=True)
+        except Exception as err:  # a timeout, a lost request: the grader's, not the node's
+            error = f'{type(err).__name__}: {err}'
+            if attempt + 1 < _READ_TRIES:
+                time.sleep(min(pause, max(0.0, deadline - time.monotonic())))
+                pause *= 2
+            continue
+        return True, (value if kind else None), ''
+    return False, None, error
+
+
 def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
                       running: list[str]) -> None:
     """Which of the student's parameter files the launch passes, and the values the running
     nodes hold for each parameter in them (scored by the `params_used` check)."""
-    from robot_lab.graph.parameters import param_get
-
     own = {p.name for p in state.param_files}
     live = state.live
     for spec in plan.processes():
         for path in spec.param_files:
             if Path(path).name in own:
                 live.params_loaded.setdefault(path, []).append(spec.node_name or spec.executable)
+    deadline = time.monotonic() + max(0.0, min(_READS_BUDGET, state.time_left() - _RESERVE))
     for path in live.params_loaded:
         try:
             data = state.params(path)
@@ -146,12 +178,11 @@ def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
             for name, value in params.items():
                 reading = ParamReading(pattern, name, value, None)
                 for node in nodes:
-                    try:
-                        held = param_get(node, name, session=sess)
-                    except Exception:
-                        continue
-                    if held is not None:
-                        reading.node, reading.held = node, held
+                    answered, held, error = _read_param(sess, node, name, deadline)
+                    if not answered:
+                        reading.node, reading.error = node, error
+                    elif held is not None:
+                        reading.node, reading.held, reading.error = node, held, ''
                         break
                 live.readings.append(reading)
 
@@ -199,13 +230,19 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         live.not_run = f'the launch did not start: {err}'
         live.fix = err.fix or 'run it yourself with `ros2 launch` and fix the error it prints'
         return
+    output: dict[str, list[str]] = {}
     # One process may spin several nodes: wait for as many nodes as the lab asks for.
     wanted = max(len(plan.processes()), int(state.option('launch_file', 'min_nodes', 3)))
     try:
-        obs = observe(sess, wanted, rubric.startup_seconds, rubric.observe_seconds,
-                      alive=lambda: handle.running,
-                      running=lambda: [p.pid for p in handle.processes
-                                       if p.state == 'running' and p.pid])
+        try:
+            obs = observe(sess, wanted, rubric.startup_seconds, rubric.observe_seconds,
+                          alive=lambda: handle.running,
+                          running=lambda: [p.pid for p in handle.processes
+                                           if p.state == 'running' and p.pid])
+        except Exception as err:  # the grader's graph queries, not the student's nodes
+            live.grader_fault = f'watching the running system failed: {type(err).__name__}: {err}'
+            live.not_run = f'the grader could not watch the running system ({live.grader_fault})'
+            return
         live.obs = obs
         with contextlib.suppress(Exception):
             state.images.append(graph_view(session=sess).save(job_dir / 'graph.png'))
@@ -220,11 +257,16 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         live.roles = infer_roles(obs, float(state.option('sensor_publishes', 'min_rate_hz',
                                                          0.5)))
         if live.roles.sensor and live.roles.controller:
-            live.response = drive_controller(
-                sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess))
+            try:
+                live.response = drive_controller(
+                    sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess))
+            except Exception as err:  # the grader's perturbation failed, not the controller
+                live.response = Response(False, why='the grader failed while driving it',
+                                         fault=f'{type(err).__name__}: {err}')
     finally:
         handle.shutdown(timeout=10)
-    _after_the_run(state, job_dir, output)
+    if not live.grader_fault:
+        _after_the_run(state, job_dir, output)
 
 
 def _process_of(statuses: list[ProcessStatus], node: str, other: str | None) -> int | None:

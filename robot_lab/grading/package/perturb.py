@@ -61,6 +61,7 @@ class Response:
     how: str = ''  # how the sensor was taken out of the loop
     levels: list[tuple[float, Sample, int]] = field(default_factory=list)
     why: str = ''  # why it was not tested
+    fault: str = ''  # the grader's own failure while driving it (not the controller's)
 
     def changed(self) -> list[str]:
         """The command fields that took more than one value across the levels."""

@@ -4,11 +4,18 @@
 (`checks/`) only read it and return a `Verdict`, which `job` turns into the student's
 `CheckOutcome` with the rubric's points. Parameter files are parsed once per job
 (`JobState.params`), whichever stage asks first.
+
+A failure of the grader's own calls (a ROS query, a parameter read, the perturbation, a
+file read, a stage that raised) is never the student's loss: it is kept as the `fault` it
+is (`LiveRun.grader_fault`, `ParamReading.error`, `JobState.stage_faults`), and a check it
+may have changed returns a `Verdict` with `grader_error` set, which `job` scores as a
+grader error: the points kept, the check marked for a regrade.
 """
 
 from __future__ import annotations
 
 import hashlib
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -53,6 +60,7 @@ class Verdict:
     expected: str
     observed: str
     fix: str = ''
+    grader_error: str = ''  # the grader's own failure that may have decided this verdict
 
     @property
     def fraction(self) -> float:
@@ -71,6 +79,7 @@ class ParamReading:
     file_value: Any
     node: str | None  # the node that holds it, None when none does
     held: Any = None
+    error: str = ''  # the grader could not read it from `node` (a timeout): not the student's
 
 
 @dataclass
@@ -96,9 +105,10 @@ class LiveRun:
     alive_nodes: set[str] = field(default_factory=set)  # in the graph when the watch ended
     crashes: dict[str, Crash] = field(default_factory=dict)  # label -> why it died
     response: Response | None = None  # the controller driven by the grader (perturb)
+    grader_fault: str = ''  # the grader's own failure that kept the system from being watched
 
     def not_run_verdict(self, expected: str) -> Verdict:
-        return Verdict(False, expected, self.not_run, self.fix)
+        return Verdict(False, expected, self.not_run, self.fix, grader_error=self.grader_fault)
 
     def watched(self) -> tuple[Observation, Roles] | None:
         """What the observer saw and the roles in it; None when nothing ran."""
@@ -155,9 +165,16 @@ class JobState:
     outcomes: dict[str, CheckOutcome] = field(default_factory=dict)
     images: list[Path] = field(default_factory=list)
     grader_errors: list[str] = field(default_factory=list)
+    # stage -> the grader's failure in it (a stage that raised): later checks may lack data
+    stage_faults: dict[str, str] = field(default_factory=dict)
+    started: float = field(default_factory=time.monotonic)
     blocked: list[str] = field(default_factory=list)  # what the sandbox refused, for feedback
     _parsed: dict[str, dict[str, dict[str, Any]] | ParamFileError] = field(
         default_factory=dict, repr=False)
+
+    def time_left(self) -> float:
+        """Seconds of the job's wall-clock budget (the rubric's limits) not used yet."""
+        return self.rubric.limits.wall_seconds - (time.monotonic() - self.started)
 
     def option(self, check_id: str, key: str, default: Any) -> Any:
         """A rubric option of a check (its default when the rubric drops the check)."""

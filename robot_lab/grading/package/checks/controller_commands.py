@@ -42,6 +42,9 @@ def controller_commands(state: JobState, check: RubricCheck) -> Verdict:
     if count == 0:
         return Verdict(False, EXPECTED, observed, 'publish a command in the sensor callback (or '
                        'a timer) computed from the latest reading')
+    if response is not None and response.fault:
+        return Verdict(False, EXPECTED, observed, grader_error='driving the sensor topic '
+                       f'failed: {response.fault}')
     if response is None or not response.tested:
         # Not driven (nothing to imitate): the commands are all that can be judged.
         why = response.why if response is not None else 'not driven'

@@ -36,10 +36,16 @@ def params_used(state: JobState, check: RubricCheck) -> Verdict:
             'config/params.yaml"/>` inside each `<node>`, Python `parameters=[os.path.join('
             "get_package_share_directory('PKG'), 'config', 'params.yaml')]`")
     else:
-        checked, wrong, lines = 0, 0, []
+        checked, wrong, lines, unread = 0, 0, [], []
         dead = {p.name for p in live.died()}
         for reading in live.readings:
             named = reading.pattern.lstrip('/') not in ('**', '*')
+            if reading.error and reading.node in live.alive_nodes and reading.node not in dead:
+                # The node is up but the grader's read failed (a timeout): not a wrong value.
+                unread.append(f'{reading.node} {reading.name}')
+                lines.append(f'{reading.node} {reading.name}: the grader could not read it '
+                             f'({reading.error})')
+                continue
             if reading.node is None:
                 # A node the file names that is not running (it died): nothing uses it.
                 wrong += named
@@ -67,6 +73,9 @@ def params_used(state: JobState, check: RubricCheck) -> Verdict:
                           'node names in the file match the names the launch file gives')
         if not verdict.fraction and live.crash_fix():
             verdict.fix = live.crash_fix()
+        if unread and wrong == 0:  # only the grader's failed reads stand in the way
+            verdict.grader_error = (f'{len(unread)} parameter read(s) failed after retries: '
+                                    + ', '.join(unread[:4]))
     if live.dropped:
         verdict.observed += ('\n\nleft out of the launch (rcl would refuse them, and every node '
                              'given them would exit at start):\n\n') + '\n'.join(
