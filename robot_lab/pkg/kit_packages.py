@@ -67,6 +67,11 @@ KIT_PACKAGES: tuple[str, ...] = (
     'action_tutorials_interfaces',
     'turtlesim',
     'tf2_msgs',
+    # tf2's Python packages (upstream's module paths over robot_lab.tf2) and their tools
+    'tf2_py',
+    'tf2_ros',
+    'tf2_geometry_msgs',
+    'tf2_tools',
     # Chapter 7's robot description packages (data and launch files; programs below)
     'robot_state_publisher',
     'joint_state_publisher',

@@ -1,0 +1,73 @@
+"""tf2_ros's TransformListener: /tf and /tf_static into a Buffer, with upstream's QoS
+(/tf depth 100 volatile, /tf_static depth 100 transient-local, so a late listener still
+gets every static frame) and its callbacks in a reentrant group."""
+
+from __future__ import annotations
+
+from threading import Thread
+from typing import Any
+
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
+
+__all__ = ['TransformListener']
+
+
+class TransformListener:
+    """`TransformListener(buffer, node, *, spin_thread=False, qos=None, static_qos=None)`."""
+
+    def __init__(self, buffer: Any, node: Any, *, spin_thread: bool = False,
+                 qos: QoSProfile | int | None = None,
+                 static_qos: QoSProfile | int | None = None) -> None:
+        from tf2_msgs.msg import TFMessage
+        if qos is None:
+            qos = QoSProfile(depth=100, durability=DurabilityPolicy.VOLATILE,
+                             history=HistoryPolicy.KEEP_LAST)
+        if static_qos is None:
+            static_qos = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                                    history=HistoryPolicy.KEEP_LAST)
+        self.buffer = buffer
+        self.node = node
+        # The default group is mutually exclusive: a callback waiting for a transform would
+        # keep these from running.
+        self.group = ReentrantCallbackGroup()
+        self.tf_sub = node.create_subscription(TFMessage, '/tf', self.callback, qos,
+                                               callback_group=self.group)
+        self.tf_static_sub = node.create_subscription(
+            TFMessage, '/tf_static', self.static_callback, static_qos,
+            callback_group=self.group)
+        if spin_thread:
+            self.executor = SingleThreadedExecutor()
+
+            def run_func() -> None:
+                self.executor.add_node(self.node)
+                self.executor.spin()
+                self.executor.remove_node(self.node)
+
+            self.dedicated_listener_thread = Thread(target=run_func, daemon=True)
+            self.dedicated_listener_thread.start()
+
+    def __del__(self) -> None:
+        if hasattr(self, 'dedicated_listener_thread') and hasattr(self, 'executor'):
+            self.executor.shutdown()
+            self.dedicated_listener_thread.join()
+        self.unregister()
+
+    def unregister(self) -> None:
+        """Destroy the two subscriptions."""
+        try:
+            self.node.destroy_subscription(self.tf_sub)
+            self.node.destroy_subscription(self.tf_static_sub)
+        except Exception:  # the node may be gone already (__del__ at shutdown)
+            pass
+
+    def callback(self, data: Any) -> None:
+        who = 'default_authority'
+        for transform in data.transforms:
+            self.buffer.set_transform(transform, who)
+
+    def static_callback(self, data: Any) -> None:
+        who = 'default_authority'
+        for transform in data.transforms:
+            self.buffer.set_transform_static(transform, who)
