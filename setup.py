@@ -39,6 +39,8 @@ KIT = [
     'nbgrader',
     'copydetect',
     'anywidget',
+    # Chapter 7: the venv's `xacro` is robot_lab.urdf.xacro_command (the kit's ament index)
+    'xacro>=2.1.1,<2.2',
 ]
 
 setup(
@@ -95,7 +97,9 @@ setup(
         # only for bench_widgets' comparison; it brings pandas, which students never use).
         'test': [*KIT, 'bqplot', 'pytest', 'pytest-timeout', 'pytest-xdist', 'nbval', 'ruff',
                  'mypy', 'types-PyYAML', 'types-psutil', 'playwright', 'jupyterhub',
-                 'jupyter-repo2docker'],
+                 'jupyter-repo2docker',
+                 # forward kinematics independent of robot_lab.urdf, to check it against
+                 'yourdfpy'],
     },
     zip_safe=True,
     maintainer='robot_lab maintainers',
@@ -107,6 +111,8 @@ setup(
         ] + [
             'robot-lab = robot_lab.cli:entry',
             'ros2 = robot_lab.cli:ros2_entry',
+            'xacro = robot_lab.urdf.xacro_command:main',  # over PyPI xacro's own
+            'check_urdf = robot_lab.urdf.check:entry',
             'ament_copyright = ament_copyright.main:main',
         ],
         'pytest11': ['ament_copyright = ament_copyright.pytest_marker'],

@@ -13,6 +13,7 @@ __all__ = [
     'PackageNotFoundError',
     'ParamFileError',
     'RobotLabError',
+    'UrdfError',
 ]
 
 
@@ -71,3 +72,7 @@ class GraphError(RobotLabError):
 
 class BagError(RobotLabError):
     """A rosbag2 folder or file that cannot be written, read or played."""
+
+
+class UrdfError(RobotLabError):
+    """A robot description (URDF) that urdfdom would refuse, or a joint tree that is not one."""
