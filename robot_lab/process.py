@@ -7,8 +7,7 @@ SIGINT/SIGTERM dispositions back (a parent started with `&` passes SIGINT on ign
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
+import contextlib
 import os
 import signal
 import subprocess
@@ -16,27 +15,27 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ['child_setup', 'spawn', 'stop']
+from robot_lab.linux.libc import libc
+from robot_lab.linux.prctl import set_parent_death_signal
 
-_PR_SET_PDEATHSIG = 1
-_LIBC: ctypes.CDLL | None = None
-if os.name == 'posix':
-    try:
-        _LIBC = ctypes.CDLL(ctypes.util.find_library('c') or 'libc.so.6', use_errno=True)
-    except OSError:  # not Linux: no parent-death signal, stop() still cleans up
-        _LIBC = None
+__all__ = ['child_setup', 'spawn', 'stop']
 
 
 def child_setup() -> None:
     """`preexec_fn` for a child that dies with this process and takes Ctrl-C as a fresh
     process does, even when this one was started with SIGINT ignored (`cmd &`, nohup)."""
-    # Runs in the child between fork and exec: only async-signal-safe work here.
-    if _LIBC is not None:
-        _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    # Runs in the child between fork and exec: only async-signal-safe work here (the C
+    # library was loaded by spawn() before the fork: no lock taken here).
+    armed = set_parent_death_signal(signal.SIGKILL)
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if _LIBC is not None and os.getppid() == 1:
+    if armed and os.getppid() == 1:
         os._exit(1)  # the parent died before prctl took effect
+
+
+# Loaded now, before any fork: child_setup, between fork and exec, may not load it.
+with contextlib.suppress(OSError):
+    libc()
 
 
 def spawn(

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from robot_lab.domain import domain_ports
+from robot_lab.linux.procfs import fd_targets, maps
 
 __all__ = ['HEARING_CHECK', 'SHM_DIR', 'Swept', 'deaf_note', 'deaf_processes', 'listening_ports',
            'lost_ports', 'sweep_dead_segments']
@@ -120,10 +121,9 @@ def lost_ports(pid: int | None = None, listening: set[int] | None = None) -> lis
     """
     if not (listening := listening_ports(pid) if listening is None else listening):
         return []  # the kit's participants: their data comes by UDP
-    proc = Path('/proc') / (str(pid) if pid is not None else 'self')
     try:
         # bytes: a node's maps are about 110 KB, and need no decoding
-        removed = {int(n) for n in _REMOVED_PORT.findall((proc / 'maps').read_bytes())}
+        removed = {int(n) for n in _REMOVED_PORT.findall(maps(pid))}
     except OSError:  # gone, or not ours
         return []
     return sorted(removed & listening)
@@ -132,17 +132,8 @@ def lost_ports(pid: int | None = None, listening: set[int] | None = None) -> lis
 def listening_ports(pid: int | None = None) -> set[int]:
     """The shared-memory ports process `pid` (default: this one) listens on: those whose
     `_el` lock file it holds open."""
-    fd_dir = Path('/proc') / (str(pid) if pid is not None else 'self') / 'fd'
     ports: set[int] = set()
-    try:
-        fds = os.listdir(fd_dir)
-    except OSError:
-        return ports
-    for fd in fds:
-        try:
-            target = os.readlink(fd_dir / fd)
-        except OSError:
-            continue
+    for target in fd_targets(pid).values():
         if (match := _PORT_LOCK.fullmatch(target)) is not None:
             ports.add(int(match[1]))
     return ports

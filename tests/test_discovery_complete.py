@@ -116,10 +116,10 @@ def test_the_socket_table_skips_no_socket_while_others_come_and_go() -> None:
     The table's reader sees every socket that stays open."""
     import socket
 
-    from robot_lab.graph import host_sockets
+    from robot_lab.linux import sock_diag
 
     try:
-        host_sockets._dump(socket.AF_INET)
+        sock_diag.dump(socket.AF_INET)
     except OSError as error:
         pytest.skip(f'this kernel has no UDP sock_diag ({error}): the table comes from '
                     '/proc/net/udp, which can skip rows')

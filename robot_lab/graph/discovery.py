@@ -33,7 +33,6 @@ import os
 import sys
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
 from weakref import WeakKeyDictionary
 
@@ -44,6 +43,7 @@ from robot_lab.graph.host_sockets import (
     port_holders,
     socket_drops,
 )
+from robot_lab.linux import procfs
 
 if TYPE_CHECKING:
     from robot_lab.rclpy_session import Session
@@ -378,13 +378,12 @@ class HostCount:
 
 def _command(pid16: int) -> str:
     """The start of the command line of the process whose pid's low 16 bits are `pid16`."""
-    for entry in os.scandir('/proc'):
-        if entry.name.isdigit() and int(entry.name) & 0xFFFF == pid16:
+    for pid in procfs.pids():
+        if pid & 0xFFFF == pid16:
             try:
-                raw = Path(entry.path, 'cmdline').read_bytes()
+                return ' '.join(procfs.command_line(pid)).strip()[:120]
             except OSError:
                 continue
-            return raw.replace(b'\0', b' ').decode(errors='replace').strip()[:120]
     return '?'
 
 

@@ -7,7 +7,7 @@ kit's nodes and a student's ament_python ones alike), not run through a shell, a
 environment matches the server's in everything the interpreter reads when it starts (only
 ROS's own variables, read at `rclpy.init`, may differ). Anything else, and any failure of
 the server, is exec'd as before. A forked node is this process's child, as an exec'd one
-is; the handle waits for it through a pidfd, in Popen's terms.
+is; the handle waits for it through a pidfd (polling where there is none), in Popen's terms.
 
 The server is started before the first node and imports what the nodes will; every node
 waits for it rather than being exec'd meanwhile. For the kit's own package it starts before
@@ -39,6 +39,8 @@ from collections.abc import Mapping
 from typing import IO, Any
 
 from robot_lab.launch.plan import ProcessSpec
+from robot_lab.linux import capabilities
+from robot_lab.linux.pidfd import open_pidfd, send_signal
 from robot_lab.process import spawn
 
 __all__ = ['EARLY_PACKAGES', 'ENABLE', 'ForkServer', 'ForkedProcess', 'enabled', 'interpreter_of',
@@ -51,11 +53,14 @@ EARLY_PACKAGES = frozenset({'robot_lab'})
 _RUNTIME = ('ROS_', 'RMW_', 'RCUTILS_', 'RCL_', 'FASTRTPS_', 'FASTDDS_', 'AMENT_', 'COLCON_')
 _READY_TIMEOUT = 120.0  # the server's imports, on a host as loaded as a class hub gets
 _MESSAGE = 1 << 16
+_POLL = 0.05  # a forked node's exit, looked for without a pidfd
 
 
 def enabled(environ: Mapping[str, str] | None = None) -> bool:
-    """Whether launches here fork their Python nodes (yes unless ROBOT_LAB_FORK_SERVER=0)."""
-    return (os.environ if environ is None else environ).get(ENABLE, '1') != '0'
+    """Whether launches here fork their Python nodes (yes unless ROBOT_LAB_FORK_SERVER=0
+    or the `fork_server` capability is switched off)."""
+    env = os.environ if environ is None else environ
+    return env.get(ENABLE, '1') != '0' and not capabilities.disabled('fork_server', env)
 
 
 def _startup(env: Mapping[str, str]) -> dict[str, str]:
@@ -104,7 +109,9 @@ def interpreter_of(spec: ProcessSpec) -> str | None:
 
 class ForkedProcess:
     """A node the server forked as this process's child: the parts of subprocess.Popen the
-    supervisor uses, waiting through a pidfd (never a reused pid)."""
+    supervisor uses, waiting through a pidfd (never a reused pid), or where pidfds are
+    missing (Linux before 5.3, a seccomp filter, `pidfd` switched off) by polling
+    waitid: the child is ours, so its pid is ours until we reap it."""
 
     def __init__(self, pid: int, args: list[str], stdout: IO[bytes],
                  stderr: IO[bytes]) -> None:
@@ -113,19 +120,22 @@ class ForkedProcess:
         self.stdout: IO[bytes] | None = stdout
         self.stderr: IO[bytes] | None = stderr
         self.returncode: int | None = None
-        self._pidfd = os.pidfd_open(pid)  # it is our child: the pid is ours until reaped
+        self._pidfd = open_pidfd(pid)
 
     def poll(self) -> int | None:
         if self.returncode is None:
             try:
-                result = os.waitid(os.P_PIDFD, self._pidfd, os.WEXITED | os.WNOHANG)
+                result = (os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOHANG)
+                          if self._pidfd is None else
+                          os.waitid(os.P_PIDFD, self._pidfd, os.WEXITED | os.WNOHANG))
             except ChildProcessError:  # reaped by someone else: as Popen, code 0
                 result, self.returncode = None, 0
             if result is not None and result.si_pid:
                 exited = result.si_code == os.CLD_EXITED
                 self.returncode = result.si_status if exited else -result.si_status
-            if self.returncode is not None:
+            if self.returncode is not None and self._pidfd is not None:
                 os.close(self._pidfd)
+                self._pidfd = None
         return self.returncode
 
     def wait(self, timeout: float | None = None) -> int:
@@ -134,12 +144,18 @@ class ForkedProcess:
             left = None if deadline is None else deadline - time.monotonic()
             if left is not None and left <= 0:
                 raise subprocess.TimeoutExpired(self.args, timeout or 0.0)
-            select.select([self._pidfd], [], [], left)
+            if self._pidfd is not None:
+                select.select([self._pidfd], [], [], left)
+            else:  # no pidfd: poll, as Popen.wait(timeout) does
+                time.sleep(_POLL if left is None else min(left, _POLL))
         return code
 
     def send_signal(self, sig: int) -> None:
         if self.poll() is None:
-            signal.pidfd_send_signal(self._pidfd, sig)
+            if self._pidfd is not None:
+                send_signal(self._pidfd, sig)
+            else:  # not reaped yet: the pid is still this child's
+                os.kill(self.pid, sig)
 
     def kill(self) -> None:
         self.send_signal(signal.SIGKILL)

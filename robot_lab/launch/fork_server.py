@@ -31,13 +31,11 @@ from __future__ import annotations
 
 import builtins
 import contextlib
-import ctypes
 import gc
 import importlib
 import io
 import json
 import os
-import platform
 import signal
 import socket
 import sys
@@ -49,6 +47,9 @@ from importlib.machinery import SourceFileLoader
 from types import TracebackType
 from typing import Any
 
+from robot_lab.linux.clone import Forker
+from robot_lab.linux.prctl import set_name, set_parent_death_signal, set_process_image
+
 __all__ = ['PRELOAD', 'main']
 
 # What the kit's node scripts import (kept in step with robot_lab/nodes/).
@@ -59,54 +60,6 @@ PRELOAD = (
     'robot_lab.nodes.robot_node',
 )
 MAX_MESSAGE = 1 << 20
-_PR_SET_PDEATHSIG = 1
-_PR_SET_NAME = 15
-_PR_SET_MM = 35
-_PR_SET_MM_MAP = 14
-_CLONE_PARENT = 0x00008000
-_CLONE_CHILD_SETTID = 0x01000000
-_SYS_CLONE = {'x86_64': 56, 'aarch64': 220}
-_LIBC = ctypes.CDLL(None, use_errno=True)
-_LIBC.sbrk.restype = ctypes.c_void_p
-_LIBC_GIL = ctypes.PyDLL(None, use_errno=True)  # holds the GIL across the call, as os.fork
-_LIBC_GIL.syscall.restype = ctypes.c_long
-_KEEP: list[Any] = []  # the child's new argv/environ block must live as long as it does
-
-
-class _MmMap(ctypes.Structure):
-    """struct prctl_mm_map (linux/prctl.h)."""
-
-    _fields_ = [(name, ctypes.c_uint64) for name in (
-        'start_code', 'end_code', 'start_data', 'end_data', 'start_brk', 'brk',
-        'start_stack', 'arg_start', 'arg_end', 'env_start', 'env_end', 'auxv')] + [
-        ('auxv_size', ctypes.c_uint32), ('exe_fd', ctypes.c_uint32)]
-
-
-def _block(parts: Sequence[str]) -> bytes:
-    return b''.join(os.fsencode(p) + b'\0' for p in parts)
-
-
-def set_process_image(cmdline: Sequence[str], environ: dict[str, str]) -> None:
-    """Make /proc/self/cmdline and environ show these (the kernel reads them from the
-    addresses given here); raises OSError if the kernel refuses."""
-    args, env = _block(cmdline), _block([f'{k}={v}' for k, v in environ.items()])
-    buffer = ctypes.create_string_buffer(args + env, len(args) + len(env))
-    _KEEP.append(buffer)
-    base = ctypes.addressof(buffer)
-    stat = open('/proc/self/stat').read().rsplit(')', 1)[1].split()  # noqa: SIM115
-    field = [int(x) if x.lstrip('-').isdigit() else 0 for x in stat]
-    # man 5 proc: field N is field[N - 3] once pid and comm are cut off.
-    mm = _MmMap(start_code=field[23], end_code=field[24], start_stack=field[25],
-                start_data=field[42], end_data=field[43], start_brk=field[44],
-                arg_start=base, arg_end=base + len(args),
-                env_start=base + len(args), env_end=base + len(args) + len(env),
-                auxv=0, auxv_size=0, exe_fd=0xFFFFFFFF)
-    mm.brk = _LIBC.sbrk(0)  # last: malloc must not move it before the call
-    if _LIBC.prctl(_PR_SET_MM, _PR_SET_MM_MAP, ctypes.byref(mm), ctypes.sizeof(mm), 0):
-        errno = ctypes.get_errno()
-        raise OSError(errno, f'prctl(PR_SET_MM_MAP): {os.strerror(errno)}')
-
-
 def _exit_code(exc: SystemExit) -> int:
     """What the interpreter exits with for an uncaught SystemExit."""
     code = exc.code
@@ -175,7 +128,7 @@ def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
     it, exit."""
     code = 1
     try:
-        _LIBC.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        set_parent_death_signal(signal.SIGKILL)
         if os.getppid() != launcher:
             os._exit(1)  # the launcher died before the parent-death signal was armed
         for target, fd in enumerate(fds):
@@ -191,7 +144,7 @@ def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
         os.environ.update(env)
         script, argv = request['script'], request['argv']
         set_process_image(request['cmdline'], env)
-        _LIBC.prctl(_PR_SET_NAME, os.fsencode(os.path.basename(script))[:15], 0, 0, 0)
+        set_name(os.path.basename(script))
         code = _run_script(request['cmdline'], script, argv)
     except BaseException:  # never return into the server's loop
         traceback.print_exc()
@@ -199,87 +152,8 @@ def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
         os._exit(code)
 
 
-def _lttng_libraries() -> list[ctypes.CDLL]:
-    """The LTTng-UST libraries loaded here (rcl's tracepoints): each runs two listener
-    threads, and exports the hooks that make a fork safe and give the child its own."""
-    found = []
-    with open('/proc/self/maps') as maps:
-        for line in maps:
-            path = line.split()[-1]
-            name = os.path.basename(path)
-            if name.startswith('liblttng-ust') and not name.startswith(
-                    ('liblttng-ust-tracepoint', 'liblttng-ust-common', 'liblttng-ust-ctl')) \
-                    and '.so' in name and path not in found:
-                found.append(path)
-    libraries = []
-    for path in found:
-        library = ctypes.CDLL(path)
-        if all(hasattr(library, hook) for hook in
-               ('ust_before_fork', 'ust_after_fork_parent', 'ust_after_fork_child')):
-            libraries.append(library)
-    return libraries
-
-
-def _tid_offset() -> int | None:
-    """Where glibc keeps a thread's kernel tid in its `struct pthread` (pthread_self()):
-    the one offset at which both this thread and a second one find their own tid."""
-    _LIBC.pthread_self.restype = ctypes.c_void_p
-
-    def offsets() -> set[int]:
-        raw = ctypes.string_at(_LIBC.pthread_self(), 2048)
-        tid = threading.get_native_id().to_bytes(4, sys.byteorder)
-        return {at for at in range(0, len(raw), 4) if raw[at:at + 4] == tid}
-
-    found = [offsets()]
-    other = threading.Thread(target=lambda: found.append(offsets()))
-    other.start()
-    other.join()
-    common = found[0] & found[-1] if len(found) == 2 else set()
-    return common.pop() if len(common) == 1 else None
-
-
-class _Forker:
-    """fork() whose child is the launcher's, not the server's (clone with CLONE_PARENT):
-    `ps`, psutil's children(), exit statuses and the parent-death signal are then exactly
-    an exec'd node's. What glibc's fork does besides the system call, we do: the child's
-    tid in its thread descriptor (CLONE_CHILD_SETTID), Python's own before/after hooks
-    (PyOS_*Fork*, as os.fork calls them), LTTng-UST's fork hooks. pthread_atfork handlers
-    do not run; the server is single-threaded, so no lock they guard can be held."""
-
-    def __init__(self) -> None:
-        number = _SYS_CLONE.get(platform.machine())
-        offset = _tid_offset()
-        if number is None or offset is None:
-            raise OSError(f'cannot fork as the launcher on {platform.machine()} (glibc tid)')
-        self.number = number
-        self.tid = _LIBC.pthread_self() + offset
-
-    def fork(self) -> int:
-        libraries = _lttng_libraries()  # loaded by the preload, after __init__
-        masks = [ctypes.create_string_buffer(128) for _ in libraries]  # sigset_t
-        api = ctypes.pythonapi
-        api.PyOS_BeforeFork()
-        for library, mask in zip(libraries, masks, strict=True):
-            library.ust_before_fork(mask)
-        flags = _CLONE_PARENT | _CLONE_CHILD_SETTID | signal.SIGCHLD
-        # x86_64 takes (flags, stack, parent_tid, child_tid, tls); arm64 swaps the last two
-        tail = (self.tid, 0) if self.number == _SYS_CLONE['x86_64'] else (0, self.tid)
-        args = (self.number, flags, 0, 0, *tail)
-        pid = _LIBC_GIL.syscall(*(ctypes.c_long(arg) for arg in args))
-        errno = ctypes.get_errno()
-        for library, mask in zip(reversed(libraries), reversed(masks), strict=True):
-            (library.ust_after_fork_child if pid == 0 else library.ust_after_fork_parent)(mask)
-        if pid == 0:
-            api.PyOS_AfterFork_Child()
-        else:
-            api.PyOS_AfterFork_Parent()
-        if pid < 0:
-            raise OSError(errno, f'clone: {os.strerror(errno)}')
-        return int(pid)
-
-
 class _Server:
-    def __init__(self, sock: socket.socket, forker: _Forker) -> None:
+    def __init__(self, sock: socket.socket, forker: Forker) -> None:
         self.sock = sock
         self.forker = forker
 
@@ -342,7 +216,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sock = socket.socket(fileno=int(args[0]))
     try:
         set_process_image(list(sys.orig_argv), dict(os.environ))  # the kernel allows it
-        forker = _Forker()
+        forker = Forker()
         preload()
     except Exception as exc:  # the launcher execs every node instead
         sock.send(json.dumps({'error': f'{type(exc).__name__}: {exc}'}).encode())

@@ -42,6 +42,7 @@ from robot_lab.launch.plan import (
     TimerSpec,
 )
 from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
+from robot_lab.linux.pidfd import open_pidfd
 from robot_lab.process import spawn
 from robot_lab.shared_memory import HEARING_CHECK, lost_ports, sweep_dead_segments
 
@@ -342,12 +343,10 @@ class Supervisor:
             self._selector.register(pipe.fileno(), selectors.EVENT_READ, ('pipe', record, stream))
             record.open_streams += 1
         record.pidfd = None
-        if hasattr(os, 'pidfd_open'):
-            try:
-                record.pidfd = os.pidfd_open(popen.pid)
-                self._selector.register(record.pidfd, selectors.EVENT_READ, ('exit', record, ''))
-            except OSError:
-                record.pidfd = None
+        with contextlib.suppress(OSError):  # no pidfd (or gone already): exits are polled
+            record.pidfd = open_pidfd(popen.pid)
+        if record.pidfd is not None:
+            self._selector.register(record.pidfd, selectors.EVENT_READ, ('exit', record, ''))
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
         self.events.started(spec, popen.pid, env)
         if spec.lifecycle and spec.node_name:
