@@ -37,9 +37,25 @@ def main(args: argparse.Namespace) -> int:
         return 0
     report = doctor(args.package_dir)
     print(report)
+    if args.package_dir is None:
+        _print_capabilities()
     if args.report_failed and not report.ok:
         _print_reports()
     return 0 if report.ok else 1
+
+
+def _print_capabilities() -> None:
+    """What this machine offers the kit from Linux, and what the kit does without each."""
+    from robot_lab.linux.capabilities import DISABLE_VARIABLE, table
+
+    rows = table()
+    width = max(len(row.name) for row in rows)
+    print(f'\nLinux capabilities ({DISABLE_VARIABLE}=NAME,... turns one off):')
+    print(f'  {"capability":{width}}  here  without it, the kit')
+    for row in rows:
+        print(f'  {row.name:{width}}  {"yes" if row.available else "no ":4}  {row.fallback}')
+        if row.why_not:
+            print(f'  {"":{width}}        (missing: {row.why_not})')
 
 
 def _print_reports() -> None:

@@ -42,17 +42,17 @@ class Capability(NamedTuple):
 
 CAPABILITIES: dict[str, Capability] = {c.name: c for c in (
     Capability('fork_server', 'launch forks Python nodes from a warm server (clone)',
-               'exec each node (slower start, more memory)', 'clone:probe'),
+               'execs each Python node (slower start, more memory)', 'clone:probe'),
     Capability('sock_diag', 'netlink sock_diag reads the host UDP socket table',
-               '/proc/net/udp (may miss a socket while others come and go)',
+               'reads /proc/net/udp (can miss a socket while others come and go)',
                'sock_diag:probe'),
     Capability('pidfd', 'pidfd_open waits for a forked node without a pid race',
-               'poll the child with waitpid every 50 ms', 'pidfd:probe'),
+               'polls each forked node with waitpid every 50 ms', 'pidfd:probe'),
     Capability('namespaces', 'unshare: user, mount, PID, network and IPC namespaces',
-               'grading refuses to run as root; otherwise runs jobs without a sandbox',
+               'refuses to grade as root; as a user, grades without a sandbox',
                'namespaces:probe'),
     Capability('parent_death', 'prctl(PR_SET_PDEATHSIG): children die with their parent',
-               'children are stopped by their parent only while it lives (not after kill -9)',
+               'stops children only while it lives (kill -9 leaves them running)',
                'prctl:probe'),
 )}
 
