@@ -1,0 +1,220 @@
+"""robot_state_publisher and joint_state_publisher as real nodes: what they put on /tf,
+/tf_static, /robot_description and /joint_states, checked against yourdfpy's forward
+kinematics (an independent library) to 1e-9; and urdf_tutorial's display.launch.py."""
+
+from __future__ import annotations
+
+import random
+import threading
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+from builtin_interfaces.msg import Time
+from rclpy.qos import DurabilityPolicy, QoSProfile
+from sensor_msgs.msg import JointState
+from std_msgs.msg import String
+from test_urdf import MIMIC, model_text, random_positions, reference
+from tf2_msgs.msg import TFMessage
+
+from robot_lab.rclpy_session import session
+from robot_lab.urdf.joints import joint_table
+from robot_lab.urdf.model import parse_urdf
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+class Topic:
+    """Every message of one topic the session node hears, with a wait on a condition."""
+
+    def __init__(self, topic: str, kind: Any, qos: QoSProfile | int = 100) -> None:
+        self.messages: list[Any] = []
+        self._cond = threading.Condition()
+        self._node = session().node
+        self._sub = self._node.create_subscription(kind, topic, self._take, qos)
+        self.topic = topic
+
+    def _take(self, message: Any) -> None:
+        with self._cond:
+            self.messages.append(message)
+            self._cond.notify_all()
+
+    def wait_for(self, found: Callable[[Any], bool], what: str, timeout: float = 15.0) -> Any:
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                match = next((m for m in reversed(self.messages) if found(m)), None)
+                if match is not None:
+                    return match
+                if not self._cond.wait(deadline - time.monotonic()):
+                    raise AssertionError(f'{self.topic}: no {what} in {timeout} s; '
+                                         f'{len(self.messages)} messages')
+
+    def close(self) -> None:
+        self._node.destroy_subscription(self._sub)
+
+
+@pytest.fixture
+def topics() -> Iterator[Callable[..., Topic]]:
+    opened: list[Topic] = []
+
+    def _open(topic: str, kind: Any, qos: QoSProfile | int = 100) -> Topic:
+        opened.append(Topic(topic, kind, qos))
+        return opened[-1]
+
+    yield _open
+    for topic in opened:
+        topic.close()
+
+
+def params_file(folder: Path, **values: Any) -> Path:
+    """A parameter file: a URDF in a -p argument would be parsed as YAML by rcl."""
+    path = folder / 'rsp.yaml'
+    path.write_text(yaml.safe_dump({'/**': {'ros__parameters': values}}))
+    return path
+
+
+def pose_matrix(transform: Any) -> np.ndarray:
+    t, q = transform.translation, transform.rotation
+    x, y, z, w = q.x, q.y, q.z, q.w
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), t.x],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w), t.y],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y), t.z],
+        [0.0, 0.0, 0.0, 1.0]])
+
+
+def compose(root: str, edges: dict[str, tuple[str, np.ndarray]]) -> dict[str, np.ndarray]:
+    """Each frame's pose in `root` from child -> (parent, transform) edges."""
+    poses = {root: np.eye(4)}
+    while len(poses) <= len(edges):
+        grown = {child: poses[parent] @ matrix for child, (parent, matrix) in edges.items()
+                 if child not in poses and parent in poses}
+        assert grown, f'frames not connected to {root}: {set(edges) - set(poses)}'
+        poses.update(grown)
+    return poses
+
+
+@pytest.mark.parametrize(('model', 'prefix'), [('08-macroed.urdf.xacro', 'r2/'),
+                                               ('06-flexible.urdf', ''), ('mimic', 'g/')])
+def test_tf_and_tf_static_equal_yourdfpy(start: Any, tmp_path: Path, topics: Any,
+                                         model: str, prefix: str) -> None:
+    text = MIMIC if model == 'mimic' else model_text(model)
+    robot = parse_urdf(text)
+    node = start('ros2', 'run', 'robot_state_publisher', 'robot_state_publisher',
+                 '--ros-args', '--params-file',
+                 str(params_file(tmp_path, robot_description=text, frame_prefix=prefix)))
+    node.wait_for(r'\[robot_state_publisher\]: Robot initialized')
+    # Subscribed after the node published them once: transient-local, as upstream's.
+    description = topics('/robot_description', String, LATCHED)
+    assert description.wait_for(lambda m: True, 'description').data == text
+    static = topics('/tf_static', TFMessage, LATCHED).wait_for(lambda m: True, 'static')
+    fixed = [j for j in robot.joints.values() if j.type == 'fixed']
+    assert sorted(t.child_frame_id for t in static.transforms) == sorted(
+        prefix + j.child for j in fixed)
+    edges = {t.child_frame_id: (t.header.frame_id, pose_matrix(t.transform))
+             for t in static.transforms}
+
+    tf = topics('/tf', TFMessage)
+    states = session().node.create_publisher(JointState, '/joint_states', 10)
+    ref = reference(text)
+    rng = random.Random(model)
+    moving = sorted(prefix + j.child for j in robot.joints.values() if j.moves)
+    try:
+        for second in range(1, 6):  # stamps 1 s apart: past the 20 Hz limit per joint
+            positions = random_positions(robot, rng)
+            stamp = Time(sec=1_000 + second)
+            message = JointState(name=list(positions), position=list(positions.values()))
+            message.header.stamp = stamp
+
+            def sent(m: Any, stamp: Any = stamp) -> bool:
+                return bool(m.transforms) and m.transforms[0].header.stamp == stamp
+
+            deadline = time.monotonic() + 15
+            while True:  # resent until heard: the first may precede the match
+                states.publish(message)
+                try:
+                    moved = tf.wait_for(sent, f'/tf stamped {stamp.sec}', timeout=0.5)
+                    break
+                except AssertionError:
+                    if time.monotonic() > deadline:
+                        raise
+            # every moving joint, mimic ones from their leader, once, at the state's stamp
+            assert sorted(t.child_frame_id for t in moved.transforms) == moving
+            assert all(t.header.stamp == stamp for t in moved.transforms)
+            poses = compose(prefix + robot.root, {
+                **edges, **{t.child_frame_id: (t.header.frame_id, pose_matrix(t.transform))
+                            for t in moved.transforms}})
+            ref.update_cfg(positions)
+            for link in robot.links:
+                expected = ref.get_transform(link, robot.root)
+                assert np.abs(poses[prefix + link] - expected).max() < 1e-9, link
+    finally:
+        session().node.destroy_publisher(states)
+
+
+def test_joint_state_publisher_feeds_robot_state_publisher(start: Any, tmp_path: Path,
+                                                           topics: Any) -> None:
+    """zeros.<joint>, source_list and the URDF from /robot_description, as upstream's."""
+    text = model_text('08-macroed.urdf.xacro')
+    robot = parse_urdf(text)
+    joint_states = topics('/joint_states', JointState)
+    start('ros2', 'run', 'robot_state_publisher', 'robot_state_publisher', '--ros-args',
+          '--params-file', str(params_file(tmp_path, robot_description=text)))
+    start('ros2', 'run', 'joint_state_publisher', 'joint_state_publisher', '--ros-args',
+          '-p', 'zeros.head_swivel:=0.5', '-p', "source_list:=['/slider_states']")
+    first = joint_states.wait_for(lambda m: True, 'joint states')
+    assert list(first.name) == joint_table(robot).order  # the URDF's order
+    assert dict(zip(first.name, first.position, strict=True)) == {
+        name: 0.5 if name == 'head_swivel' else 0.0 for name in first.name}
+
+    sliders = session().node.create_publisher(JointState, '/slider_states', 10)
+    tf = topics('/tf', TFMessage)
+    try:
+        def moved(m: Any) -> bool:
+            return dict(zip(m.name, m.position, strict=True)).get('gripper_extension') == -0.25
+
+        deadline = time.monotonic() + 15
+        while True:  # a source's message counts once heard; resent until it is
+            sliders.publish(JointState(name=['gripper_extension'], position=[-0.25]))
+            try:
+                joint_states.wait_for(moved, 'the source_list value', timeout=0.5)
+                break
+            except AssertionError:
+                if time.monotonic() > deadline:
+                    raise
+        pole = tf.wait_for(lambda m: any(t.child_frame_id == 'gripper_pole' and
+                                         abs(t.transform.translation.x + 0.06) < 1e-9
+                                         for t in m.transforms), 'the pole moved')
+        assert {t.child_frame_id for t in pole.transforms} >= {'gripper_pole', 'head'}
+    finally:
+        session().node.destroy_publisher(sliders)
+
+
+def test_a_bad_urdf_is_one_line_naming_its_line(start: Any, tmp_path: Path) -> None:
+    text = MIMIC.replace('<parent link="finger_b"/>', '<parent link="finger_c"/>')
+    node = start('ros2', 'run', 'robot_state_publisher', 'robot_state_publisher', '--ros-args',
+                 '--params-file', str(params_file(tmp_path, robot_description=text)))
+    assert node.popen.wait(timeout=30) == 1
+    line = next(n for n, row in enumerate(text.splitlines(), 1) if 'name="s"' in row)
+    assert node.lines[-1] == (
+        f"[FATAL] [robot_state_publisher]: robot_description:{line}: joint 's' names parent "
+        "link 'finger_c', which no <link> defines — fix: did you mean 'finger_a'? name an "
+        'existing link, or add <link name="finger_c"/>')
+    assert not any('Traceback' in row for row in node.lines)
+
+
+def test_display_launch_runs_the_publishers_and_names_the_notebook_view(
+        start: Any, topics: Any) -> None:
+    tf = topics('/tf', TFMessage)
+    launch = start('ros2', 'launch', 'urdf_tutorial', 'display.launch.py',
+                   'model:=urdf/08-macroed.urdf.xacro')
+    launch.wait_for(r"robot_lab\.scene_view\(fixed_frame='base_link'\)", timeout=30)
+    message = tf.wait_for(lambda m: len(m.transforms) == 8, 'the 8 moving joints', 30)
+    assert {t.header.frame_id for t in message.transforms} >= {'base_link'}
+    description = topics('/robot_description', String, LATCHED)
+    assert 'name="macroed"' in description.wait_for(lambda m: True, 'description').data
