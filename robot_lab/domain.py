@@ -38,6 +38,7 @@ from pathlib import Path
 from typing import IO, Any, Literal
 
 from robot_lab.errors import RobotLabError
+from robot_lab.linux.procfs import start_time
 
 __all__ = [
     'DEFAULT_REGISTRY',
@@ -139,14 +140,7 @@ def _pool(variable: str, default: range, env: Mapping[str, str] | None, example:
 
 def _start_time(pid: int) -> int | None:
     """The process's start time in clock ticks (tells a live pid from a reused one)."""
-    try:
-        with open(f'/proc/{pid}/stat', encoding='ascii', errors='replace') as stat:
-            fields = stat.read().rpartition(')')[2].split()
-    except OSError:
-        return None
-    if fields[0] in ('Z', 'X'):
-        return None
-    return int(fields[19])
+    return start_time(pid)
 
 
 def _user_name(uid: int) -> str:

@@ -19,6 +19,8 @@ import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from robot_lab.linux.procfs import process_running
+
 __all__ = ['LaunchAnnouncement', 'announced_nodes', 'expected_nodes', 'graph_dir', 'graph_key',
            'process_alive']
 
@@ -80,12 +82,7 @@ def graph_dir(env: Mapping[str, str] | None = None, create: bool = False) -> Pat
 
 def process_alive(pid: int) -> bool:
     """True for a running process (a zombie, dead but not yet reaped, is not running)."""
-    try:
-        with open(f'/proc/{pid}/stat', encoding='ascii', errors='replace') as stat:
-            state = stat.read().rpartition(')')[2].split()[0]
-    except (OSError, IndexError):
-        return False
-    return state not in ('Z', 'X')
+    return process_running(pid)
 
 
 class LaunchAnnouncement:

@@ -11,7 +11,7 @@ import ctypes.util
 import os
 import threading
 
-__all__ = ['check', 'holding_gil', 'libc', 'loaded']
+__all__ = ['check', 'holding_gil', 'libc', 'load_global', 'loaded']
 
 _lock = threading.Lock()
 _libc: ctypes.CDLL | None = None
@@ -68,3 +68,9 @@ def check(result: int, what: str) -> int:
         errno = ctypes.get_errno()
         raise OSError(errno, f'{what}: {os.strerror(errno)}')
     return result
+
+
+def load_global(path: str | os.PathLike[str]) -> None:
+    """dlopen `path` with RTLD_GLOBAL: later libraries find its symbols by name, as if it
+    had been on LD_LIBRARY_PATH when the process started; OSError if it cannot load."""
+    ctypes.CDLL(os.fspath(path), mode=ctypes.RTLD_GLOBAL)

@@ -137,12 +137,13 @@ def _forget_modules(roots: list[Path]) -> None:
             del sys.modules[name]
 
 
-def use_workspace(path: str | os.PathLike[str] = '.') -> list[Path]:
+def use_workspace(path: str | os.PathLike[str] = '.', *, libraries: bool = True) -> list[Path]:
     """In this process, what `source <ws>/install/setup.bash` does in a shell.
 
     Updates os.environ (AMENT_PREFIX_PATH, PYTHONPATH, ... for every child started later)
     and sys.path (for imports here). Call it again after a rebuild; `build()` does.
-    Returns the prefixes, dependencies first.
+    Returns the prefixes, dependencies first. `libraries=False`: the workspace's shared
+    libraries are not loaded here (a grader must not run a student's code in its process).
     """
     root = Path(path).expanduser().resolve()
     install = _install_dir(root)
@@ -172,7 +173,8 @@ def use_workspace(path: str | os.PathLike[str] = '.') -> list[Path]:
                 sys.path.remove(entry)
             sys.path.insert(0, entry)
     _forget_modules([install, ws / 'build'])
-    _load_libraries(prefixes)
+    if libraries:
+        _load_libraries(prefixes)
     if ws in _used:
         _used.remove(ws)
     _used.append(ws)
@@ -187,14 +189,14 @@ def _load_libraries(prefixes: list[Path]) -> None:
     the dynamic loader resolves later imports' dependencies on it by name. Libraries are
     retried until no more load, as they depend on each other in no listed order.
     """
-    import ctypes
+    from robot_lab.linux.libc import load_global
 
     pending = [lib for prefix in prefixes for lib in sorted((prefix / 'lib').glob('lib*.so'))]
     while pending:
         failed = []
         for lib in pending:
             try:
-                ctypes.CDLL(str(lib), mode=ctypes.RTLD_GLOBAL)
+                load_global(lib)
             except OSError:
                 failed.append(lib)
         if len(failed) == len(pending):
