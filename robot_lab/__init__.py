@@ -94,6 +94,8 @@ _API: dict[str, str] = {
     'RobotView': 'robot_lab.widgets.robot_view',
     'turtlesim_view': 'robot_lab.widgets.turtlesim_view',
     'TurtlesimView': 'robot_lab.widgets.turtlesim_view',
+    'joint_sliders': 'robot_lab.widgets.joint_sliders',
+    'JointSliders': 'robot_lab.widgets.joint_sliders',
 }
 
 __all__ = sorted(_API)

@@ -4,6 +4,7 @@ kinematics (an independent library) to 1e-9; and urdf_tutorial's display.launch.
 
 from __future__ import annotations
 
+import math
 import random
 import threading
 import time
@@ -21,6 +22,8 @@ from std_msgs.msg import String
 from test_urdf import MIMIC, model_text, random_positions, reference
 from tf2_msgs.msg import TFMessage
 
+import robot_lab
+from robot_lab.errors import GraphError
 from robot_lab.rclpy_session import session
 from robot_lab.urdf.joints import joint_table
 from robot_lab.urdf.model import parse_urdf
@@ -208,13 +211,51 @@ def test_a_bad_urdf_is_one_line_naming_its_line(start: Any, tmp_path: Path) -> N
     assert not any('Traceback' in row for row in node.lines)
 
 
-def test_display_launch_runs_the_publishers_and_names_the_notebook_view(
+def test_display_launch_runs_the_publishers_and_the_sliders_move_the_robot(
         start: Any, topics: Any) -> None:
+    """urdf_tutorial's launch line, then the notebook's two: the sliders (feeding the
+    launch's joint_state_publisher, not publishing beside it) move a link on /tf."""
     tf = topics('/tf', TFMessage)
     launch = start('ros2', 'launch', 'urdf_tutorial', 'display.launch.py',
                    'model:=urdf/08-macroed.urdf.xacro')
-    launch.wait_for(r"robot_lab\.scene_view\(fixed_frame='base_link'\)", timeout=30)
+    launch.wait_for(r"\[INFO\] \[launch.user\]: RViz's view, in a notebook: "
+                    r"robot_lab\.scene_view\(fixed_frame='base_link'\)$", timeout=30)
+    launch.wait_for(r'robot_lab\.joint_sliders\(\)$')
     message = tf.wait_for(lambda m: len(m.transforms) == 8, 'the 8 moving joints', 30)
     assert {t.header.frame_id for t in message.transforms} >= {'base_link'}
-    description = topics('/robot_description', String, LATCHED)
-    assert 'name="macroed"' in description.wait_for(lambda m: True, 'description').data
+
+    sliders = robot_lab.joint_sliders()  # the URDF from /robot_description
+    try:
+        assert sliders.robot.name == 'macroed' and len(sliders.widget.children) == 8 + 3
+        assert sliders.set('gripper_extension', -1.0) == -0.38  # held at <limit lower>
+        tf.wait_for(lambda m: any(t.child_frame_id == 'gripper_pole' and
+                                  abs(t.transform.translation.x - (0.19 - 0.38)) < 1e-9
+                                  for t in m.transforms), 'the pole moved by the slider')
+        assert sliders._feed is not None and sliders._feed.get_subscription_count() == 1
+    finally:
+        sliders.close()
+
+
+def test_sliders_alone_publish_joint_states_within_the_limits(topics: Any) -> None:
+    """Without a joint_state_publisher: /joint_states from the sliders, continuous joints
+    over ±π, mimic joints from their leader; a moved slider is the next message."""
+    text = MIMIC.replace('type="revolute">\n    <parent link="base"/><child link="finger_a"/>',
+                         'type="continuous">\n    <parent link="base"/><child link="finger_a"/>')
+    assert text != MIMIC
+    joint_states = topics('/joint_states', JointState)
+    sliders = robot_lab.joint_sliders(robot_description=text, rate=20.0)
+    try:
+        rows = {w.description: w for w in sliders.widget.children
+                if hasattr(w, 'max') and hasattr(w, 'description')}
+        assert set(rows) == {'a', 's'}  # b mimics a: no slider
+        assert (rows['a'].min, rows['a'].max) == (-math.pi, math.pi)
+        assert (rows['s'].min, rows['s'].max) == (0.05, 0.1)  # the soft limits
+        rows['a'].value = 1.0  # as a drag in the browser sets it
+        heard = joint_states.wait_for(
+            lambda m: list(m.position[:2]) == [1.0, 1.0 * -1.5 + 0.25], 'the slider value')
+        assert list(heard.name) == ['a', 'b', 's'] and heard.position[2] == pytest.approx(0.075)
+        assert sliders.set('s', 5.0) == 0.1 and rows['s'].value == 0.1
+        with pytest.raises(GraphError, match="'b' is not a joint a slider moves"):
+            sliders.set('b', 0.0)
+    finally:
+        sliders.close()

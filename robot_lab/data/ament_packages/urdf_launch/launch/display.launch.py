@@ -1,8 +1,9 @@
 # robot_lab's urdf_launch display.launch.py: upstream's arguments and description include,
 # with the kit's stand-ins for the two desktop programs. joint_state_publisher_gui (Qt) is
-# robot_lab.joint_sliders() in a notebook, so both values of jsp_gui start
-# joint_state_publisher; RViz's place is robot_lab.scene_view(), whose notebook line this
-# launch prints (rviz_config is accepted, as upstream's, and unused).
+# robot_lab.joint_sliders() in a notebook: joint_state_publisher runs for both values of
+# jsp_gui and takes the sliders' /joint_sliders as a source, so the two never publish
+# /joint_states against each other. RViz's place is robot_lab.scene_view(), whose notebook
+# line this launch prints (rviz_config is accepted, as upstream's, and unused).
 from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription, LogInfo
 from launch.conditions import IfCondition
 from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
@@ -35,13 +36,13 @@ def generate_launch_description():
     ld.add_action(Node(
         package='joint_state_publisher',
         executable='joint_state_publisher',
+        parameters=[{'source_list': ['/joint_sliders']}],
     ))
     ld.add_action(LogInfo(
-        msg="no RViz window here: in a notebook, robot_lab.scene_view(fixed_frame='base_link') "
-            'shows the model, and robot_lab.joint_sliders() moves its joints',
+        msg="RViz's view, in a notebook: robot_lab.scene_view(fixed_frame='base_link')",
     ))
     ld.add_action(LogInfo(
-        msg='joint_state_publisher_gui (Qt) is robot_lab.joint_sliders() in a notebook',
+        msg="joint_state_publisher_gui's sliders, in a notebook: robot_lab.joint_sliders()",
         condition=IfCondition(LaunchConfiguration('jsp_gui')),
     ))
     return ld
