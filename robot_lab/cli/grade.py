@@ -69,8 +69,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='With --lab/--rubric: write a Gradescope autograder zip '
                         '(setup.sh, run_autograder) that grades with the same checks')
     parser.add_argument('--no-sandbox', action='store_true',
-                        help="Packages: grade even as root on a machine that cannot make "
-                        "namespaces (students' code then runs with your privileges)")
+                        help="Packages: grade on a machine that cannot make namespaces "
+                        "(students' code then runs as you, with your files and network)")
 
 
 def _list(paths: list[str]) -> int:

@@ -8,79 +8,52 @@ tmpfs; every top-level folder that is not the system's (`/home`, `/root`, `/work
 `/mnt`, …) is covered by an empty read-only tmpfs, with only what the job needs bound back
 read-only (the venv, the Python it runs on, the kit's package); the job folder is bound back
 writable at its own path. So the job cannot read or write other students' hand-ins, the
-instructor's home or the output folder. Then the job gives up its privileges: as root it
-becomes an unprivileged uid with no capabilities (the grader chowned the job folder to it);
-otherwise it enters one more user namespace, where it holds no capability over its mounts.
+instructor's home or the output folder.
+
+It still looks like a machine to honest code (issue 51: a job's uid had no passwd entry, and
+a correct package whose nodes called `getpass.getuser()` lost 7 of 13 points): a synthetic
+`/etc/passwd` and `/etc/group` name the job's uid and gid `student`, with the job's writable
+home, and `/etc/hosts` resolves localhost and this host's name to loopback (the grader sets
+HOME, USER, LOGNAME and a UTF-8 locale; /dev and a /proc of the job's own stay).
+
+Then the job gives up its privileges and becomes uid 200000+domain with no capabilities: as
+root by setresuid (the grader chowned the job folder to it); otherwise in one more user
+namespace that maps that uid to the grader's, where it holds no capability over its mounts.
 `no_new_privs` keeps set-uid programs from giving any back.
 """
 
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
 import os
 import re
+import socket
+import struct
 import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ['SYSTEM_DIRS', 'blocked_attempts', 'confine', 'drop_privileges', 'job_uid',
-           'leftover_processes']
+from robot_lab.linux import namespaces, prctl
+from robot_lab.linux.libc import check, libc
+from robot_lab.linux.namespaces import MS_NODEV, MS_NOEXEC, MS_NOSUID, bind, mount, remount
+
+__all__ = ['JOB_USER', 'SYSTEM_DIRS', 'blocked_attempts', 'confine', 'drop_privileges',
+           'hidden_tops', 'in_initial_user_namespace', 'job_uid', 'leftover_processes',
+           'machine_files']
 
 # Top-level folders a job sees (read-only); every other one is hidden.
 SYSTEM_DIRS = frozenset({'bin', 'sbin', 'lib', 'lib32', 'lib64', 'libx32', 'usr', 'etc',
                          'opt', 'var', 'proc', 'sys', 'dev', 'tmp'})
 PRIVATE_TMP = ('/tmp', '/var/tmp', '/dev/shm')
-_MS_RDONLY, _MS_NOSUID, _MS_NODEV, _MS_NOEXEC = 1, 2, 4, 8
-_MS_REMOUNT, _MS_BIND, _MS_REC = 32, 4096, 16384
-_MS_NOATIME, _MS_NODIRATIME, _MS_RELATIME = 1024, 2048, 1 << 21
-_ST_RELATIME = 4096
-_CLONE_NEWUSER = 0x10000000
-_PR_SET_DUMPABLE, _PR_SET_NO_NEW_PRIVS = 4, 38
-_UID_BASE = 200_000  # job uids: 200000 + ROS domain (no account, owns nothing else)
+_MNT_DETACH = 2
+_UID_BASE = 200_000  # job uids: 200000 + ROS domain (no host account, owns nothing else)
+JOB_USER = 'student'  # the job's name in its own /etc/passwd and /etc/group
+_CAPABILITY_V3 = 0x20080522
 
 
 def job_uid(domain: int) -> int:
     """The unprivileged uid (and gid) a job of a root grader runs as: one per job slot."""
     return _UID_BASE + domain
-
-
-def _libc() -> ctypes.CDLL:
-    return ctypes.CDLL(ctypes.util.find_library('c') or 'libc.so.6', use_errno=True)
-
-
-def _bytes(text: str | None) -> bytes | None:
-    return text.encode() if text is not None else None
-
-
-def _mount(source: str | None, target: str, fstype: str | None, flags: int,
-           data: str | None = None) -> None:
-    libc = _libc()
-    if libc.mount(_bytes(source), target.encode(), _bytes(fstype), ctypes.c_ulong(flags),
-                  _bytes(data)) != 0:
-        err = ctypes.get_errno()
-        raise OSError(err, f'mount {target}: {os.strerror(err)}')
-
-
-def _kept_flags(path: str) -> int:
-    """The flags a remount of `path` must keep (a user namespace may not clear them)."""
-    flag = os.statvfs(path).f_flag
-    kept = flag & (_MS_NOSUID | _MS_NODEV | _MS_NOEXEC | _MS_NOATIME | _MS_NODIRATIME)
-    return kept | (_MS_RELATIME if flag & _ST_RELATIME else 0)
-
-
-def _remount(path: str, read_only: bool) -> None:
-    flags = _MS_REMOUNT | _MS_BIND | _kept_flags(path) | (_MS_RDONLY if read_only else 0)
-    _mount(None, path, None, flags)
-
-
-def _mount_points() -> list[str]:
-    points = []
-    for line in Path('/proc/self/mountinfo').read_text().splitlines():
-        field = line.split()[4]
-        points.append(field.encode().decode('unicode_escape'))  # '\040' -> ' '
-    return points
 
 
 def _needed_paths() -> list[Path]:
@@ -107,7 +80,8 @@ def _outermost(paths: Iterable[Path]) -> list[Path]:
     return chosen
 
 
-def _hidden_tops() -> list[Path]:
+def hidden_tops() -> list[Path]:
+    """The top-level folders a job does not see (each covered by an empty tmpfs)."""
     tops = []
     for entry in sorted(Path('/').iterdir()):
         if entry.name not in SYSTEM_DIRS and entry.is_dir() and not entry.is_symlink():
@@ -121,14 +95,74 @@ def _bind(fd: int, target: Path, is_dir: bool) -> None:
     else:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.touch(exist_ok=True)
-    _mount(f'/proc/self/fd/{fd}', str(target), None, _MS_BIND | _MS_REC)
+    bind(f'/proc/self/fd/{fd}', str(target))
 
 
-def confine(job_dir: Path) -> list[str]:
-    """Make this mount namespace the job's view (see the module doc); the mounts that could
-    not be changed (an empty list when all went as planned)."""
+def _entries(text: str, name: str, number: int) -> list[str]:
+    """The lines of a passwd or group file minus any for `name` or id `number`."""
+    kept = []
+    for line in text.splitlines():
+        fields = line.split(':')
+        if len(fields) > 2 and (fields[0] == name or fields[2] == str(number)):
+            continue
+        kept.append(line)
+    return kept
+
+
+def machine_files(uid: int, home: Path, passwd: str, group: str, hostname: str) -> dict[str, str]:
+    """What a job sees as /etc/passwd, /etc/group and /etc/hosts: the machine's accounts plus
+    the job's own (`JOB_USER`, `uid` as uid and gid, `home`), and loopback names."""
+    user = f'{JOB_USER}:x:{uid}:{uid}:robot_lab grading job:{home}:/bin/sh'
+    hosts = ['127.0.0.1\tlocalhost', '::1\tlocalhost ip6-localhost ip6-loopback']
+    if hostname and hostname != 'localhost':
+        hosts.append(f'127.0.1.1\t{hostname}')
+    return {'/etc/passwd': '\n'.join([*_entries(passwd, JOB_USER, uid), user]) + '\n',
+            '/etc/group': '\n'.join([*_entries(group, JOB_USER, uid),
+                                      f'{JOB_USER}:x:{uid}:']) + '\n',
+            '/etc/hosts': '\n'.join(hosts) + '\n'}
+
+
+def _read(path: str) -> str:
+    try:
+        return Path(path).read_text(errors='replace')
+    except OSError:
+        return ''
+
+
+def _mount_machine_files(uid: int, home: Path) -> list[str]:
+    """Bind the job's /etc/passwd, /etc/group and /etc/hosts over the machine's, read-only.
+
+    They are written in a tmpfs mounted in the private /tmp, bound into place and then
+    detached: only the read-only binds still reach it, so no one can change them.
+    """
+    files = machine_files(uid, home, _read('/etc/passwd'), _read('/etc/group'),
+                          socket.gethostname())
+    staging = Path('/tmp/.robot_lab_machine')
+    staging.mkdir(mode=0o700)
+    mount('tmpfs', str(staging), 'tmpfs', MS_NOSUID | MS_NODEV | MS_NOEXEC, 'mode=755,size=1m')
+    problems = []
+    try:
+        for target, text in files.items():
+            source = staging / Path(target).name
+            source.write_text(text)
+            source.chmod(0o644)
+            try:
+                bind(str(source), target, recursive=False)
+                remount(target, read_only=True)
+            except OSError as err:
+                problems.append(f'{target}: {err.strerror}')
+    finally:
+        if libc().umount2(os.fsencode(staging), _MNT_DETACH) == 0:
+            staging.rmdir()
+    return problems
+
+
+def confine(job_dir: Path, uid: int | None = None, home: Path | None = None) -> list[str]:
+    """Make this mount namespace the job's view (see the module doc), with `uid` named in
+    its /etc/passwd (home: `home`, default job_dir/home); the mounts that could not be
+    changed (an empty list when all went as planned)."""
     job_dir = job_dir.resolve()
-    hidden = _hidden_tops()
+    hidden = hidden_tops()
     covered = [*hidden, *(Path(p) for p in PRIVATE_TMP)]
     keep = [p for p in _outermost(_needed_paths())
             if any(p.is_relative_to(h) for h in covered) and p != job_dir
@@ -138,26 +172,28 @@ def confine(job_dir: Path) -> list[str]:
     cwd = os.getcwd()
     problems: list[str] = []
     try:
-        for point in _mount_points():
+        for point in namespaces.mount_points():
             if point == '/proc' or point.startswith('/proc/'):
                 continue
             try:
-                _remount(point, read_only=True)
+                remount(point, read_only=True)
             except OSError as err:
                 if os.path.exists(point):
                     problems.append(f'{point}: {err.strerror}')
         for tmp in PRIVATE_TMP:
             if os.path.isdir(tmp):
-                _mount('tmpfs', tmp, 'tmpfs', _MS_NOSUID | _MS_NODEV, 'mode=1777,size=1g')
+                mount('tmpfs', tmp, 'tmpfs', MS_NOSUID | MS_NODEV, 'mode=1777,size=1g')
         for top in hidden:
-            _mount('tmpfs', str(top), 'tmpfs', _MS_NOSUID | _MS_NODEV, 'mode=755,size=16m')
+            mount('tmpfs', str(top), 'tmpfs', MS_NOSUID | MS_NODEV, 'mode=755,size=16m')
         for path in keep:
             _bind(fds[path], path, path in folders)
-            _remount(str(path), read_only=True)
+            remount(str(path), read_only=True)
         _bind(fds[job_dir], job_dir, True)
-        _remount(str(job_dir), read_only=False)
+        remount(str(job_dir), read_only=False)
+        if uid is not None:
+            problems += _mount_machine_files(uid, home or job_dir / 'home')
         for top in hidden:
-            _remount(str(top), read_only=True)
+            remount(str(top), read_only=True)
     finally:
         for fd in fds.values():
             os.close(fd)
@@ -166,20 +202,40 @@ def confine(job_dir: Path) -> list[str]:
     return problems
 
 
+def in_initial_user_namespace() -> bool:
+    """True in the machine's own user namespace (a root grader's job), where every uid maps
+    to itself; False in the user namespace a non-root grader's `unshare` made."""
+    return _read('/proc/self/uid_map').split() == ['0', '0', '4294967295']
+
+
+def _drop_capabilities() -> None:
+    """Empty the effective, permitted and inheritable sets (capset(2), version 3): a process
+    forked from the job without an exec (the launcher's fork server) holds none either."""
+    header = struct.pack('=Ii', _CAPABILITY_V3, 0)
+    check(libc().capset(header, bytes(24)), 'capset')
+
+
 def drop_privileges(uid: int | None) -> None:
-    """As root, become `uid` (no capabilities); otherwise a nested user namespace, where
-    this process holds no capability over the job's mounts. Either way no_new_privs, and
-    not dumpable (the job's memory and fds stay out of its children's reach)."""
-    libc = _libc()
-    if uid is not None and os.geteuid() == 0:
-        os.setgroups([])
-        os.setresgid(uid, uid, uid)
-        os.setresuid(uid, uid, uid)
-    elif libc.unshare(_CLONE_NEWUSER) != 0:
-        err = ctypes.get_errno()
-        raise OSError(err, f'cannot enter a user namespace: {os.strerror(err)}')
-    libc.prctl(_PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0)
-    libc.prctl(_PR_SET_DUMPABLE, 0, 0, 0, 0)
+    """Become `uid` with no capabilities: as the machine's root by setresuid; inside a
+    non-root grader's user namespace by one more user namespace that maps `uid` to the
+    grader's (this process then holds no capability over the job's mounts). Either way
+    no_new_privs, and not dumpable (the job's memory and fds stay out of its children's
+    reach)."""
+    if in_initial_user_namespace():
+        if uid is not None and os.geteuid() == 0:
+            os.setgroups([])
+            os.setresgid(uid, uid, uid)
+            os.setresuid(uid, uid, uid)
+    else:
+        outer_uid, outer_gid = os.geteuid(), os.getegid()
+        namespaces.unshare(namespaces.CLONE_NEWUSER)
+        if uid is not None:  # one line, our own id: what a user namespace may map itself
+            Path('/proc/self/setgroups').write_text('deny')
+            Path('/proc/self/uid_map').write_text(f'{uid} {outer_uid} 1')
+            Path('/proc/self/gid_map').write_text(f'{uid} {outer_gid} 1')
+    _drop_capabilities()
+    prctl.set_no_new_privs()
+    prctl.set_dumpable(False)
 
 
 def leftover_processes(keep: Iterable[int] = ()) -> list[tuple[int, str]]:

@@ -15,6 +15,7 @@ import json
 import os
 import queue
 import shutil
+import sys
 import tempfile
 import threading
 import uuid
@@ -190,8 +191,9 @@ def grade_class(
 ) -> ClassRun:
     """Grade a class (or, `only`, some of its students) and merge the results into OUT.
 
-    A root grader on a machine without namespaces refuses (sandbox.check_can_contain)."""
-    check_can_contain()
+    A grader on a machine without namespaces refuses unless told --no-sandbox; before the
+    first job it prints how the jobs will be contained (sandbox.check_can_contain)."""
+    print(check_can_contain(limits=rubric.limits), file=sys.stderr, flush=True)
     if isinstance(submissions, str | Path):
         entries = find_submissions(submissions)
     elif len(submissions) == 1:

@@ -8,10 +8,12 @@ reaches another job, no host service is reachable), no host process, and is PID 
 namespace, so when it dies — stopped at its time budget, or because the grader was killed
 with `kill -9` — the kernel kills every process the submission started, forked daemons
 included. `confinement` then gives it a read-only machine with only its own folder and a
-private /tmp writable, and takes its privileges (as root: uid 200000+domain, no
-capabilities). Where no namespace can be made, the job leads its own process group, which
-the grader kills, and every process carries a token in its environment that a final sweep
-looks for; a root grader refuses that unless told `--no-sandbox` (`check_can_contain`).
+private /tmp writable, and takes its privileges (uid 200000+domain, named `student` in the
+job's own /etc/passwd, with HOME, USER, LOGNAME and a UTF-8 locale set; no capabilities).
+Where no namespace can be made the grader refuses, root or not, unless told `--no-sandbox`
+(`check_can_contain`, robot_lab.grading.package.containment); then the job leads its own
+process group, which the grader kills, and every process carries a token in its
+environment that a final sweep looks for.
 
 Inside, `enter()` applies the resource limits (CPU seconds, address space, file size,
 process count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
@@ -23,7 +25,6 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
-import functools
 import os
 import resource
 import shutil
@@ -38,6 +39,13 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from robot_lab.grading.package.containment import (
+    NO_SANDBOX_VAR,
+    containment_line,
+    namespaces_available,
+    refusal,
+    unshare_args,
+)
 from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
@@ -48,20 +56,15 @@ TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
 CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
 UID_VAR = 'ROBOT_LAB_GRADE_UID'
 REPORT_FD_VAR = 'ROBOT_LAB_GRADE_REPORT_FD'  # the pipe a job sends its report through
-NO_SANDBOX_VAR = 'ROBOT_LAB_GRADE_NO_SANDBOX'
 # A folder that keeps each job's log (STUDENT.log: steps, waits, the nodes' output) after
 # its job folder is removed: to see why a grade came out as it did.
 JOB_LOGS_VAR = 'ROBOT_LAB_GRADE_JOB_LOGS'
 _CGROUP_ROOTS = (Path('/sys/fs/cgroup/pids'), Path('/sys/fs/cgroup'))
-_NAMESPACES = ['--mount', '--propagation', 'private', '--net', '--ipc', '--pid', '--fork',
-               '--kill-child', '--mount-proc']
+# The job's locale: the same for every student whatever the instructor's terminal says
+# (C.UTF-8 is built into glibc since 2.35 and patched into Debian's for longer).
+_LOCALE = {'LANG': 'C.UTF-8'}
 # What the sandbox stopped in this job (signals sent to it from inside), for the feedback.
 BLOCKED: list[str] = []
-
-
-def _unshare_args() -> list[str]:
-    # Root needs no user namespace to make the others, and drops to a plain uid instead.
-    return _NAMESPACES if os.geteuid() == 0 else ['--user', '--map-root-user', *_NAMESPACES]
 
 
 @contextlib.contextmanager
@@ -82,33 +85,19 @@ def job_domains(jobs: int) -> Iterator[list[int]]:
         yield leased
 
 
-@functools.cache
-def namespaces_available() -> bool:
-    """True when `unshare` can give a job its own mount, network and PID namespaces here
-    (and, for a grader that is not root, a user namespace to make them in)."""
-    unshare = shutil.which('unshare')
-    if unshare is None or os.environ.get('ROBOT_LAB_GRADE_NO_NAMESPACES'):
-        return False
-    try:
-        done = subprocess.run([unshare, *_unshare_args(), 'true'], capture_output=True,
-                              timeout=10)
-    except (OSError, subprocess.TimeoutExpired):
-        return False
-    return done.returncode == 0
-
-
-def check_can_contain(no_sandbox: bool = False) -> None:
-    """Refuse to run students' code as root with nothing around it (unless `no_sandbox`)."""
+def check_can_contain(no_sandbox: bool = False, limits: Limits | None = None) -> str:
+    """Refuse to run students' code with nothing around it, root or not (unless
+    `no_sandbox`: RobotLabError saying why and how to allow namespaces); else the one line
+    that says how each job will be contained (`limits`: the rubric's)."""
     from robot_lab.errors import RobotLabError
 
     if no_sandbox or os.environ.get(NO_SANDBOX_VAR):
         os.environ[NO_SANDBOX_VAR] = '1'  # for the jobs run_job starts
-        return
-    if os.geteuid() == 0 and not namespaces_available():
-        raise RobotLabError(
-            "refusing to grade as root: this machine cannot make namespaces (no 'unshare' "
-            "or not permitted), so students' code would run with root's privileges",
-            fix='grade as an ordinary user, or pass --no-sandbox to accept the risk')
+        return containment_line(limits or Limits(), no_sandbox=True)
+    refused = refusal()
+    if refused is not None:
+        raise RobotLabError(refused[0], fix=refused[1])
+    return containment_line(limits or Limits(), no_sandbox=False)
 
 
 def _loopback_up() -> None:
@@ -218,9 +207,10 @@ def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> No
         from robot_lab.grading.package.confinement import confine, drop_privileges
 
         _loopback_up()
-        confine(job_dir or Path.cwd())
-        uid = os.environ.get(UID_VAR)
-        drop_privileges(int(uid) if uid else None)
+        uid = int(os.environ[UID_VAR]) if os.environ.get(UID_VAR) else None
+        home = os.environ.get('HOME')
+        confine(job_dir or Path.cwd(), uid, Path(home) if home else None)
+        drop_privileges(uid)
         if os.getpid() == 1:
             _init_process()
         for signum in (signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1,
@@ -294,16 +284,23 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         'PYTHONUNBUFFERED': '1', 'ROBOT_LAB_NO_DAEMON': '1',
     })
     env.pop('ROS_STATIC_PEERS', None)
+    for name in [k for k in env if k.startswith('LC_') or k == 'LANGUAGE']:
+        del env[name]
+    env.update(_LOCALE)
     group = pids_cgroup(token, limits.processes)
     if group is not None:
         env[CGROUP_VAR] = str(group)
     cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
-        cmd = [shutil.which('unshare') or 'unshare', *_unshare_args(), *cmd]
-        if os.geteuid() == 0:
-            from robot_lab.grading.package.confinement import job_uid
+        from robot_lab.grading.package.confinement import (
+            JOB_USER,
+            in_initial_user_namespace,
+            job_uid,
+        )
 
-            env[UID_VAR] = str(job_uid(domain))
+        cmd = [shutil.which('unshare') or 'unshare', *unshare_args(), *cmd]
+        env.update({UID_VAR: str(job_uid(domain)), 'USER': JOB_USER, 'LOGNAME': JOB_USER})
+        if os.geteuid() == 0 and in_initial_user_namespace():  # the job setresuid()s
             _chown_tree(job_dir, job_uid(domain))
     log = job_dir / 'job.log'
     started = time.monotonic()

@@ -1,0 +1,320 @@
+"""A grading job looks like a machine to honest code, and is contained whoever grades
+(issue 51).
+
+A job's uid had no passwd entry: a correct package whose nodes called `getpass.getuser()`
+lost 7 of 13 points. And a grader that was not root fell back to no sandbox at all, with
+nothing said, where the machine refused namespaces. Here, for real: a probe job run by a
+root grader and by an unprivileged one (a uid with no account, under `setpriv`) sees its
+own user, home, locale, hosts, /dev and /proc, and no more of the machine; a class graded
+as that user scores full marks; and where namespaces are refused (every
+`user.max_*_namespaces` set to 0 inside a user namespace of the test's own), the grader
+refuses, root or not, says why and what to do, and grades only when told `--no-sandbox`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from conftest import BIN
+from test_grade_contained import DATA, _looks_around, _odd_entries
+
+from robot_lab.grading.package.confinement import JOB_USER, job_uid, machine_files
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import namespaces_available, run_job
+
+TEST_UID = 64123  # no account on this machine: neither the grader nor its jobs need one
+DOMAIN = 11
+real = pytest.mark.skipif(
+    os.geteuid() != 0 or not shutil.which('setpriv') or not namespaces_available(),
+    reason='needs root (to become another user and to limit namespaces) and namespaces')
+
+
+def test_the_jobs_accounts_replace_a_namesake_and_keep_the_machines() -> None:
+    passwd = ('root:x:0:0:root:/root:/bin/bash\nstudent:x:1000:1000::/home/student:/bin/sh\n'
+              'ghost:x:200011:5::/:/bin/false\nnobody:x:65534:65534::/nonexistent:/bin/false\n')
+    group = 'root:x:0:\nstudent:x:1000:\nnogroup:x:65534:\n'
+    files = machine_files(job_uid(DOMAIN), Path('/jobs/j1/home'), passwd, group, 'lab-pc')
+    users = [line.split(':') for line in files['/etc/passwd'].splitlines()]
+    assert [u[0] for u in users] == ['root', 'nobody', JOB_USER]
+    assert users[-1][2:4] == ['200011', '200011'] and users[-1][5] == '/jobs/j1/home'
+    groups = [line.split(':')[:3] for line in files['/etc/group'].splitlines()]
+    assert groups == [['root', 'x', '0'], ['nogroup', 'x', '65534'], [JOB_USER, 'x', '200011']]
+    hosts = files['/etc/hosts'].splitlines()
+    assert '127.0.0.1\tlocalhost' in hosts and '127.0.1.1\tlab-pc' in hosts
+
+
+# What a job sees, from inside: run after `enter`, as every grading job is. Each attempt
+# gives its result or the error it met; the test judges them.
+PROBE = """
+import getpass, grp, json, locale, os, pwd, resource, socket, sys
+from pathlib import Path
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import enter
+
+job = Path(sys.argv[-1])
+enter(Limits(processes=64, memory_mb=1024), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')),
+      job)
+
+
+def attempt(action):
+    try:
+        return action()
+    except Exception as err:
+        return f'{type(err).__name__}: {err}'
+
+
+def write(path):
+    with open(path, 'w') as f:
+        f.write('x')
+    return 'written'
+
+
+def status(field):
+    return next(line.split()[1] for line in open('/proc/self/status')
+                if line.startswith(field + ':'))
+
+
+def connect():
+    socket.create_connection(('127.0.0.1', int(os.environ['PROBE_PORT'])), 2).close()
+    return 'connected'
+
+
+seen = {
+    'uid': os.getuid(), 'gid': os.getgid(), 'getuser': attempt(getpass.getuser),
+    'passwd': attempt(lambda: list(pwd.getpwuid(os.getuid()))[:6]),
+    'group': attempt(lambda: grp.getgrgid(os.getgid()).gr_name),
+    'env': [os.environ.get(k) for k in ('HOME', 'USER', 'LOGNAME')],
+    'home': os.path.expanduser('~'),
+    'home_write': attempt(lambda: write(os.path.expanduser('~/.probe'))),
+    'locale': attempt(lambda: locale.setlocale(locale.LC_ALL, '')),
+    'encoding': locale.getpreferredencoding(),
+    'localhost': attempt(lambda: socket.gethostbyname('localhost')),
+    'hostname': attempt(lambda: socket.gethostbyname(socket.gethostname())),
+    'dev_null': attempt(lambda: write('/dev/null')),
+    'urandom': attempt(lambda: len(open('/dev/urandom', 'rb').read(8))),
+    'proc_self': attempt(lambda: int(status('Pid')) == os.getpid()
+                         and os.path.realpath('/proc/self/cwd') == str(job.resolve())),
+    'passwd_write': attempt(lambda: write('/etc/passwd')),
+    'system_write': attempt(lambda: write('/usr/robot_lab_probe')),
+    'tmp': sorted(os.listdir('/tmp')), 'tmp_write': attempt(lambda: write('/tmp/mine')),
+    'sibling': attempt(lambda: open(job.parent / 'secret').read()),
+    'interfaces': [name for _, name in socket.if_nameindex()], 'connect': attempt(connect),
+    'processes': len([p for p in os.listdir('/proc') if p.isdigit()]),
+    'caps': status('CapEff'), 'no_new_privs': status('NoNewPrivs'),
+    'limits': [resource.getrlimit(resource.RLIMIT_AS)[0] >> 20,
+               resource.getrlimit(resource.RLIMIT_NPROC)[0]],
+}
+print('PROBE ' + json.dumps(seen), flush=True)
+"""
+
+
+def _probe_output(output: str) -> dict[str, Any]:
+    line = next((x for x in output.splitlines() if x.startswith('PROBE ')), None)
+    assert line is not None, output
+    seen: dict[str, Any] = json.loads(line[len('PROBE '):])
+    return seen
+
+
+def _judge(seen: dict[str, Any], job: Path) -> None:
+    """The same promises whoever runs the grader."""
+    uid, home = job_uid(DOMAIN), str(job.resolve() / 'home')
+    assert (seen['uid'], seen['gid']) == (uid, uid), seen
+    assert seen['getuser'] == JOB_USER and seen['group'] == JOB_USER, seen
+    assert seen['passwd'] == [JOB_USER, 'x', uid, uid, 'robot_lab grading job', home], seen
+    assert seen['env'] == [home, JOB_USER, JOB_USER] and seen['home'] == home, seen
+    assert seen['home_write'] == 'written', seen
+    assert seen['locale'] == 'C.UTF-8' and seen['encoding'] == 'UTF-8', seen
+    assert seen['localhost'] == '127.0.0.1' and seen['hostname'].startswith('127.'), seen
+    assert seen['dev_null'] == 'written' and seen['urandom'] == 8, seen
+    assert seen['proc_self'] is True, seen
+    # Contained: a read-only machine (its own passwd too), a private /tmp, no other
+    # hand-in, only a loopback of its own, its own processes, no capabilities, limits.
+    assert 'Read-only file system' in seen['passwd_write'], seen
+    assert ('Read-only file system' in seen['system_write']
+            or 'Permission denied' in seen['system_write']), seen
+    resolved = job.resolve()
+    on_the_way = [resolved.parts[2]] if resolved.parts[1] == 'tmp' else []
+    assert seen['tmp'] == on_the_way and seen['tmp_write'] == 'written', seen  # nothing else
+    assert seen['sibling'].startswith('FileNotFoundError'), seen
+    assert seen['interfaces'] == ['lo'], seen
+    assert seen['connect'].startswith('ConnectionRefusedError'), seen
+    assert seen['processes'] == 2, seen  # the namespace's init and the job
+    assert seen['caps'] == '0000000000000000' and seen['no_new_privs'] == '1', seen
+    assert seen['limits'] == [1024, 64], seen
+
+
+@pytest.fixture
+def listener() -> Iterator[socket.socket]:
+    """A TCP port on the host's loopback that no job may reach."""
+    sock = socket.socket()
+    sock.bind(('127.0.0.1', 0))
+    sock.listen(4)
+    yield sock
+    sock.close()
+
+
+@pytest.fixture
+def user_dir() -> Iterator[Path]:
+    """A folder the test user owns (pytest's own tmp folders are root's alone)."""
+    path = Path(tempfile.mkdtemp(prefix='robot_lab_user_'))
+    (path / 'home').mkdir()
+    os.chown(path, TEST_UID, TEST_UID)
+    os.chown(path / 'home', TEST_UID, TEST_UID)
+    yield path
+    shutil.rmtree(path, ignore_errors=True)
+
+
+# Runs COMMAND as TEST_UID, from a mount namespace of its own (made by `unshare --mount`):
+# where the interpreter lives under a folder others may not enter (/root/.pyenv here), that
+# folder is covered there by one that holds only the interpreter. With --no-namespaces, in
+# a user namespace of its own whose every `user.max_*_namespaces` is 0 first: neither its
+# root nor TEST_UID can make a namespace there, and nothing outside is touched.
+AS_USER = """
+import ctypes, os, subprocess, sys, tempfile
+from pathlib import Path
+
+args = sys.argv[1:]
+no_namespaces = args[0] == '--no-namespaces'
+uid, command = int(args[1]), args[2:]
+base = Path(sys.base_prefix).resolve()
+closed = [p for p in reversed(base.parents) if p != Path('/') and not p.stat().st_mode & 1]
+if closed:
+    keep = tempfile.mkdtemp()
+    subprocess.run(['mount', '--bind', str(base), keep], check=True)
+    subprocess.run(['mount', '-t', 'tmpfs', '-o', 'mode=755', 'tmpfs', str(closed[0])],
+                   check=True)
+    base.mkdir(parents=True)
+    subprocess.run(['mount', '--bind', keep, str(base)], check=True)
+    subprocess.run(['umount', keep], check=True)
+become = ['setpriv', f'--reuid={uid}', f'--regid={uid}', '--clear-groups', *command]
+if not no_namespaces:
+    os.execvp(become[0], become)
+libc = ctypes.CDLL(None, use_errno=True)
+unshared_r, unshared_w = os.pipe()
+mapped_r, mapped_w = os.pipe()
+child = os.fork()
+if child == 0:
+    if libc.unshare(0x10000000) != 0:  # CLONE_NEWUSER
+        os._exit(90)
+    os.write(unshared_w, b'1')
+    os.read(mapped_r, 1)
+    os.setresgid(0, 0, 0)
+    os.setresuid(0, 0, 0)
+    for limit in Path('/proc/sys/user').glob('max_*_namespaces'):
+        limit.write_text('0')
+    os.execvp(become[0], become)
+assert os.read(unshared_r, 1) == b'1'
+for kind in ('uid_map', 'gid_map'):
+    Path(f'/proc/{child}/{kind}').write_text('0 0 65536\\n')
+os.write(mapped_w, b'1')
+sys.exit(os.waitstatus_to_exitcode(os.waitpid(child, 0)[1]))
+"""
+
+
+def _as_user(command: list[str], home: Path, env: dict[str, str] | None = None,
+             no_namespaces: bool = False, timeout: float = 120,
+             uid: int = TEST_UID) -> subprocess.CompletedProcess[str]:
+    wrapper = ['unshare', '--mount', '--propagation', 'private', sys.executable, '-c',
+               AS_USER, '--no-namespaces' if no_namespaces else '--', str(uid), *command]
+    full = {**os.environ, 'HOME': str(home), 'PATH': f'{BIN}:{os.environ["PATH"]}',
+            **(env or {})}
+    for name in ('USER', 'LOGNAME', 'ROBOT_LAB_GRADE_NO_SANDBOX'):
+        full.pop(name, None)
+    return subprocess.run(wrapper, capture_output=True, text=True, timeout=timeout,
+                          env=full, check=False)
+
+
+GRADER = """
+import sys
+from pathlib import Path
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import run_job
+run = run_job(Path(sys.argv[1]), int(sys.argv[2]), Limits(wall_seconds=60), 'tok-probe',
+              argv=['-c', sys.argv[3]])
+print(run.output, 'isolated' if run.isolated else 'NOT ISOLATED', flush=True)
+"""
+
+
+@pytest.mark.skipif(not namespaces_available(), reason='no namespaces here')
+def test_a_job_of_this_grader_sees_a_machine_and_no_more(
+        tmp_path: Path, listener: socket.socket) -> None:
+    job = tmp_path / 'job'
+    job.mkdir()
+    (tmp_path / 'secret').write_text('another hand-in')
+    env = {'PROBE_PORT': str(listener.getsockname()[1]), 'LC_ALL': 'xx_XX.UTF-8'}
+    os.environ.update(env)  # an instructor's terminal locale the job must not inherit
+    try:
+        run = run_job(job, DOMAIN, Limits(wall_seconds=60), 'tok-probe', argv=['-c', PROBE])
+    finally:
+        for name in env:
+            del os.environ[name]
+    assert run.isolated and run.returncode == 0, run.output
+    _judge(_probe_output(run.output), job)
+
+
+@real
+def test_a_job_of_a_grader_that_is_not_root_sees_the_same(
+        user_dir: Path, listener: socket.socket) -> None:
+    job = user_dir / 'job'
+    job.mkdir()
+    os.chown(job, TEST_UID, TEST_UID)
+    (user_dir / 'secret').write_text('another hand-in')
+    done = _as_user([sys.executable, '-c', GRADER, str(job), str(DOMAIN), PROBE],
+                    user_dir / 'home', {'PROBE_PORT': str(listener.getsockname()[1])})
+    assert done.returncode == 0 and 'isolated' in done.stdout, done.stdout + done.stderr
+    _judge(_probe_output(done.stdout), job)
+
+
+@real
+def test_a_grader_that_is_not_root_gives_a_curious_package_full_marks(
+        user_dir: Path, ros_domain: int) -> None:
+    """The whole grader as an unprivileged user: a correct package whose every node asks
+    who and where it is (before issue 51: 6 of 13, as root)."""
+    shutil.copytree(DATA / 'reference', user_dir / 'class' / 'curious')
+    _looks_around(user_dir / 'class' / 'curious')
+    subprocess.run(['chown', '-R', f'{TEST_UID}:{TEST_UID}', str(user_dir)], check=True)
+    done = _as_user([str(BIN / 'robot-lab'), 'grade', str(user_dir / 'class'), '--lab',
+                     'ch6-lab1', '-o', str(user_dir / 'out')], user_dir / 'home',
+                    {'ROS_DOMAIN_ID': str(ros_domain)}, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    [line] = [x for x in done.stderr.splitlines() if x.startswith('containment:')]
+    assert 'unshare --user' in line and f"runs as '{JOB_USER}'" in line, line
+    assert 'curious: 13/13' in done.stdout, (user_dir / 'out' / 'feedback' /
+                                             'curious.md').read_text()
+
+
+@real
+@pytest.mark.parametrize('uid', [0, TEST_UID], ids=['root', 'user'])
+def test_without_namespaces_the_grader_refuses_unless_told(user_dir: Path, uid: int) -> None:
+    """Namespaces refused for real: the grader says why and what to do, in one line, and
+    grades only with --no-sandbox, saying first that nothing contains the jobs."""
+    _odd_entries(user_dir / 'class')  # entries without a package: no job is started
+    subprocess.run(['chown', '-R', f'{TEST_UID}:{TEST_UID}', str(user_dir)], check=True)
+    grade = [str(BIN / 'robot-lab'), 'grade', str(user_dir / 'class'), '--lab', 'ch6-lab1',
+             '-o', str(user_dir / 'out')]
+    refused = _as_user(grade, user_dir / 'home', no_namespaces=True, uid=uid)
+    assert refused.returncode != 0 and refused.stdout == '', refused.stdout
+    [said] = refused.stderr.strip().splitlines()
+    assert 'refusing to grade' in said and 'cannot make namespaces' in said, said
+    assert 'No space left on device' in said, said  # unshare's own words
+    assert 'user.max_mnt_namespaces=15000' in said and '--no-sandbox' in said, said
+    assert ('user.max_user_namespaces' in said) == (uid != 0), said
+    assert ('as root' in said) == (uid == 0) and not (user_dir / 'out').exists(), said
+    done = _as_user([*grade, '--no-sandbox'], user_dir / 'home', no_namespaces=True, uid=uid)
+    assert done.returncode == 0, done.stderr
+    first = done.stderr.splitlines()[0]
+    assert first.startswith('containment: NONE (--no-sandbox)'), done.stderr
+    assert ('runs as root' if uid == 0 else f'runs as uid {TEST_UID}') in first, first
+    assert (user_dir / 'out' / 'grades.csv').read_text().count('\n') == 5
+    print(first)  # the line on a host without namespaces, for the record (pytest -s)
+
