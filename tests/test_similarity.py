@@ -88,7 +88,7 @@ def test_the_shipped_class_pairs_copies_not_the_honest_student(tmp_path: Path) -
 
 
 @pytest.mark.parametrize(('scores', 'expected'), [
-    ([0.1, 0.12, 0.08, 0.15, 0.11, 0.9], 0.35),  # a quiet class: the floor
+    ([0.1, 0.12, 0.08, 0.15, 0.11, 0.9], FLOOR),  # a quiet class: the floor
     ([0.3, 0.34, 0.28, 0.4, 0.32, 0.36, 0.95], None),  # a noisy one: above the floor
     ([0.95, 0.97, 0.99, 1.0], CAP),  # all alike: the cap still names them
 ])
