@@ -208,3 +208,39 @@ def test_a_stuck_bool_does_not_follow_and_gets_bool_advice(
     assert 'data = True' in text and 'no field of the command changed' in text
     assert 'msg.data = reading < threshold' in text and 'speed' not in text
 
+
+
+@pytest.mark.timeout(120)
+def test_types_the_grader_does_not_load_are_read_and_written_by_the_helper(
+        system: tuple[Observation, int], monkeypatch: pytest.MonkeyPatch) -> None:
+    """A student's own interfaces are never imported by the grader: its helper process
+    (robot_lab.grading.package.bridge) reads the commands and publishes the readings.
+    Here the grader's process refuses the sensor's and the status controller's types, as
+    it does a student's interface package's."""
+    from robot_lab import messages
+    from robot_lab.errors import GraphError
+    from robot_lab.grading.package.bridge import Bridge
+    from robot_lab.rclpy_session import session
+
+    kit_type = messages.message_class
+    refused = ('sensor_msgs/msg/Illuminance', 'diagnostic_msgs/msg/DiagnosticStatus')
+
+    def grader_types(name: str) -> object:
+        if name in refused:
+            raise GraphError(f'{name}: not loaded in the grader')
+        return kit_type(name)
+
+    monkeypatch.setattr(messages, 'message_class', grader_types)
+    _, pid = system
+    bridge = Bridge()
+    try:
+        obs = observe(session(), 5, 30.0, 1.0, alive=lambda: True, bridge=bridge)
+        assert obs.topics['/ambient_light'].count > 0 and obs.topics['/lamp_status'].count > 0
+        roles = Roles(sensor='/light_sensor', sensor_topic='/ambient_light',
+                      controller='/status_ctl', command_topic='/lamp_status')
+        response = perturb.drive_controller(session(), obs, roles, _pause(pid), bridge)
+    finally:
+        bridge.close()
+    assert response.follows, response.table()
+    assert response.changed() == ['values[0].value'], response.table()
+    assert not bridge.errors

@@ -202,7 +202,7 @@ def run_system(job_dir: Path, ws: Path, state: JobState) -> None:
     from robot_lab.pkg.workspace import use_workspace
 
     saved_path = list(sys.path)
-    use_workspace(ws)
+    use_workspace(ws, libraries=False)  # for the children: the environment only
     sys.path[:] = saved_path  # the student's modules stay out of the grader
     emptied = _neutralise_installed_param_files(state, ws, state.package_name)
     plan, live.launch_name, live.notes = _plan_for(state, job_dir)
@@ -216,6 +216,7 @@ def run_system(job_dir: Path, ws: Path, state: JobState) -> None:
 
 
 def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
+    from robot_lab.grading.package.bridge import Bridge
     from robot_lab.graph.discovery import full_node_names
     from robot_lab.graph.view import graph_view
     from robot_lab.launch.api import LaunchHandle
@@ -231,6 +232,7 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         live.fix = err.fix or 'run it yourself with `ros2 launch` and fix the error it prints'
         return
     output: dict[str, list[str]] = {}
+    bridge = Bridge()  # for the student's own message types: read by a helper process
     # One process may spin several nodes: wait for as many nodes as the lab asks for.
     wanted = max(len(plan.processes()), int(state.option('launch_file', 'min_nodes', 3)))
     try:
@@ -238,7 +240,7 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
             obs = observe(sess, wanted, rubric.startup_seconds, rubric.observe_seconds,
                           alive=lambda: handle.running,
                           running=lambda: [p.pid for p in handle.processes
-                                           if p.state == 'running' and p.pid])
+                                           if p.state == 'running' and p.pid], bridge=bridge)
         except Exception as err:  # the grader's graph queries, not the student's nodes
             live.grader_fault = f'watching the running system failed: {type(err).__name__}: {err}'
             live.not_run = f'the grader could not watch the running system ({live.grader_fault})'
@@ -259,11 +261,13 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         if live.roles.sensor and live.roles.controller:
             try:
                 live.response = drive_controller(
-                    sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess))
+                    sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess),
+                    bridge)
             except Exception as err:  # the grader's perturbation failed, not the controller
                 live.response = Response(False, why='the grader failed while driving it',
                                          fault=f'{type(err).__name__}: {err}')
     finally:
+        bridge.close()
         handle.shutdown(timeout=10)
     if not live.grader_fault:
         _after_the_run(state, job_dir, output)

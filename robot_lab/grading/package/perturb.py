@@ -32,9 +32,10 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from robot_lab.grading.package.roles import Observation, Roles
+from robot_lab.grading.package.roles import Observation, Roles, TopicSeen
 
 if TYPE_CHECKING:
+    from robot_lab.grading.package.bridge import Bridge
     from robot_lab.rclpy_session import Session
 
 __all__ = ['Response', 'Value', 'command_fields', 'drive_controller']
@@ -229,54 +230,113 @@ def _follows(low1: Sample, high: Sample, low2: Sample) -> bool:
     return False
 
 
+class _Wires:
+    """The grader's publisher on the sensor topic and subscription to the commands: its
+    own for the kit's types, through the helper process (`Bridge`) for a student's own."""
+
+    def __init__(self, sess: Session, bridge: Bridge | None, sensor: TopicSeen,
+                 command: TopicSeen, on_command: Callable[[dict[str, Any]], None]) -> None:
+        from rclpy.qos import QoSProfile, QoSReliabilityPolicy
+
+        from robot_lab.messages import message_class, message_from_yaml, message_to_dict
+
+        self.sess, self.bridge, self.sensor, self.command = sess, bridge, sensor, command
+        self.publisher: Any = None
+        self.subscription: Any = None
+        try:
+            in_cls = message_class(sensor.types[0])
+        except Exception:
+            in_cls = None
+        try:
+            out_cls = message_class(command.types[0])
+        except Exception:
+            out_cls = None
+        if bridge is None and (in_cls is None or out_cls is None):
+            raise LookupError('not a type the grader loads')
+        self.make: Callable[[dict[str, Any]], Any] = (
+            (lambda data: message_from_yaml(in_cls, data)) if in_cls else (lambda data: data))
+        if in_cls is not None:
+            self.publisher = sess.node.create_publisher(in_cls, sensor.name, 10)
+        else:
+            assert bridge is not None
+            bridge.advertise(sensor.name, sensor.types[0])
+        if out_cls is not None:
+            def on_message(msg: Any) -> None:
+                with contextlib.suppress(Exception):
+                    on_command(message_to_dict(msg))
+
+            self.subscription = sess.node.create_subscription(
+                out_cls, command.name, on_message,
+                QoSProfile(depth=100, reliability=QoSReliabilityPolicy.BEST_EFFORT))
+        else:
+            assert bridge is not None
+            bridge.subscribe(command.name, command.types[0], on_command)
+
+    def publish(self, message: Any) -> None:
+        if self.publisher is not None:
+            self.publisher.publish(message)
+        else:
+            assert self.bridge is not None
+            self.bridge.publish(self.sensor.name, message)
+
+    def matched(self) -> int:
+        if self.publisher is not None:
+            return int(self.publisher.get_subscription_count())
+        assert self.bridge is not None
+        return self.bridge.matched.get(self.sensor.name, 0)
+
+    def close(self) -> None:
+        with contextlib.suppress(Exception):
+            if self.publisher is not None:
+                self.sess.node.destroy_publisher(self.publisher)
+            if self.subscription is not None:
+                self.sess.node.destroy_subscription(self.subscription)
+        if self.bridge is not None:
+            self.bridge.unsubscribe(self.command.name)
+
+
 def drive_controller(sess: Session, obs: Observation, roles: Roles,
-                     pause: Callable[[], tuple[Callable[[], None], str] | None]) -> Response:
+                     pause: Callable[[], tuple[Callable[[], None], str] | None],
+                     bridge: Bridge | None = None) -> Response:
     """Drive the sensor topic low → high → low and read the commands (see the module doc).
 
     `pause()` takes the student's sensor out of the loop and returns how to undo it and
-    what it did (None: it cannot be done here, the controller is not tested).
+    what it did (None: it cannot be done here, the controller is not tested). `bridge`
+    carries the messages of types the grader does not load (a student's own interfaces).
     """
-    from rclpy.qos import QoSProfile, QoSReliabilityPolicy
-
-    from robot_lab.messages import message_class, message_from_yaml, message_to_dict
-
     sensor = obs.topics.get(roles.sensor_topic or '')
     command = obs.topics.get(roles.command_topic or '')
-    if sensor is None or command is None or not sensor.values or len(sensor.types) != 1:
+    if (sensor is None or command is None or not sensor.values or len(sensor.types) != 1
+            or len(command.types) != 1):
         return Response(False, why='no sensor readings of a single type to imitate')
     keys, low, high = _varying(list(sensor.values))
     template = sensor.values[-1]
-    in_cls = message_class(sensor.types[0])
-    out_cls = message_class(command.types[0])
-    paused = pause()
-    if paused is None:
-        return Response(False, why='the sensor could not be taken out of the loop')
-    resume, how = paused
-    node = sess.node
     lock = threading.Lock()
     received: list[Sample] = []  # the commands, in the order they came
 
-    def on_command(msg: Any) -> None:
-        with contextlib.suppress(Exception):
-            data = message_to_dict(msg)
-            sample: Sample = dict(_fields(data))
-            with lock:
-                received.append(sample)
+    def on_command(data: dict[str, Any]) -> None:
+        sample: Sample = dict(_fields(data))
+        with lock:
+            received.append(sample)
 
-    publisher = node.create_publisher(in_cls, sensor.name, 10)
-    subscription = node.create_subscription(
-        out_cls, command.name, on_command,
-        QoSProfile(depth=100, reliability=QoSReliabilityPolicy.BEST_EFFORT))
+    try:
+        wires = _Wires(sess, bridge, sensor, command, on_command)
+    except LookupError as err:
+        return Response(False, why=str(err))
+    paused = pause()
+    if paused is None:
+        wires.close()
+        return Response(False, why='the sensor could not be taken out of the loop')
+    resume, how = paused
     response = Response(True, how=f'{how}; the grader published on `{sensor.name}` instead')
     try:
-        messages = {lvl: message_from_yaml(in_cls, _at_level(template, keys, lvl))
-                    for lvl in (low, high)}
+        messages = {lvl: wires.make(_at_level(template, keys, lvl)) for lvl in (low, high)}
 
         # Wait for the match (no command before it can answer the grader), then take the
         # commands the controller sends on its own (a timer on its last reading) as the
         # level before the first.
         end = time.monotonic() + _MATCH
-        while time.monotonic() < end and not publisher.get_subscription_count():
+        while time.monotonic() < end and not wires.matched():
             time.sleep(0.05)
         with lock:
             before: Sample | None = _summary(received[-_SAMPLES:]) if received else None
@@ -288,7 +348,7 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
                 first = len(received)
             end = time.monotonic() + _PATIENCE
             while True:
-                publisher.publish(messages[level])
+                wires.publish(messages[level])
                 time.sleep(1.0 / _RATE)
                 with lock:
                     new = received[first:]
@@ -314,12 +374,9 @@ def drive_controller(sess: Session, obs: Observation, roles: Roles,
             # The readings seen may all lie where an honest controller saturates (a short
             # window of a slow sensor profile): drive a wider range once before judging.
             wide = _wider(low, high)
-            messages.update({lvl: message_from_yaml(in_cls, _at_level(template, keys, lvl))
-                             for lvl in wide})
+            messages.update({lvl: wires.make(_at_level(template, keys, lvl)) for lvl in wide})
             response.follows = drive(wide)
     finally:
-        with contextlib.suppress(Exception):
-            node.destroy_publisher(publisher)
-            node.destroy_subscription(subscription)
+        wires.close()
         resume()
     return response

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from robot_lab.grading.package.bridge import Bridge
     from robot_lab.rclpy_session import Session
 
 __all__ = ['NodeSeen', 'Observation', 'Roles', 'TopicSeen', 'infer_roles', 'observe']
@@ -99,8 +100,9 @@ def _logger_node(logger: str, nodes: list[str]) -> str | None:
 class _Watcher:
     """Subscriptions of the observer session; callbacks only count and keep samples."""
 
-    def __init__(self, sess: Session) -> None:
+    def __init__(self, sess: Session, bridge: Bridge | None = None) -> None:
         self.sess = sess
+        self.bridge = bridge  # reads the types this process does not load (the student's)
         self.obs = Observation()
         self.lock = threading.Lock()
         self.subs: dict[str, Any] = {}
@@ -110,6 +112,13 @@ class _Watcher:
     def _on_message(self, topic: str, msg: Any) -> None:
         from robot_lab.messages import message_to_dict
 
+        try:
+            data: dict[str, Any] | None = message_to_dict(msg)
+        except Exception:  # an unusual type: counted, not shown
+            data = None
+        self._on_data(topic, data)
+
+    def _on_data(self, topic: str, data: dict[str, Any] | None) -> None:
         if not self.counting:
             return
         now = time.monotonic()
@@ -119,9 +128,7 @@ class _Watcher:
                 seen.first = now
             seen.count += 1
             seen.last = now
-        try:
-            data = message_to_dict(msg)
-        except Exception:  # an unusual type: counted, not shown
+        if data is None:
             return
         text = str(data)
         with self.lock:
@@ -181,7 +188,11 @@ class _Watcher:
                 continue
             try:
                 cls = message_class(types[0])
-            except Exception:
+            except Exception:  # not a type of the kit's: the helper process reads it
+                if self.bridge is not None:
+                    self.subs[topic] = None
+                    self.bridge.subscribe(topic, types[0],
+                                          functools.partial(self._on_data, topic))
                 continue
             qos = QoSProfile(depth=50, reliability=QoSReliabilityPolicy.BEST_EFFORT)
             self.subs[topic] = node.create_subscription(
@@ -196,7 +207,10 @@ class _Watcher:
         self.subs['/rosout'] = self.sess.node.create_subscription(Log, '/rosout', self._on_log, qos)
 
     def close(self) -> None:
-        for sub in self.subs.values():
+        for topic, sub in self.subs.items():
+            if sub is None and self.bridge is not None:
+                self.bridge.unsubscribe(topic)
+                continue
             with contextlib.suppress(Exception):
                 self.sess.node.destroy_subscription(sub)
 
@@ -255,15 +269,17 @@ def _until_samples(watcher: _Watcher) -> float:
 
 def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
             alive: Callable[[], bool],
-            running: Callable[[], list[int]] = list) -> Observation:
+            running: Callable[[], list[int]] = list,
+            bridge: Bridge | None = None) -> Observation:
     """Watch the graph: wait (≤ `startup` s) until `expected_nodes` nodes are up, then count
-    messages and log lines for `duration` s. `alive()` False ends the wait early.
+    messages and log lines for `duration` s. `alive()` False ends the wait early; `bridge`
+    reads the topics of types this process does not load (robot_lab.grading.package.bridge).
 
     Fewer nodes than expected (a crashed or hung process) end the wait once the node list
     has stood still for _STABLE s and every process in `running()` (pids) has been heard
     with a node: on a busy host a slow node can come well after a crashed one has gone.
     """
-    watcher = _Watcher(sess)
+    watcher = _Watcher(sess, bridge)
     watcher.start_logs()
     try:
         deadline = time.monotonic() + startup
