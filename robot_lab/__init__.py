@@ -96,6 +96,9 @@ _API: dict[str, str] = {
     'TurtlesimView': 'robot_lab.widgets.turtlesim_view',
     'joint_sliders': 'robot_lab.widgets.joint_sliders',
     'JointSliders': 'robot_lab.widgets.joint_sliders',
+    # the 3D view (RViz's job)
+    'scene_view': 'robot_lab.scene.view',
+    'SceneView': 'robot_lab.scene.view',
 }
 
 __all__ = sorted(_API)

@@ -1,0 +1,442 @@
+"""`robot_lab.scene_view()`: the robot, its TF frames and sensor data in 3D, as RViz shows them.
+
+The kernel takes `/tf`, `/tf_static` and each display's topic, resolves every frame's
+newest pose in the fixed frame, and at the display rate (30 Hz, RViz's default) sends the
+browser only the poses and data that changed. The browser (three.js) places each display
+at its frame and draws a frame only when something changed or the camera moved. With no
+frontend (nbval, CI) the view shows a matplotlib picture of the frames instead.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import TYPE_CHECKING, Any
+
+from robot_lab.errors import GraphError
+from robot_lab.scene.displays import BY_TYPE, TF, Display, Grid, Outbox, RobotModel
+from robot_lab.scene.frames import FrameTree, Pose
+from robot_lab.widgets.live_view import LiveView
+from robot_lab.widgets.output import owned_by_cell
+
+if TYPE_CHECKING:
+    from ipywidgets import Widget
+    from matplotlib.figure import Figure
+    from rclpy.qos import QoSProfile
+    from rclpy.subscription import Subscription
+
+    from robot_lab.scene.canvas import SceneCanvas
+
+__all__ = ['SceneView', 'scene_view']
+
+_TF = 'tf2_msgs/msg/TFMessage'
+# How often the status line is recomputed while only poses move (a link that lost its
+# transform shows within this); a tree that changed updates it at once.
+_STATUS_PERIOD = 0.5
+_NAMES = {'robotmodel': 'RobotModel', 'laserscan': 'LaserScan', 'marker': 'Markers',
+          'markerarray': 'Markers', 'markers': 'Markers', 'path': 'Path',
+          'odometry': 'Odometry', 'pose': 'PoseStamped', 'posestamped': 'PoseStamped'}
+
+
+def _display_class(kind: str | type[Display]) -> type[Display]:
+    if isinstance(kind, type):
+        return kind
+    from robot_lab.scene import displays
+
+    name = _NAMES.get(kind.lower().replace('_', ''))
+    if name is None:
+        raise GraphError(f'no display named {kind!r}',
+                         fix='use one of RobotModel, LaserScan, Marker, MarkerArray, Path, '
+                         'Odometry, Pose')
+    cls: type[Display] = getattr(displays, name)
+    return cls
+
+
+class SceneView(LiveView):
+    """The 3D view. `frames()` and `status` say what it shows (for checks and tests)."""
+
+    def __init__(self, fixed_frame: str | None = None, topics: tuple[str, ...] = (),
+                 robot_description: str | None = '/robot_description', rate: float = 30.0,
+                 domain_id: int | None = None, headless_seconds: float | None = None,
+                 height: int = 480) -> None:
+        from robot_lab.rclpy_session import session
+
+        super().__init__(rate, headless_seconds)
+        self.height = int(height)
+        self.session = session(domain_id)
+        self.tree = FrameTree()
+        self._lock = threading.Lock()
+        self._fixed = fixed_frame or ''
+        self._auto_fixed = not fixed_frame
+        self.displays: dict[str, Display] = {}
+        self._subscriptions: dict[str, Subscription] = {}
+        self._tf_dirty = False
+        self._send_all = True  # the next tick sends everything (a view appeared)
+        self._resend_poses = False
+        self._sent_poses: dict[str, Pose | None] = {}
+        self._sent_version = -1
+        self._status: list[str] = []
+        self._status_at = 0.0
+        self._added: list[Display] = []
+        self._removed: list[str] = []
+        self._thread: threading.Thread | None = None
+        self._scene_canvas: SceneCanvas | None = None
+        self.messages = 0  # messages sent to the browser
+        self._tf_subs = [self._subscribe_tf('/tf', static=False),
+                         self._subscribe_tf('/tf_static', static=True)]
+        self.add_display(Grid())
+        if robot_description:
+            self.add_display(RobotModel(robot_description))
+        self.add_display(TF())
+        for topic in topics:
+            self.add(topic)
+        owned_by_cell(self)
+
+    # -- ROS -----------------------------------------------------------------------------
+    def _subscribe_tf(self, topic: str, static: bool) -> Subscription:
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+        from robot_lab.messages import message_class
+
+        # tf2's TransformListener's QoS: depth 100, /tf_static transient-local
+        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL if static
+                         else DurabilityPolicy.VOLATILE)
+        callback = self.log.guard(self._on_tf_static if static else self._on_tf)
+        cls = message_class(_TF)
+        return self.session.run_in_executor(lambda: self.session.node.create_subscription(
+            cls, topic, callback, qos))
+
+    def _on_tf(self, msg: Any, static: bool = False) -> None:
+        changed = False
+        with self._lock:
+            for t in msg.transforms:
+                r, q = t.transform.translation, t.transform.rotation
+                changed |= self.tree.put(t.header.frame_id, t.child_frame_id,
+                                         (r.x, r.y, r.z, q.x, q.y, q.z, q.w), static)
+            if changed:
+                self._tf_dirty = True
+
+    def _on_tf_static(self, msg: Any) -> None:
+        self._on_tf(msg, static=True)
+
+    def _qos(self, display: Display) -> QoSProfile:
+        from rclpy.qos import (
+            DurabilityPolicy,
+            QoSProfile,
+            ReliabilityPolicy,
+            qos_profile_sensor_data,
+        )
+
+        if not display.latched:
+            return qos_profile_sensor_data  # best effort: hears reliable publishers too
+        assert display.topic is not None
+        offered = self.session.node.get_publishers_info_by_topic(display.topic)
+        every_latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
+                            for p in offered)
+        # A transient-local publisher's last message reaches a late view (RViz's durability
+        # setting); a volatile request matches every publisher. robot_state_publisher's
+        # /robot_description is transient-local: assumed before it is up.
+        latched = every_latched if offered else display.kind == 'robot_model'
+        return QoSProfile(depth=1 if display.kind == 'robot_model' else 100,
+                          reliability=ReliabilityPolicy.RELIABLE,
+                          durability=DurabilityPolicy.TRANSIENT_LOCAL if latched
+                          else DurabilityPolicy.VOLATILE)
+
+    def add(self, topic: str, display: str | type[Display] | None = None,
+            **options: object) -> Display:
+        """Show a topic, as RViz's "Add ▸ By topic": its display follows from its type
+        (LaserScan, Marker/MarkerArray, Path, Odometry, PoseStamped), or name it."""
+        topic = topic if topic.startswith('/') else '/' + topic
+        types = dict(self.session.node.get_topic_names_and_types()).get(topic, [])
+        if display is None:
+            known = [t for t in types if t in BY_TYPE]
+            if not known:
+                why = (f'its type is {", ".join(types)}' if types
+                       else 'nothing publishes it yet')
+                raise GraphError(f'cannot tell which display draws {topic}: {why}',
+                                 fix=f"name it: view.add('{topic}', 'LaserScan') (or Marker, "
+                                 'MarkerArray, Path, Odometry, Pose)')
+            cls = BY_TYPE[known[0]]
+        else:
+            cls = _display_class(display)
+        shown = cls(topic, **options)  # type: ignore[arg-type]
+        wanted = [t for t in types if t in shown.type_names]
+        if isinstance(display, str) and display.lower() == 'marker':
+            shown.type_name = 'visualization_msgs/msg/Marker'
+        if wanted:
+            shown.type_name = wanted[0]
+        return self.add_display(shown)
+
+    def add_display(self, display: Display) -> Display:
+        """Show a display built in Python (a world's shapes, say): subscribed if it has a
+        topic, sent to the browser at the next tick."""
+        from robot_lab.messages import message_class
+
+        if display.id in self.displays:
+            self.remove(display.id)
+        if display.topic is not None:
+            cls = message_class(display.type_name)
+            qos = self._qos(display)
+            callback = self.log.guard(display.take)
+            topic = display.topic
+            self._subscriptions[display.id] = self.session.run_in_executor(
+                lambda: self.session.node.create_subscription(cls, topic, callback, qos))
+        with self._lock:
+            self.displays[display.id] = display
+            self._added.append(display)
+        return display
+
+    def remove(self, display_id: str) -> None:
+        with self._lock:
+            self.displays.pop(display_id, None)
+            self._removed.append(display_id)
+        subscription = self._subscriptions.pop(display_id, None)
+        if subscription is not None:
+            self.session.run_in_executor(
+                lambda: self.session.node.destroy_subscription(subscription))
+
+    # -- what it shows -------------------------------------------------------------------
+    @property
+    def fixed_frame(self) -> str:
+        return self._fixed
+
+    @fixed_frame.setter
+    def fixed_frame(self, frame: str) -> None:
+        with self._lock:
+            self._fixed = frame.lstrip('/')
+            self._auto_fixed = False
+            self._resend_poses = True
+        if self._scene_canvas is not None:
+            self.canvas.fixed_frame = self._fixed
+
+    def frames(self) -> dict[str, Pose | None]:
+        """Every TF frame's newest pose in the fixed frame (None: no transform to it)."""
+        with self._lock:
+            return self.tree.resolve(self._choose_fixed())
+
+    @property
+    def status(self) -> list[str]:
+        """The lines under the picture: what is missing, and why."""
+        with self._lock:
+            return self._status_lines(self.tree.resolve(self._choose_fixed()))
+
+    def _choose_fixed(self) -> str:
+        """The fixed frame; by default the robot's root link, else the TF tree's root."""
+        if self._auto_fixed and not self._fixed:
+            robot = next((d for d in self.displays.values() if isinstance(d, RobotModel)
+                          and d.root), None)
+            if robot is not None and robot.root:
+                self._fixed = robot.prefix + robot.root
+            elif self.tree.edges:
+                found = self.tree.root_of(min(self.tree.edges))
+                self._fixed = found[0] if found else ''
+        return self._fixed
+
+    def _status_lines(self, poses: dict[str, Pose | None]) -> list[str]:
+        fixed = self._fixed
+        if not fixed:
+            return ['Fixed frame: no TF frames yet (nothing publishes /tf or /tf_static)']
+        lines = []
+        if fixed not in poses:
+            lines.append(f'Fixed Frame [{fixed}] does not exist')
+        for display in list(self.displays.values()):
+            lines.extend(display.status(poses, self.tree, fixed))
+        lines.extend(f'TF: {why}' for why in self.tree.rejected.values())
+        return lines or [f'{len(poses)} frames in [{fixed}]']
+
+    def _picture_ready(self) -> bool:
+        with self._lock:
+            robot = next((d for d in self.displays.values() if isinstance(d, RobotModel)), None)
+            if robot is None:
+                return bool(self.tree.edges)
+            poses = self.tree.resolve(self._choose_fixed())
+            return bool(robot.links) and all(
+                poses.get(robot.prefix + link) is not None for link in robot.links)
+
+    # -- the browser ---------------------------------------------------------------------
+    @property
+    def canvas(self) -> SceneCanvas:
+        _ = self.widget
+        assert self._scene_canvas is not None
+        return self._scene_canvas
+
+    @property
+    def widget(self) -> Widget:
+        if self._widget is None:
+            from robot_lab.scene.canvas import SceneCanvas
+            from robot_lab.widgets.canvas import kit_box
+
+            canvas = SceneCanvas(height=self.height, fixed_frame=self._fixed)
+            canvas.on_msg(self._on_msg)
+            canvas.observe(self._on_fixed, names='fixed_frame')
+            self._scene_canvas = canvas
+            self._widget = kit_box([canvas, self.log.widget], max_width='960px')
+        return self._widget
+
+    def _on_msg(self, _widget: object, content: object, _buffers: object) -> None:
+        if isinstance(content, dict) and content.get('kind') == 'ready':
+            with self._lock:
+                self._send_all = True
+
+    def _on_fixed(self, change: dict[str, Any]) -> None:
+        if change['new'] and change['new'] != self._fixed:
+            self.fixed_frame = str(change['new'])
+
+    def start(self) -> SceneView:
+        _ = self.widget
+        if self._thread is None:
+            self._thread = threading.Thread(target=self.log.guard(self._loop), daemon=True,
+                                            name='robot_lab-scene')
+            self._thread.start()
+        return self
+
+    def _loop(self) -> None:
+        period = 1.0 / self.rate
+        due = time.monotonic()
+        while True:
+            due += period
+            wait = due - time.monotonic()
+            if wait < 0:  # fell behind (a busy host): skip, do not burst
+                due, wait = time.monotonic(), 0.0
+            if self._closed.wait(wait):
+                return
+            self.tick()
+
+    def tick(self) -> dict[str, object] | None:
+        """Send the browser what changed since the last tick; returns the message sent."""
+        out = Outbox()
+        msg: dict[str, object] = {}
+        with self._lock:
+            full, self._send_all = self._send_all, False
+            added, self._added = self._added, []
+            removed, self._removed = self._removed, []
+            tf_dirty, self._tf_dirty = self._tf_dirty or self._resend_poses, False
+            every_pose, self._resend_poses = self._resend_poses or full, False
+            before = self._fixed
+            fixed = self._choose_fixed()
+            every_pose |= fixed != before
+            displays = list(self.displays.values())
+            poses = self.tree.resolve(fixed) if (tf_dirty or every_pose) else None
+            version = self.tree.version
+        if full:
+            msg.update(kind='reset', fixed=fixed, displays=[d.spec() for d in displays])
+        else:
+            if added:
+                msg['add'] = [d.spec() for d in added]
+            if removed:
+                msg['remove'] = removed
+        if fixed != before and self._scene_canvas is not None:
+            self._scene_canvas.fixed_frame = fixed
+        if poses is not None:
+            if every_pose:
+                changed = poses
+            else:
+                missing = object()
+                changed = {k: v for k, v in poses.items()
+                           if self._sent_poses.get(k, missing) != v}
+            if changed:
+                msg['poses'] = {k: None if v is None else list(v) for k, v in changed.items()}
+                self._sent_poses = poses
+            if full or version != self._sent_version:
+                msg['tree'] = self.tree.tree()
+                self._sent_version = version
+        data = {}
+        for display in displays:
+            found = display.data(out, full or display in added)
+            if found is not None:
+                data[display.id] = found
+        if data:
+            msg['data'] = data
+        if out.meshes:
+            msg['meshes'] = out.meshes
+        self._update_status(poses, urgent=full or 'tree' in msg or bool(data) or bool(added))
+        if not msg or self._scene_canvas is None:
+            return None
+        msg.setdefault('kind', 'update')
+        self._scene_canvas.send(msg, out.buffers or None)
+        self.messages += 1
+        return msg
+
+    def _update_status(self, poses: dict[str, Pose | None] | None, urgent: bool) -> None:
+        now = time.monotonic()
+        if not urgent and now - self._status_at < _STATUS_PERIOD:
+            return
+        self._status_at = now
+        with self._lock:
+            lines = self._status_lines(poses if poses is not None
+                                       else self.tree.resolve(self._fixed))
+        if lines != self._status:
+            self._status = lines
+            if self._scene_canvas is not None:
+                self._scene_canvas.status = lines
+
+    # -- the static picture --------------------------------------------------------------
+    def _figure(self) -> Figure:
+        """The TF frames (axes and names) seen in 3D, with the status lines as a title."""
+        from matplotlib.figure import Figure
+
+        with self._lock:
+            fixed = self._choose_fixed()
+            poses = self.tree.resolve(fixed)
+            tree = self.tree.tree()
+            lines = self._status_lines(poses)
+        fig = Figure(figsize=(6.0, 4.5), dpi=100)
+        ax = fig.add_subplot(projection='3d')
+        shown = {k: v for k, v in poses.items() if v is not None}
+        for child, parent in tree:
+            a, b = shown.get(child), shown.get(parent)
+            if a is not None and b is not None:
+                ax.plot([a[0], b[0]], [a[1], b[1]], [a[2], b[2]], color='#c8a000', lw=1)
+        for name, p in shown.items():
+            ax.scatter([p[0]], [p[1]], [p[2]], color='#0072B2', s=12)
+            ax.text(p[0], p[1], p[2], ' ' + name, fontsize=7)
+        xs = [p[0] for p in shown.values()] or [0.0]
+        ys = [p[1] for p in shown.values()] or [0.0]
+        zs = [p[2] for p in shown.values()] or [0.0]
+        span = max(max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs), 0.5) / 2 + 0.1
+        for setter, values in ((ax.set_xlim, xs), (ax.set_ylim, ys), (ax.set_zlim, zs)):
+            mid = (max(values) + min(values)) / 2
+            setter(mid - span, mid + span)
+        ax.set_xlabel('x (m)', fontsize=8)
+        ax.set_ylabel('y (m)', fontsize=8)
+        ax.set_title(f'TF frames in [{fixed or "?"}]\n' + '\n'.join(
+            line[:90] for line in lines[:3]), fontsize=8, loc='left')
+        fig.tight_layout()
+        return fig
+
+    # -- closing -------------------------------------------------------------------------
+    def _release(self) -> None:
+        if self._scene_canvas is not None:
+            self._scene_canvas.status = [*self._status, 'closed: no longer updated']
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
+        subscriptions = [*self._tf_subs, *self._subscriptions.values()]
+        self._subscriptions.clear()
+
+        def destroy() -> None:
+            for subscription in subscriptions:
+                self.session.node.destroy_subscription(subscription)
+
+        self.session.run_in_executor(destroy)
+
+    def __repr__(self) -> str:
+        return (f'<SceneView fixed_frame={self._fixed!r}: {len(self.tree.frames())} frames, '
+                f'displays {", ".join(self.displays)}>')
+
+
+def scene_view(fixed_frame: str | None = None, topics: tuple[str, ...] | list[str] = (),
+               robot_description: str | None = '/robot_description', rate: float = 30.0,
+               domain_id: int | None = None, headless_seconds: float | None = None,
+               height: int = 480) -> SceneView:
+    """RViz in the notebook: `robot_lab.scene_view('base_link')` as a cell's result.
+
+    Shows a grid, the robot from `robot_description` (each link at its TF frame; a link
+    with no transform white at the origin, and the status line says why), every TF frame
+    (tick one off in "TF frames"), and each topic in `topics` (LaserScan, Marker,
+    MarkerArray, Path, Odometry, PoseStamped; `view.add('/scan')` adds one later). The
+    fixed frame defaults to the robot's root link; pick another in the view's menu.
+    Drag to orbit, right-drag (or shift-drag) to pan, scroll to zoom.
+    """
+    return SceneView(fixed_frame, tuple(topics), robot_description, rate=rate,
+                     domain_id=domain_id, headless_seconds=headless_seconds, height=height)
