@@ -72,6 +72,7 @@ KIT_PACKAGES: tuple[str, ...] = (
     'tf2_ros',
     'tf2_geometry_msgs',
     'tf2_tools',
+    'turtle_tf2_py',
     # Chapter 7's robot description packages (data and launch files; programs below)
     'robot_state_publisher',
     'joint_state_publisher',
@@ -83,6 +84,21 @@ KIT_PACKAGES: tuple[str, ...] = (
 # Each becomes <venv>/lib/<package>/<executable>, a script running `func()` of `module`
 # with the venv's Python, so `ros2 run <package> <executable>` and launch files find it.
 KIT_EXECUTABLES: dict[str, dict[str, str]] = {
+    'tf2_ros': {
+        'static_transform_publisher': 'robot_lab.tf2.static_publisher:main',
+        'tf2_echo': 'robot_lab.tf2.echo:echo_main',
+        'tf2_monitor': 'robot_lab.tf2.echo:monitor_main',
+    },
+    'tf2_tools': {
+        'view_frames': 'robot_lab.tf2.view_frames:program',
+    },
+    # upstream's tutorial package, its setup.py's console scripts
+    'turtle_tf2_py': {
+        name: f'turtle_tf2_py.{name}:main'
+        for name in ('static_turtle_tf2_broadcaster', 'turtle_tf2_broadcaster',
+                     'turtle_tf2_listener', 'fixed_frame_tf2_broadcaster',
+                     'dynamic_frame_tf2_broadcaster', 'turtle_tf2_message_broadcaster')
+    },
     'turtlesim': {
         'turtlesim_node': 'robot_lab.turtlesim.node:main',
         'turtle_teleop_key': 'robot_lab.turtlesim.teleop:main',
