@@ -201,7 +201,7 @@ def test_a_stuck_bool_does_not_follow_and_gets_bool_advice(
         system: tuple[Observation, int], monkeypatch: pytest.MonkeyPatch) -> None:
     # A constant controller never answers a level: each is read after the patience, which
     # needs no length here (the verdict comes from the commands staying the same).
-    monkeypatch.setattr(perturb, '_PATIENCE', 0.6)
+    monkeypatch.setattr(perturb, '_PATIENCE', 0.3)
     obs, pid = system
     response, text, passed = _judged(obs, '/stuck_ctl', '/lamp_stuck', pid)
     assert response.tested and not response.follows and not passed, text

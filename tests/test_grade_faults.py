@@ -72,6 +72,16 @@ def test_a_stage_that_raised_keeps_the_points_of_the_checks_it_starved(
     assert not state.outcomes['passed'].grader_error
 
 
+def test_a_fault_named_for_a_check_keeps_its_points_only_there(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    _registered(monkeypatch, watched=Verdict(False, 'e', 'no sensor'),
+                other=Verdict(False, 'e', 'wrong value'))
+    state = _state(RubricCheck('watched', 'w', 2.0), RubricCheck('other', 'o', 1.0))
+    state.check_faults['watched'] = "/lamp's topics could not be read: RuntimeError"
+    job.score_stage(state, 'run')
+    assert (state.outcomes['watched'].score, state.outcomes['other'].score) == (2.0, 0.0)
+
+
 def _params_state(*readings: ParamReading) -> JobState:
     state = _state(RubricCheck('params_used', 'p', 1.0))
     state.live.params_loaded = {'/ws/config/lamp.yaml': ['lamp_controller']}
@@ -154,8 +164,11 @@ if student == 'lamp_calls':  # a parameter read, the perturbation, a file read
     read_text = Path.read_text
     Path.read_text = lambda self, *a, **k: (broken_disk() if self.name == 'README.md'
                                             else read_text(self, *a, **k))
-elif student == 'lamp_watch':  # the graph queries of the watch
+elif student == 'lamp_watch':  # the watch as a whole
     live.observe = failing('get_topic_names_and_types')
+elif student == 'lamp_graph':  # the watch's query of each node's topics
+    from rclpy.node import Node
+    Node.get_publisher_names_and_types_by_node = failing('publishers by node')
 elif student == 'lamp_build':  # the build and the parameter file's read
     import robot_lab.params
     job._build = broken_disk
@@ -169,6 +182,7 @@ FAILED = {
                    'params_used'},
     'lamp_build': {'builds', 'params_file', 'sensor_publishes', 'controller_commands',
                    'actuator_logs', 'params_used'},
+    'lamp_graph': {'sensor_publishes', 'controller_commands', 'actuator_logs'},
 }
 
 
@@ -183,7 +197,7 @@ def test_no_score_drops_when_grader_calls_fail(tmp_path: Path,
     monkeypatch.setattr(grade, 'run_job', functools.partial(sandbox.run_job,
                                                             argv=('-c', INJECT)))
     out = tmp_path / 'out'
-    run = grade_class(tmp_path / 'class', resolve_rubric('ch6-lab1', None), out, jobs=2,
+    run = grade_class(tmp_path / 'class', resolve_rubric('ch6-lab1', None), out, jobs=3,
                       progress=False)
     reports = {r.student: r for r in run.reports}
     lamp = reports['lamp']
@@ -196,8 +210,8 @@ def test_no_score_drops_when_grader_calls_fail(tmp_path: Path,
         assert {c.id for c in report.checks if c.grader_error} == failed, report.markdown()
         assert report.status == ('grader error' if failed else 'graded')
     line = run_summary(run.reports)
-    assert line.endswith('; 14 grader error(s) in 3 student(s), points kept: regrade with '
-                         '--only lamp_build,lamp_calls,lamp_watch'), line
+    assert line.endswith('; 17 grader error(s) in 4 student(s), points kept: regrade with '
+                         '--only lamp_build,lamp_calls,lamp_graph,lamp_watch'), line
     summary = (out / 'summary.html').read_text()
-    assert 'Grader errors (points kept) (3)' in summary
-    assert '--only lamp_build,lamp_calls,lamp_watch' in summary
+    assert 'Grader errors (points kept) (4)' in summary
+    assert '--only lamp_build,lamp_calls,lamp_graph,lamp_watch' in summary

@@ -95,6 +95,14 @@ class Bridge:
     def publish(self, topic: str, data: dict[str, Any]) -> None:
         self._send({'op': 'send', 'topic': topic, 'data': data})
 
+    def failed(self) -> str:
+        """Why the helper stopped serving before `close()` ('' while it serves)."""
+        with self._lock:
+            proc = self._proc
+        if proc is not None and proc.poll() is not None:
+            return f"the grader's message helper exited with code {proc.returncode}"
+        return ''
+
     def close(self) -> None:
         with self._lock:
             proc, self._proc = self._proc, None

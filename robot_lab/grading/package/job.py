@@ -79,10 +79,11 @@ def score_stage(state: JobState, stage: Stage) -> None:
         except Exception as err:  # the grader's own fault: the student keeps the points
             _grader_error(state, check, _where(err))
             continue
+        own = state.check_faults.get(check.id, '')
         if verdict.grader_error:
             _grader_error(state, check, verdict.grader_error, verdict.text())
-        elif fault and verdict.fraction < 1:
-            _grader_error(state, check, fault, verdict.text())
+        elif (fault or own) and verdict.fraction < 1:
+            _grader_error(state, check, own or fault, verdict.text())
         else:
             _outcome(state, check.id, verdict)
 

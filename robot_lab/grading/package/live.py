@@ -138,7 +138,9 @@ _RESERVE = 30.0
 
 
 def _read_param(sess: Session, node: str, name: str, deadline: float) -> tuple[bool, Any, str]:
-    """(answered, value or None when the node does not hold it, the grader's error)."""
+    """(answered, value or None when the node does not hold it, the grader's error); a
+    node that has left the graph (it died) is not asked again."""
+    from robot_lab.graph.discovery import full_node_names
     from robot_lab.graph.parameters import param_get_typed
 
     error, pause = 'not tried: the time for parameter reads had run out', 0.25
@@ -149,6 +151,9 @@ def _read_param(sess: Session, node: str, name: str, deadline: float) -> tuple[b
             kind, value = param_get_typed(node, name, session=sess, unset_ok=True)
         except Exception as err:  # a timeout, a lost request: the grader's, not the node's
             error = f'{type(err).__name__}: {err}'
+            with contextlib.suppress(Exception):
+                if node not in full_node_names(sess, include_hidden=False):
+                    return False, None, f'{node} has left the graph'
             if attempt + 1 < _READ_TRIES:
                 time.sleep(min(pause, max(0.0, deadline - time.monotonic())))
                 pause *= 2
@@ -168,6 +173,7 @@ def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
             if Path(path).name in own:
                 live.params_loaded.setdefault(path, []).append(spec.node_name or spec.executable)
     deadline = time.monotonic() + max(0.0, min(_READS_BUDGET, state.time_left() - _RESERVE))
+    gone: set[str] = set()
     for path in live.params_loaded:
         try:
             data = state.params(path)
@@ -178,7 +184,12 @@ def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
             for name, value in params.items():
                 reading = ParamReading(pattern, name, value, None)
                 for node in nodes:
+                    if node in gone:
+                        reading.node, reading.error = node, f'{node} has left the graph'
+                        continue
                     answered, held, error = _read_param(sess, node, name, deadline)
+                    if error.endswith('has left the graph'):
+                        gone.add(node)
                     if not answered:
                         reading.node, reading.error = node, error
                     elif held is not None:
@@ -215,6 +226,10 @@ def run_system(job_dir: Path, ws: Path, state: JobState) -> None:
     _observe(job_dir, state, plan)
 
 
+# The checks judged from the watch (the graph and the messages it saw).
+_WATCHED = ('launch_file', 'sensor_publishes', 'controller_commands', 'actuator_logs')
+
+
 def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
     from robot_lab.grading.package.bridge import Bridge
     from robot_lab.graph.discovery import full_node_names
@@ -246,6 +261,8 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
             live.not_run = f'the grader could not watch the running system ({live.grader_fault})'
             return
         live.obs = obs
+        if obs.faults:  # what the watch could not see may have decided these checks
+            state.check_faults.update(dict.fromkeys(_WATCHED, '; '.join(obs.faults)))
         with contextlib.suppress(Exception):
             state.images.append(graph_view(session=sess).save(job_dir / 'graph.png'))
         _read_params_back(state, plan, sess, list(obs.nodes))

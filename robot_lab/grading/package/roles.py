@@ -71,6 +71,7 @@ class Observation:
     nodes: dict[str, NodeSeen] = field(default_factory=dict)
     topics: dict[str, TopicSeen] = field(default_factory=dict)
     duration: float = 0.0  # the watch window, after the nodes were up
+    faults: list[str] = field(default_factory=list)  # graph queries of the grader that failed
 
     def log_rate(self, node: str) -> float:
         seen = self.nodes.get(node)
@@ -108,6 +109,7 @@ class _Watcher:
         self.subs: dict[str, Any] = {}
         self.counting = False
         self.unassigned_logs: deque[tuple[str, str]] = deque(maxlen=2000)
+        self.unread: dict[str, str] = {}  # node -> why its endpoints could not be read
 
     def _on_message(self, topic: str, msg: Any) -> None:
         from robot_lab.messages import message_to_dict
@@ -162,13 +164,17 @@ class _Watcher:
                 base = full.rsplit('/', 1)
                 namespace, short = (base[0] or '/'), base[1]
                 seen = self.obs.nodes.setdefault(full, NodeSeen(full))
-                with contextlib.suppress(Exception):
+                try:
                     seen.publishes = sorted(
                         t for t, _ in node.get_publisher_names_and_types_by_node(short, namespace)
                         if t not in IGNORED_TOPICS)
                     seen.subscribes = sorted(
                         t for t, _ in node.get_subscriber_names_and_types_by_node(short, namespace)
                         if t not in IGNORED_TOPICS)
+                    self.unread.pop(full, None)
+                except Exception as err:  # gone since listed (it died), or the query failed
+                    if type(err).__name__ != 'NodeNameNonExistentError':
+                        self.unread[full] = f'{type(err).__name__}: {err}'
                 # Log lines that came before the node was discovered.
                 for logger, line in list(self.unassigned_logs):
                     if _logger_node(logger, [full]) == full:
@@ -315,6 +321,10 @@ def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
             watcher.refresh()
         watcher.counting = False
         watcher.obs.duration = time.monotonic() - started
+        watcher.obs.faults = [f"{node}'s topics could not be read: {why}"
+                              for node, why in watcher.unread.items()]
+        if bridge is not None and (failed := bridge.failed()):
+            watcher.obs.faults.append(failed)
         return watcher.obs
     finally:
         watcher.counting = False

@@ -165,6 +165,9 @@ class JobState:
     outcomes: dict[str, CheckOutcome] = field(default_factory=dict)
     images: list[Path] = field(default_factory=list)
     grader_errors: list[str] = field(default_factory=list)
+    # check id -> a failure of the grader's that may have decided it (e.g. the watch's
+    # graph queries): a failing verdict of that check is a grader error
+    check_faults: dict[str, str] = field(default_factory=dict)
     # stage -> the grader's failure in it (a stage that raised): later checks may lack data
     stage_faults: dict[str, str] = field(default_factory=dict)
     started: float = field(default_factory=time.monotonic)
