@@ -9,8 +9,8 @@ extrapolation texts are upstream's, byte for byte.
 from __future__ import annotations
 
 import bisect
-from dataclasses import dataclass, replace
 from enum import IntEnum
+from typing import NamedTuple
 
 from robot_lab.tf2.linear_math import Quat, Vec, lerp, slerp
 
@@ -43,9 +43,9 @@ def display(nanoseconds: int) -> str:
     return f'{seconds(nanoseconds):.6f}'
 
 
-@dataclass(frozen=True)
-class TransformStorage:
-    """One sample: child `child_id` relative to parent `frame_id` at `stamp` (ns)."""
+class TransformStorage(NamedTuple):
+    """One sample: child `child_frame_id` relative to parent `frame_id` at `stamp` (ns).
+    (A tuple: built thousands of times a second, compared whole for duplicates.)"""
 
     stamp: int
     rotation: Quat
@@ -126,8 +126,9 @@ class TimeCache:
         if two.stamp == one.stamp:
             return two
         ratio = (time - one.stamp) / (two.stamp - one.stamp)
-        return replace(one, translation=lerp(one.translation, two.translation, ratio),
-                       rotation=slerp(one.rotation, two.rotation, ratio))
+        return TransformStorage(one.stamp, slerp(one.rotation, two.rotation, ratio),
+                                lerp(one.translation, two.translation, ratio), one.frame_id,
+                                one.child_frame_id)
 
     def get_parent(self, time: int, problem: Problem | None = None) -> int:
         found = self._find_closest(time, problem)
@@ -183,7 +184,9 @@ class StaticCache:
         self._data = TransformStorage(0, (0.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0), 0, 0)
 
     def get_data(self, time: int, problem: Problem | None = None) -> TransformStorage:
-        return replace(self._data, stamp=time)
+        data = self._data
+        return TransformStorage(time, data.rotation, data.translation, data.frame_id,
+                                data.child_frame_id)
 
     def get_parent(self, time: int, problem: Problem | None = None) -> int:
         return self._data.frame_id
