@@ -308,3 +308,16 @@ def test_buffer_debug_tuple_timeout_and_transform() -> None:
     point.point.x = 2.0
     moved = buffer.transform(point, 'world')
     assert (moved.header.frame_id, moved.point.x) == ('world', 3.0)
+
+
+def test_the_frames_picture_names_every_frame_without_graphviz() -> None:
+    import robot_lab
+    from robot_lab.tf2.view_frames import generate_dot
+
+    buffer = Buffer()
+    buffer.set_transform_static(tf('world', 'turtle1', 0), 'u')
+    buffer.set_transform(tf('turtle1', 'carrot1', 3), 'u')
+    figure = robot_lab.frames_figure(buffer)
+    shown = {t.get_text() for ax in figure.axes for t in ax.texts}
+    assert {'world', 'turtle1', 'carrot1'} <= shown
+    assert generate_dot({}, (0, 0)) == 'digraph G { "No tf data received" }'

@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-__all__ = ['draw_frames', 'frames_figure', 'generate_dot', 'main', 'tree_layout']
+__all__ = ['draw_frames', 'frames_figure', 'generate_dot', 'main', 'tree_layout', 'view_frames']
 
 
 def generate_dot(data: Mapping[str, Any] | Sequence[Any], recorded_time: tuple[int, int]) -> str:
@@ -70,12 +70,12 @@ def tree_layout(data: Mapping[str, Any]) -> dict[str, tuple[float, float]]:
 def draw_frames(data: Mapping[str, Any] | Sequence[Any], recorded_time: tuple[int, int],
                 ax: Any = None) -> Any:
     """The frame tree on matplotlib axes: frames as ellipses, edges labelled as view_frames."""
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
     from matplotlib.patches import Ellipse
 
-    if ax is None:
+    if ax is None:  # a Figure of its own, not pyplot's: a notebook shows it once
         width = 8.27 if not isinstance(data, Mapping) else max(8.27, 1.6 * len(data))
-        _, ax = plt.subplots(figsize=(width, 5.8))
+        ax = Figure(figsize=(width, 5.8)).subplots()
     ax.set_axis_off()
     stamp = recorded_time[0] + recorded_time[1] / 1e9
     if not data or not isinstance(data, Mapping):
@@ -112,6 +112,29 @@ def frames_figure(buffer_or_yaml: Any, recorded_time: tuple[int, int] | None = N
     now = time.time_ns()
     return draw_frames(yaml.safe_load(text) or {}, recorded_time or (now // 10**9,
                                                                      now % 10**9))
+
+
+def view_frames(wait_time: float = 5.0) -> Any:
+    """In a notebook: listen to /tf and /tf_static for `wait_time` s (as the program does)
+    on the kernel's session, and return the picture of the tree, shown inline."""
+    import rclpy
+
+    from robot_lab.rclpy_session import session
+    from robot_lab.tf2.buffer import Buffer
+    from robot_lab.tf2.listener import TransformListener
+
+    sess = session()
+    node = rclpy.create_node(f'view_frames_{time.monotonic_ns()}', context=sess.context)
+    buffer = Buffer()
+    listener = TransformListener(buffer, node)
+    sess.add_node(node)
+    try:
+        time.sleep(wait_time)  # the listening window itself, as `view_frames -t`
+    finally:
+        listener.unregister()
+        sess.remove_node(node)
+        node.destroy_node()
+    return frames_figure(buffer)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
