@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import BIN
+from conftest import BIN, REPO
 from test_grade_contained import DATA, _looks_around, _odd_entries
 
 from robot_lab.grading.package.confinement import JOB_USER, job_uid, machine_files
@@ -175,27 +175,37 @@ def user_dir() -> Iterator[Path]:
 
 
 # Runs COMMAND as TEST_UID, from a mount namespace of its own (made by `unshare --mount`):
-# where the interpreter lives under a folder others may not enter (/root/.pyenv here), that
-# folder is covered there by one that holds only the interpreter. With --no-namespaces, in
-# a user namespace of its own whose every `user.max_*_namespaces` is 0 first: neither its
-# root nor TEST_UID can make a namespace there, and nothing outside is touched.
+# where the interpreter, the venv or the repository lies under a folder others may not enter
+# (/root/.pyenv here), that folder is covered there by one that holds only them. With
+# --no-namespaces, in a user namespace of its own whose every `user.max_*_namespaces` is 0
+# first: neither its root nor TEST_UID can make a namespace there, and nothing outside is
+# touched.
 AS_USER = """
 import ctypes, os, subprocess, sys, tempfile
 from pathlib import Path
 
 args = sys.argv[1:]
 no_namespaces = args[0] == '--no-namespaces'
-uid, command = int(args[1]), args[2:]
-base = Path(sys.base_prefix).resolve()
-closed = [p for p in reversed(base.parents) if p != Path('/') and not p.stat().st_mode & 1]
-if closed:
-    keep = tempfile.mkdtemp()
-    subprocess.run(['mount', '--bind', str(base), keep], check=True)
-    subprocess.run(['mount', '-t', 'tmpfs', '-o', 'mode=755', 'tmpfs', str(closed[0])],
-                   check=True)
-    base.mkdir(parents=True)
-    subprocess.run(['mount', '--bind', keep, str(base)], check=True)
-    subprocess.run(['umount', keep], check=True)
+uid, repo, command = int(args[1]), args[2], args[3:]
+# What the user must reach: the Python the venv runs on, the venv, the repository.
+wanted = sorted({Path(p).resolve() for p in (sys.base_prefix, sys.prefix, repo)},
+                key=lambda p: len(p.parts))
+wanted = [p for i, p in enumerate(wanted) if not any(p.is_relative_to(q) for q in wanted[:i])]
+covers = {}
+for path in wanted:
+    closed = [a for a in reversed(path.parents) if a != Path('/') and not a.stat().st_mode & 1]
+    if closed:
+        covers.setdefault(closed[0], []).append(path)
+for closed, paths in covers.items():
+    kept = [(path, tempfile.mkdtemp()) for path in paths]
+    for path, keep in kept:
+        subprocess.run(['mount', '--bind', str(path), keep], check=True)
+    subprocess.run(['mount', '-t', 'tmpfs', '-o', 'mode=755', 'tmpfs', str(closed)], check=True)
+    for path, keep in kept:
+        path.mkdir(parents=True)
+        subprocess.run(['mount', '--bind', keep, str(path)], check=True)
+        subprocess.run(['umount', keep], check=True)
+        os.rmdir(keep)
 become = ['setpriv', f'--reuid={uid}', f'--regid={uid}', '--clear-groups', *command]
 if not no_namespaces:
     os.execvp(become[0], become)
@@ -225,7 +235,8 @@ def _as_user(command: list[str], home: Path, env: dict[str, str] | None = None,
              no_namespaces: bool = False, timeout: float = 120,
              uid: int = TEST_UID) -> subprocess.CompletedProcess[str]:
     wrapper = ['unshare', '--mount', '--propagation', 'private', sys.executable, '-c',
-               AS_USER, '--no-namespaces' if no_namespaces else '--', str(uid), *command]
+               AS_USER, '--no-namespaces' if no_namespaces else '--', str(uid), str(REPO),
+               *command]
     full = {**os.environ, 'HOME': str(home), 'PATH': f'{BIN}:{os.environ["PATH"]}',
             **(env or {})}
     for name in ('USER', 'LOGNAME', 'ROBOT_LAB_GRADE_NO_SANDBOX'):
