@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import errno
 import os
+import platform
 import re
 import signal
 import socket
 import struct
+import subprocess
 import sys
 import threading
 import time
@@ -214,6 +216,43 @@ def test_switched_off_pidfds_are_not_opened() -> None:
     assert pidfd.open_pidfd(os.getpid()) is not None or not capabilities.available('pidfd')
     with capabilities.switched_off('pidfd'):
         assert pidfd.open_pidfd(os.getpid()) is None
+
+
+# --- the fork server's clone --------------------------------------------------------------
+
+_CLONE = """
+import ctypes, os
+from robot_lab.linux.clone import Forker
+from robot_lab.linux.libc import holding_gil
+
+def robust_list():
+    head, length = ctypes.c_void_p(), ctypes.c_size_t()
+    holding_gil().syscall(ctypes.c_long(274), ctypes.c_long(0), ctypes.byref(head),
+                          ctypes.byref(length))
+    return head.value or 0
+
+forker = Forker()
+pid = forker.fork()
+if pid == 0:
+    os.write(1, f'child {os.getpid()} {os.getppid()} {robust_list()}\\n'.encode())
+    os._exit(7)
+os.write(1, f'parent {os.getpid()} {pid} {robust_list()}\\n'.encode())  # one write each
+"""
+
+
+@pytest.mark.skipif(platform.machine() != 'x86_64', reason='syscall numbers of x86_64')
+def test_a_cloned_child_is_the_grandparents_with_its_robust_futex_list() -> None:
+    """As glibc's fork leaves it: the child's robust-futex list registered (the kernel gives
+    a new task none, so a lock it held when it died would never be released)."""
+    done = subprocess.run([sys.executable, '-c', _CLONE], capture_output=True, text=True,
+                          timeout=60, check=False)
+    lines = dict(line.split(' ', 1) for line in done.stdout.splitlines())
+    assert set(lines) == {'child', 'parent'}, done.stdout + done.stderr
+    child, child_parent, child_list = map(int, lines['child'].split())
+    _, forked, parent_list = map(int, lines['parent'].split())
+    assert child == forked and child_parent == os.getpid()  # CLONE_PARENT: ours
+    assert os.waitpid(child, 0)[1] >> 8 == 7
+    assert child_list == parent_list != 0
 
 
 # --- switches and the doctor --------------------------------------------------------------

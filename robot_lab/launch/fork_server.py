@@ -47,7 +47,7 @@ from importlib.machinery import SourceFileLoader
 from types import TracebackType
 from typing import Any
 
-from robot_lab.linux.clone import Forker
+from robot_lab.linux.clone import Forker, native_threads
 from robot_lab.linux.prctl import set_name, set_parent_death_signal, set_process_image
 
 __all__ = ['PRELOAD', 'main']
@@ -156,6 +156,9 @@ class _Server:
     def __init__(self, sock: socket.socket, forker: Forker) -> None:
         self.sock = sock
         self.forker = forker
+        # The threads the preload left (this one, LTTng-UST's listeners): any other, from
+        # Python or a library, could hold a lock the child would then never see released.
+        self.threads = native_threads()
 
     def send(self, message: dict[str, Any]) -> None:
         self.sock.send(json.dumps(message).encode())
@@ -172,7 +175,7 @@ class _Server:
             return False
         try:
             request = json.loads(data)
-            if threading.active_count() != 1:
+            if threading.active_count() != 1 or native_threads() != self.threads:
                 raise RuntimeError('the fork server has threads: forking it is unsafe')
             launcher = os.getppid()
             pid = self.forker.fork()

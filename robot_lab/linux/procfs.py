@@ -11,7 +11,7 @@ from collections.abc import Iterable
 
 __all__ = ['command_line', 'fd_targets', 'mapped_paths', 'maps', 'mount_points',
            'own_socket_inodes', 'pid_namespace', 'pids', 'process_running', 'socket_holders',
-           'start_time', 'stat_fields']
+           'start_time', 'stat_fields', 'thread_ids']
 
 
 def _where(pid: int | None) -> str:
@@ -55,6 +55,11 @@ def pids() -> list[int]:
     with contextlib.suppress(OSError):
         return [int(e.name) for e in os.scandir('/proc') if e.name.isdigit()]
     return []
+
+
+def thread_ids(pid: int | None = None) -> list[int]:
+    """The kernel's thread ids of the process (/proc/PID/task); OSError if gone."""
+    return [int(name) for name in os.listdir(f'{_where(pid)}/task')]
 
 
 def command_line(pid: int) -> list[str]:
