@@ -70,6 +70,7 @@ KIT_PACKAGES: tuple[str, ...] = (
     # tf2's Python packages (upstream's module paths over robot_lab.tf2) and their tools
     'tf2_py',
     'tf2_ros',
+    'tf2_ros_py',
     'tf2_geometry_msgs',
     'tf2_tools',
     'turtle_tf2_py',
