@@ -28,9 +28,11 @@ import pytest
 from conftest import BIN, REPO
 from test_grade_contained import DATA, _looks_around, _odd_entries
 
+from robot_lab.errors import RobotLabError
 from robot_lab.grading.package.confinement import JOB_USER, job_uid, machine_files
+from robot_lab.grading.package.containment import NO_SANDBOX_VAR
 from robot_lab.grading.package.rubric import Limits
-from robot_lab.grading.package.sandbox import namespaces_available, run_job
+from robot_lab.grading.package.sandbox import check_can_contain, namespaces_available, run_job
 
 TEST_UID = 64123  # no account on this machine: neither the grader nor its jobs need one
 DOMAIN = 11
@@ -51,6 +53,23 @@ def test_the_jobs_accounts_replace_a_namesake_and_keep_the_machines() -> None:
     assert groups == [['root', 'x', '0'], ['nogroup', 'x', '65534'], [JOB_USER, 'x', '200011']]
     hosts = files['/etc/hosts'].splitlines()
     assert '127.0.0.1\tlocalhost' in hosts and '127.0.1.1\tlab-pc' in hosts
+
+
+def test_the_layers_switch_makes_the_grader_refuse(monkeypatch: pytest.MonkeyPatch) -> None:
+    """`ROBOT_LAB_DISABLE=namespaces` (robot_lab.linux.capabilities) is a machine without
+    them to the grader: it refuses, and --no-sandbox says that nothing contains the jobs."""
+    monkeypatch.setenv('ROBOT_LAB_DISABLE', 'namespaces')
+    monkeypatch.setenv(NO_SANDBOX_VAR, '')  # restored by monkeypatch: check_can_contain sets it
+    namespaces_available.cache_clear()
+    try:
+        with pytest.raises(RobotLabError) as refused:
+            check_can_contain()
+        assert 'ROBOT_LAB_DISABLE=namespaces' in refused.value.message
+        assert '--no-sandbox' in (refused.value.fix or '')
+        line = check_can_contain(no_sandbox=True, limits=Limits(processes=64))
+        assert line.startswith('containment: NONE (--no-sandbox)') and '64 processes' in line
+    finally:
+        namespaces_available.cache_clear()
 
 
 # What a job sees, from inside: run after `enter`, as every grading job is. Each attempt

@@ -138,8 +138,14 @@ def _mount_machine_files(uid: int, home: Path) -> list[str]:
     files = machine_files(uid, home, _read('/etc/passwd'), _read('/etc/group'),
                           socket.gethostname())
     staging = Path('/tmp/.robot_lab_machine')
-    staging.mkdir(mode=0o700)
-    mount('tmpfs', str(staging), 'tmpfs', MS_NOSUID | MS_NODEV | MS_NOEXEC, 'mode=755,size=1m')
+    try:
+        staging.mkdir(mode=0o700)
+        mount('tmpfs', str(staging), 'tmpfs', MS_NOSUID | MS_NODEV | MS_NOEXEC,
+              'mode=755,size=1m')
+    except OSError as err:  # the machine's own files stay: the job still runs
+        with contextlib.suppress(OSError):
+            staging.rmdir()
+        return [f'{", ".join(files)}: {err.strerror}']
     problems = []
     try:
         for target, text in files.items():
