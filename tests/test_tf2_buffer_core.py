@@ -321,3 +321,46 @@ def test_the_frames_picture_names_every_frame_without_graphviz() -> None:
     shown = {t.get_text() for ax in figure.axes for t in ax.texts}
     assert {'world', 'turtle1', 'carrot1'} <= shown
     assert generate_dot({}, (0, 0)) == 'digraph G { "No tf data received" }'
+
+
+# --- tf2/test/simple_tf2_core.cpp, as facts --------------------------------------------------
+
+def test_cpp_core_facts_on_insert_and_lookup(capfd: pytest.CaptureFixture[str]) -> None:
+    core = BufferCore()
+    assert core._set(TransformStamped(), 'authority1', False) is False
+    err = capfd.readouterr().err
+    assert 'TF_NO_CHILD_FRAME_ID: Ignoring transform from authority "authority1" because ' \
+           'child_frame_id not set ' in err
+    assert 'TF_NO_FRAME_ID: Ignoring transform with child_frame_id ""  from authority ' \
+           '"authority1" because frame_id not set' in err
+    assert core._set(tf('foo', 'child', 1, q=(0.0, 0.0, 0.0, 0.0)), 'a', False) is False
+    assert core._set(tf('foo', 'child', 1), 'authority1', False) is True
+    with pytest.raises(LookupException):
+        BufferCore().lookup_transform_core('a', 'b', T(1))
+    assert BufferCore().can_transform_core('a', 'b', T(1))[0] == 0
+    with pytest.raises(LookupException):
+        core.lookup_transform_core('foo', 'bar', T(1))
+    two = BufferCore()
+    two.set_transform(tf('foo', 'bar', 2), 'authority1')
+    two.lookup_transform_core('foo', 'bar', T(2))
+    with pytest.raises(ExtrapolationException, match=r'at time 4\.000000, but only time 2\.000000'):
+        two.lookup_transform_core('foo', 'bar', T(4))
+    two.set_transform(tf('foo', 'bar', 3), 'authority1')
+    with pytest.raises(ExtrapolationException, match='into the past'):
+        two.lookup_transform_core('foo', 'bar', T(1))
+    with pytest.raises(ExtrapolationException, match='into the future'):
+        two.lookup_transform_core('foo', 'bar', T(4))
+
+
+def test_duplicates_are_kept_once_and_a_static_frame_may_turn_dynamic() -> None:
+    core = BufferCore()
+    for _ in range(3):
+        core.set_transform(tf('a', 'b', 1), 'u')
+    core.set_transform(tf('a', 'b', 1, x=5.0), 'u')  # same stamp, other data: kept
+    cache = dict(core.frames())['b']
+    assert cache is not None and len(cache) == 2
+    core.set_transform_static(tf('a', 'b', 0, x=7.0), 'u')
+    assert xyz(core.lookup_transform_core('a', 'b', T(99)))[0] == 7.0
+    core.set_transform(tf('a', 'b', 5, x=1.0), 'u')
+    with pytest.raises(ExtrapolationException):
+        core.lookup_transform_core('a', 'b', T(99))
