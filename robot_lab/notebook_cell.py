@@ -206,6 +206,9 @@ def try_line(err: BaseException, frames: list[TracebackType],
     known = [*(names or {}), *dir(builtins)]
     if isinstance(err, RobotLabError):
         return '' if err.fix else 'fix what the line above names, then run the cell again'
+    hint = getattr(err, 'try_hint', None)  # a library's own advice (tf2's exceptions)
+    if isinstance(hint, str) and hint:
+        return hint
     name = getattr(err, 'name', None)
     if isinstance(err, NameError) and isinstance(name, str):
         return (f'{_close(name, known)}`{name}` is not defined here: check its spelling, '

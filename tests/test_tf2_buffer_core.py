@@ -364,3 +364,20 @@ def test_duplicates_are_kept_once_and_a_static_frame_may_turn_dynamic() -> None:
     core.set_transform(tf('a', 'b', 5, x=1.0), 'u')
     with pytest.raises(ExtrapolationException):
         core.lookup_transform_core('a', 'b', T(99))
+
+
+def test_a_notebook_cells_try_line_names_the_fix_for_tf2_errors() -> None:
+    from robot_lab.notebook_cell import try_line
+
+    core = BufferCore()
+    core.set_transform(tf('world', 'turtle1', 1), 'u')
+    core.set_transform(tf('world', 'turtle1', 2), 'u')
+    for time_asked, words in ((T(3), 'newer than the newest data'), (T(0.5), 'older than')):
+        with pytest.raises(ExtrapolationException) as caught:
+            core.lookup_transform_core('world', 'turtle1', time_asked)
+        assert words in try_line(caught.value, [])
+    with pytest.raises(LookupException) as missing:
+        core.lookup_transform_core('world', 'turtle2', T(0))
+    assert 'timeout=rclpy.duration.Duration(seconds=1.0)' in try_line(missing.value, [])
+    assert str(missing.value) == ('"turtle2" passed to lookupTransform argument source_frame '
+                                  'does not exist. ')
