@@ -381,3 +381,19 @@ def test_a_notebook_cells_try_line_names_the_fix_for_tf2_errors() -> None:
     assert 'timeout=rclpy.duration.Duration(seconds=1.0)' in try_line(missing.value, [])
     assert str(missing.value) == ('"turtle2" passed to lookupTransform argument source_frame '
                                   'does not exist. ')
+
+
+def test_time_travel_through_a_fixed_frame() -> None:
+    """*Time travel with tf2*: where carrot1 was 5 s ago, seen from turtle2 now."""
+    buffer = Buffer()
+    for sec in range(10, 21):  # turtle1 drives along x at 1 m/s; turtle2 stays at (4, 2)
+        buffer.set_transform(tf('world', 'turtle1', sec, x=float(sec)), 'u')
+        buffer.set_transform(tf('world', 'turtle2', sec, x=4.0, y=2.0), 'u')
+    buffer.set_transform_static(tf('turtle1', 'carrot1', 0, x=0.0, y=2.0), 'u')
+    got = buffer.lookup_transform_full(target_frame='turtle2', target_time=T(0),
+                                       source_frame='carrot1', source_time=T(15),
+                                       fixed_frame='world', timeout=Duration(seconds=0.05))
+    assert xyz(got) == pytest.approx((15.0 - 4.0, 2.0 - 2.0, 0.0))
+    assert got.header.stamp.sec == 20  # the target's time: the latest
+    with pytest.raises(ExtrapolationException, match='into the past'):
+        buffer.lookup_transform_full('turtle2', T(0), 'carrot1', T(5), 'world')
