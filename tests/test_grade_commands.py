@@ -12,6 +12,7 @@ import os
 import signal
 import sys
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import pytest
 from conftest import Proc
@@ -23,7 +24,7 @@ from robot_lab.grading.package.checks.controller_commands import (
     controller_commands,
 )
 from robot_lab.grading.package.perturb import Response, _follows, command_fields
-from robot_lab.grading.package.roles import Observation, Roles, observe
+from robot_lab.grading.package.roles import Observation, Roles, TopicSeen, observe
 from robot_lab.grading.package.rubric import Rubric, RubricCheck
 from robot_lab.grading.package.state import JobState
 
@@ -73,6 +74,45 @@ def test_the_hint_fits_the_command_type(type_name: str, last: dict[str, object],
                                         never: str) -> None:
     hint = command_hint(type_name, last)
     assert says in hint and never not in hint
+
+
+class _SwitchOnly:
+    """Stands in for the grader's wires to a lamp controller that publishes only when it
+    switches (on below 200 lx, off above 250 lx), answering at once."""
+
+    def __init__(self, sess: object, bridge: object, sensor: TopicSeen, command: TopicSeen,
+                 on_command: Callable[[dict[str, Any]], None]) -> None:
+        self.on_command, self.on = on_command, True  # on already: the first low is silent
+
+    def make(self, data: dict[str, Any]) -> dict[str, Any]:
+        return data
+
+    def publish(self, message: dict[str, Any]) -> None:
+        lux = message['illuminance']
+        on = True if lux < 200 else False if lux > 250 else self.on
+        if on != self.on:
+            self.on = on
+            self.on_command({'data': on})
+
+    def matched(self) -> int:
+        return 1
+
+    def close(self) -> None:
+        pass
+
+
+def test_a_lamp_told_only_when_it_switches_follows(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(perturb, '_Wires', _SwitchOnly)
+    monkeypatch.setattr(perturb, '_PATIENCE', 0.2)  # its answers come at once
+    light = TopicSeen('/light', ['sensor_msgs/msg/Illuminance'])
+    light.values.extend([{'illuminance': 120.0}, {'illuminance': 420.0}])
+    obs = Observation(topics={'/light': light, '/lamp': TopicSeen('/lamp',
+                                                                  ['std_msgs/msg/Bool'])})
+    roles = Roles(sensor='/s', sensor_topic='/light', controller='/c', command_topic='/lamp')
+    response = perturb.drive_controller(
+        None, obs, roles, lambda: ((lambda: None), 'paused'))  # type: ignore[arg-type]
+    assert response.follows and response.changed() == ['data'], response.table()
+    assert 'the last one stands' in response.table()
 
 
 # --- Real nodes: a sensor and controllers of several command types ---------------------
