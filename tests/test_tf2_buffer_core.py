@@ -397,3 +397,62 @@ def test_time_travel_through_a_fixed_frame() -> None:
     assert got.header.stamp.sec == 20  # the target's time: the latest
     with pytest.raises(ExtrapolationException, match='into the past'):
         buffer.lookup_transform_full('turtle2', T(0), 'carrot1', T(5), 'world')
+
+
+# --- tf2_geometry_msgs/test/test_tf2_geometry_msgs.py, as facts ------------------------------
+
+def test_geometry_msgs_through_the_buffer_and_do_transform() -> None:
+    import numpy as np
+    import tf2_geometry_msgs  # type: ignore[import-untyped]  # the kit package's module path
+    from geometry_msgs.msg import (
+        PoseStamped,
+        PoseWithCovarianceStamped,
+        Quaternion,
+        Vector3Stamped,
+    )
+
+    flip_x = Quaternion(w=0.0, x=1.0, y=0.0, z=0.0)  # half a turn about x
+    buffer = Buffer()
+    t = TransformStamped()
+    t.transform.translation.x = 1.0
+    t.transform.rotation = flip_x
+    t.header.stamp = T(2).to_msg()
+    t.header.frame_id, t.child_frame_id = 'a', 'b'
+    buffer.set_transform(t, 'eitan_rocks')
+    out = buffer.lookup_transform('a', 'b', T(2).to_msg(), Duration(seconds=2))
+    assert (out.transform.translation.x, out.transform.rotation.x) == (1, 1)
+    point = PointStamped()
+    point.header.stamp, point.header.frame_id = T(2).to_msg(), 'a'
+    point.point.x, point.point.y, point.point.z = 1.0, 2.0, 3.0
+    moved = buffer.transform(point, 'b', new_type=PointStamped)
+    assert (moved.point.x, moved.point.y, moved.point.z) == (0, -2, -3)
+    pose = PoseStamped()
+    pose.header = point.header
+    pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = 1.0, 2.0, 3.0
+    pose.pose.orientation = flip_x
+    p = buffer.transform(pose, 'b').pose.position
+    assert (p.x, p.y, p.z) == (0, -2, -3)
+
+    shift = TransformStamped()
+    shift.transform.translation.x, shift.transform.translation.y = 1.0, 2.0
+    shift.transform.translation.z = 3.0
+    shift.transform.rotation = Quaternion(w=1.0, x=0.0, y=0.0, z=0.0)
+    vector = Vector3Stamped()
+    vector.vector.x = 1.0
+    v = tf2_geometry_msgs.do_transform_vector3(vector, shift).vector
+    assert (v.x, v.y, v.z) == (1, 0, 0)  # a translation does not move a vector
+    shift.transform.rotation = Quaternion(w=0.0, x=0.0, y=1.0, z=0.0)
+    assert tf2_geometry_msgs.do_transform_vector3(vector, shift).vector.x == -1
+
+    shift.transform.translation.x, shift.transform.translation.y = 1.0, 2.0
+    shift.transform.translation.z = 3.0
+    shift.transform.rotation = flip_x
+    cov = PoseWithCovarianceStamped()
+    cov.pose.covariance = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0] * 6
+    cov.pose.pose.position.x, cov.pose.pose.position.y, cov.pose.pose.position.z = 1.0, 2.0, 3.0
+    cov.pose.pose.orientation = flip_x
+    done = tf2_geometry_msgs.do_transform_pose_with_covariance_stamped(cov, shift)
+    q, pos = done.pose.pose.orientation, done.pose.pose.position
+    assert (pos.x, pos.y, pos.z, q.x, q.y, q.z, q.w) == (2, 0, 0, 0, 0, 0, 1)
+    row, flipped = [1.0, -2.0, -3.0, 4.0, -5.0, -6.0], [-1.0, 2.0, 3.0, -4.0, 5.0, 6.0]
+    assert np.array_equal(done.pose.covariance, row + flipped * 2 + row + flipped * 2)
