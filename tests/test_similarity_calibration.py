@@ -101,3 +101,11 @@ def test_the_line_falls_between_honest_pairs_and_copies() -> None:
     honest = max(p.similarity for p in pairs if frozenset((p.a, p.b)) not in copied)
     copy = min(p.similarity for p in pairs if frozenset((p.a, p.b)) in copied)
     assert honest <= FLOOR - 0.1 < FLOOR + 0.1 <= copy, (honest, copy)
+
+
+def test_type_annotations_change_nothing() -> None:
+    """Annotating a copy does not hide it, nor do two annotating students look alike."""
+    typed = ('def f(x: int, *rest: str, y: list[str] | None = None) -> None:\n'
+             '    z: float = 1.0\n    state: dict[str, int]\n    return {z: x}\n')
+    plain = 'def f(x, *rest, y=None):\n    z = 1.0\n    state\n    return {z: x}\n'
+    assert shape({'m.py': typed}).fine == shape({'m.py': plain}).fine
