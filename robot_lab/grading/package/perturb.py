@@ -112,11 +112,16 @@ def _leaves(data: object, prefix: str = '') -> Iterator[tuple[str, float]]:
 
 def _varying(values: list[dict[str, object]]) -> tuple[set[str], float, float]:
     """The sensor's numeric fields that changed (all of them if none did) and the range
-    they covered (a span around a constant reading)."""
+    they covered (a span around a constant reading). A sensor with no number (a door
+    contact's Bool) has its booleans driven instead: levels 0 and 1 are False and True."""
     seen: dict[str, list[float]] = {}
     for data in values:
         for key, value in _leaves(data):
             seen.setdefault(key, []).append(value)
+    if not seen:
+        flags = {k for data in values for k, v in command_fields(data) if isinstance(v, bool)}
+        if flags:
+            return flags, 0.0, 1.0
     keys = {k for k, vs in seen.items() if max(vs) - min(vs) > 1e-9} or set(seen)
     numbers = [v for k in keys for v in seen[k]]
     low, high = (min(numbers), max(numbers)) if numbers else (0.0, 1.0)
@@ -144,9 +149,11 @@ def _set_level(data: object, keys: set[str], level: float, prefix: str = '') -> 
     if prefix[:-1] not in keys and not (prefix[:-1].endswith(']') and
                                         prefix[:-1].rsplit('[', 1)[0] + '[0]' in keys):
         return data
+    if isinstance(data, bool):
+        return level >= 0.5
     if isinstance(data, float):
         return float(level)
-    if isinstance(data, int) and not isinstance(data, bool):
+    if isinstance(data, int):
         return round(level)
     return data
 
