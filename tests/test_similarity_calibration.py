@@ -8,6 +8,7 @@ reformatted by another) and class_ch6's Mallory. Reads files only: no ROS."""
 
 from __future__ import annotations
 
+import functools
 import random
 import shutil
 import tempfile
@@ -28,8 +29,9 @@ COPIES = {'abe': 'ana', 'cody': 'chen', 'fin': 'fay', 'gil': 'gus', 'hal': 'hana
           'quade': 'quinn', 'mallory': 'alice'}
 
 
+@functools.cache
 def _shapes() -> dict[str, Shape]:
-    """Every student's code, honest and copied, read once."""
+    """Every student's code, honest and copied, read once (on first use, not collection)."""
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         folders = {p.name: p for p in INDEPENDENT.iterdir() if not p.name.startswith('.')}
@@ -44,25 +46,25 @@ def _shapes() -> dict[str, Shape]:
                 for name, path in folders.items()}
 
 
-SHAPES = _shapes()
-HONEST = sorted(set(SHAPES) - set(COPIES))
+def _honest() -> list[str]:
+    return sorted(set(_shapes()) - set(COPIES))
 
 
 def _classes(seed: int) -> list[list[str]]:
     """Honest classes of 10 to all 24 students: fixed draws, the same on every run."""
     draw = random.Random(seed)
-    sizes = [10, 10, 12, 15, 15, 18, 20, 22, len(HONEST)]
-    return [sorted(draw.sample(HONEST, size)) for size in sizes]
+    sizes = [10, 10, 12, 15, 15, 18, 20, 22, len(_honest())]
+    return [sorted(draw.sample(_honest(), size)) for size in sizes]
 
 
 def _named(names: list[str]) -> tuple[set[frozenset[str]], float]:
-    pairs, threshold = compare(names, [SHAPES[n] for n in names])
+    pairs, threshold = compare(names, [_shapes()[n] for n in names])
     return {frozenset((p.a, p.b)) for p in pairs}, threshold.value
 
 
 def test_the_honest_students_are_many_and_alike_only_by_the_lab() -> None:
-    assert len(HONEST) == 24
-    pairs, threshold = compare(HONEST, [SHAPES[n] for n in HONEST])
+    assert len(_honest()) == 24
+    pairs, threshold = compare(_honest(), [_shapes()[n] for n in _honest()])
     scores = sorted((p.similarity for p in pairs), reverse=True)
     assert scores == []  # the whole class: nobody named
     assert threshold.value >= FLOOR
@@ -82,7 +84,7 @@ def test_copies_are_named_beside_honest_classes(seed: int) -> None:
     draw = random.Random(seed)
     originals = set(COPIES.values())
     for size in (3, 6, 10, 16):
-        others = draw.sample(sorted(set(HONEST) - originals), size)
+        others = draw.sample(sorted(set(_honest()) - originals), size)
         names = sorted({*others, *originals, *COPIES})
         assert 10 <= len(names) <= 30
         named, line = _named(names)
@@ -93,11 +95,11 @@ def test_the_line_falls_between_honest_pairs_and_copies() -> None:
     """The margins the floor was chosen from (the FLOOR comment of similarity.py): in one
     class of all 31 students, the copied pairs are named and nobody else; every honest
     pair scores at least 0.1 under the floor, every copy at least 0.1 over it."""
-    everyone = sorted(SHAPES)
+    everyone = sorted(_shapes())
     named, _ = _named(everyone)
     copied = {frozenset(p) for p in COPIES.items()}
     assert named == copied
-    pairs, _ = compare(everyone, [SHAPES[n] for n in everyone], every_pair=True)
+    pairs, _ = compare(everyone, [_shapes()[n] for n in everyone], every_pair=True)
     honest = max(p.similarity for p in pairs if frozenset((p.a, p.b)) not in copied)
     copy = min(p.similarity for p in pairs if frozenset((p.a, p.b)) in copied)
     assert honest <= FLOOR - 0.1 < FLOOR + 0.1 <= copy, (honest, copy)
