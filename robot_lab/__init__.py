@@ -99,6 +99,7 @@ _API: dict[str, str] = {
     # tf2 (the tf2_ros API itself is the kit package tf2_ros: `import tf2_ros`)
     'view_frames': 'robot_lab.tf2.view_frames',
     'frames_figure': 'robot_lab.tf2.view_frames',
+    'tf_buffer': 'robot_lab.tf2.listener',
     # the 3D view (RViz's job)
     'scene_view': 'robot_lab.scene.view',
     'SceneView': 'robot_lab.scene.view',
@@ -134,4 +135,5 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     )
     from robot_lab.pkg.index import find_executable, package_prefix, package_share
     from robot_lab.rclpy_session import Session, session
+    from robot_lab.tf2.listener import tf_buffer
     from robot_lab.tf2.view_frames import frames_figure, view_frames

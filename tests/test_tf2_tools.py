@@ -123,6 +123,26 @@ def test_broadcasters_reach_a_listener_over_dds() -> None:
         rclpy.utilities.try_shutdown(context=context)
 
 
+def test_a_kernels_tf_buffer_hears_the_graph() -> None:
+    """robot_lab.tf_buffer(): a Buffer the session keeps filled, as a notebook cell uses."""
+    from rclpy.duration import Duration
+
+    import robot_lab
+    from robot_lab.rclpy_session import session
+    from robot_lab.tf2.broadcasters import StaticTransformBroadcaster
+
+    buffer = robot_lab.tf_buffer()
+    node = rclpy.create_node('kernel_static_broadcaster', context=session().context)
+    try:
+        StaticTransformBroadcaster(node).sendTransform(_msg('world', 'camera', 0.0))
+        got = buffer.lookup_transform('world', 'camera', rclpy.time.Time(),
+                                      timeout=Duration(seconds=10))
+        assert got.transform.translation.x == 42.0
+        assert robot_lab.tf_buffer() is buffer
+    finally:
+        node.destroy_node()
+
+
 # --- the programs ---------------------------------------------------------------------------
 
 def test_static_publisher_echo_and_view_frames(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
@@ -133,20 +153,25 @@ def test_static_publisher_echo_and_view_frames(start, tmp_path: Path) -> None:  
                   '--frame-id', 'world', '--child-frame-id', 'mystatic')
     old = start(*STATIC, '0', '0', '1', '0', '0', '0', 'mystatic', 'old')
     echo = start('ros2', 'run', 'tf2_ros', 'tf2_echo', 'world', 'old', '10')
-    views = start('ros2', 'run', 'tf2_tools', 'view_frames', '-t', '2', '-o',
-                  str(tmp_path / 'frames'), cwd=tmp_path)
     old.wait_for(r'\[WARN\] \[[0-9.]+\] \[\]: Old-style arguments are deprecated; see --help '
                  r'for new-style arguments')
     flags.wait_for(r"^rotation: \('0\.000000', '0\.000000', '0\.707107', '0\.707107'\)$")
     assert _translation(echo) == (1.0, 2.0, 1.0)
+    # both static frames are out: view_frames' 2 s of listening will hear them
+    views = start('ros2', 'run', 'tf2_tools', 'view_frames', '-t', '2', '-o',
+                  str(tmp_path / 'frames'), cwd=tmp_path)
     echo.wait_for(r'^- Rotation: in RPY \(degree\) \[0\.000, -?0\.000, 90\.000\]$')
+    echo.wait_for(r'^  0\.000  0\.000  0\.000  1\.000$')  # the matrix's last row
     lines = echo.lines[echo.lines.index('- Matrix:') + 1:][:4]
     assert lines[0] == '  0.000 -1.000  0.000  1.000' and lines[3] == '  0.000  0.000  0.000  1.000'
     assert re.search(r'^At time 0\.0$', '\n'.join(echo.lines), re.M)
     assert views.popen.wait(timeout=30) == 0, '\n'.join(views.lines)
     gv = (tmp_path / 'frames.gv').read_text()
-    assert gv.startswith('digraph G {\n"world" -> "mystatic"[label=" Broadcaster: '
-                         'default_authority\\nAverage rate: 10000.0\\n')
+    assert gv.startswith('digraph G {\n')  # the frames in the order they arrived:
+    for edge in ('"world" -> "mystatic"', '"mystatic" -> "old"'):
+        assert (f'\n{edge}[label=" Broadcaster: default_authority\\nAverage rate: 10000.0\\n'
+                'Buffer length: 0.0\\nMost recent transform: 0.0\\nOldest transform: 0.0\\n'
+                '"];\n') in gv
     assert '}->"world";\n}' in gv
     assert (tmp_path / 'frames.pdf').read_bytes().startswith(b'%PDF')
 

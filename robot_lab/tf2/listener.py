@@ -71,3 +71,30 @@ class TransformListener:
         who = 'default_authority'
         for transform in data.transforms:
             self.buffer.set_transform_static(transform, who)
+
+
+_SESSION_BUFFERS: dict[int, Any] = {}
+
+
+def tf_buffer() -> Any:
+    """In a notebook: a tf2_ros Buffer that the kernel's session keeps filled from /tf and
+    /tf_static (one per session; a hidden node listens), for `lookup_transform` in a cell
+    without writing a node first."""
+    import os
+
+    import rclpy
+
+    from robot_lab.rclpy_session import session
+    from robot_lab.tf2.buffer import Buffer
+
+    sess = session()
+    held = _SESSION_BUFFERS.get(id(sess))
+    if held is not None and held[0] is sess:
+        return held[1]
+    node = rclpy.create_node(f'_robot_lab_tf_{os.getpid()}', context=sess.context,
+                             start_parameter_services=False, enable_rosout=False)
+    buffer = Buffer(node=None)
+    listener = TransformListener(buffer, node)
+    sess.add_node(node)
+    _SESSION_BUFFERS[id(sess)] = (sess, buffer, listener, node)
+    return buffer
