@@ -21,9 +21,10 @@ answers can come seconds apart, which no fixed window covers. A count alone can 
 fooled while commands come and go (a participant heard just before it exits stands in
 for one not heard yet), so where the socket's owner can be read, the session also needs
 that process itself: Fast DDS writes the low 16 bits of its pid into each participant's
-GUID prefix. Where the count cannot be read (another RMW, custom ports), the session
-falls back to a timing rule: the others must have answered at all, and a full
-announcement burst has passed since.
+GUID prefix (bits two processes can share where pid_max exceeds 65536, so each heard
+participant vouches for one port only: host_sockets.unheard_ports). Where the count
+cannot be read (another RMW, custom ports), the session falls back to a timing rule: the
+others must have answered at all, and a full announcement burst has passed since.
 """
 
 from __future__ import annotations
@@ -40,8 +41,9 @@ from robot_lab.env import switched_on
 from robot_lab.graph.host_sockets import (
     discovery_ports,
     own_sockets,
-    port_holders,
+    port_processes,
     socket_drops,
+    unheard_ports,
 )
 from robot_lab.linux import procfs
 
@@ -308,9 +310,16 @@ def node_processes(session: Session) -> set[int] | None:
 
 def _process_ids(prefixes: set[bytes]) -> set[int] | None:
     """Low 16 bits of the pids in these GUID prefixes; None unless all are Fast DDS's."""
+    heard = _participant_pids(prefixes)
+    return None if heard is None else set(heard)
+
+
+def _participant_pids(prefixes: set[bytes]) -> list[int] | None:
+    """The pid bits of each participant (GUID prefix), one entry per participant; None
+    unless all are Fast DDS's."""
     if not all(p[:2] == _EPROSIMA for p in prefixes):
         return None
-    return {int.from_bytes(p[4:6], 'little') for p in prefixes}
+    return [int.from_bytes(p[4:6], 'little') for p in prefixes]
 
 
 class HostCount:
@@ -336,8 +345,8 @@ class HostCount:
         self.seen = len(prefixes)
         if len(prefixes) < len(ports):
             return False
-        heard, sockets = _process_ids(prefixes), frozenset(ports.values())
-        if heard is not None and any(not pids & heard for pids in port_holders(sockets)):
+        heard = _participant_pids(prefixes)
+        if heard is not None and unheard_ports(ports, heard):
             self.unheard_process = True  # the count includes one that left, or a process
             return False  # not heard yet
         bare = set(full_node_names(self.session, include_hidden=True)) - with_endpoints
@@ -352,11 +361,11 @@ class HostCount:
         without its endpoints (for the debug line)."""
         ports = _host_ports(self.session.domain_id)
         prefixes, with_endpoints = _named_participants(self.session)
-        heard = _process_ids(prefixes) or set()
+        ports = ports or {}
+        holders = port_processes(ports.values())
         found = []
-        for pids in port_holders(frozenset(ports.values()) if ports else frozenset()):
-            if not pids & heard:
-                found += [f'{pid}:{_command(pid)}' for pid in sorted(pids)]
+        for port in unheard_ports(ports, _participant_pids(prefixes) or [], holders):
+            found += [f'{pid}:{_command(pid)}' for pid in sorted(holders[ports[port]])]
         found += [f'{name} (no endpoints)' for name in
                   full_node_names(self.session, include_hidden=True)
                   if name not in with_endpoints]
@@ -376,15 +385,12 @@ class HostCount:
               file=sys.stderr)
 
 
-def _command(pid16: int) -> str:
-    """The start of the command line of the process whose pid's low 16 bits are `pid16`."""
-    for pid in procfs.pids():
-        if pid & 0xFFFF == pid16:
-            try:
-                return ' '.join(procfs.command_line(pid)).strip()[:120]
-            except OSError:
-                continue
-    return '?'
+def _command(pid: int) -> str:
+    """The start of the command line of process `pid`."""
+    try:
+        return ' '.join(procfs.command_line(pid)).strip()[:120] or '?'
+    except OSError:
+        return '?'
 
 
 def _debug(line: str) -> None:

@@ -6,17 +6,22 @@ sock_diag, else /proc/net/udp), the processes from robot_lab.linux.procfs.
 
 from __future__ import annotations
 
+from collections import Counter
+from collections.abc import Iterable, Mapping
+
 from robot_lab.domain import domain_ports
 from robot_lab.linux.procfs import own_socket_inodes, socket_holders
 from robot_lab.linux.sock_diag import UdpSocket, udp_sockets
 
-__all__ = ['UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets', 'port_holders',
-           'socket_drops', 'udp_sockets']
+__all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets',
+           'port_processes', 'socket_drops', 'udp_sockets', 'unheard_ports']
 
 
 # Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
 # is a participant's metatraffic unicast (discovery) port (PB + DG * domain: domain_ports).
 _PARTICIPANT_GAIN, _D1 = 2, 10
+# Fast DDS writes only a pid's low 16 bits into its GUID prefix (bytes 4-5).
+GUID_PID_BITS = 16
 
 
 def own_sockets() -> set[int]:
@@ -42,8 +47,37 @@ def socket_drops() -> int:
     return sum(s.drops for s in udp_sockets() if s.inode in mine)
 
 
-def port_holders(inodes: frozenset[int]) -> list[set[int]]:
-    """For each of these sockets that this user may trace, the pids (low 16 bits, as Fast
-    DDS writes them into a GUID) of the processes in this PID namespace that hold it;
-    sockets held elsewhere are left out (see procfs.socket_holders)."""
-    return socket_holders(inodes, pid_bits=16)
+def port_processes(inodes: Iterable[int]) -> dict[int, frozenset[int]]:
+    """Socket inode -> the pids (whole) of this PID namespace's processes holding it,
+    for the sockets this user may trace (see procfs.socket_holders)."""
+    return socket_holders(inodes)
+
+
+def unheard_ports(ports: Mapping[int, int], heard: Iterable[int],
+                  holders: Mapping[int, frozenset[int]] | None = None) -> list[int]:
+    """The discovery ports (`ports`: port -> socket inode) that no heard participant
+    accounts for; ports whose holders cannot be read are taken as heard.
+
+    `heard` has one entry per participant heard: the pid bits its GUID prefix carries.
+    Those are a pid's low 16 bits, so where pid_max exceeds 65536 (4194304 under systemd
+    on 64-bit hosts) two processes can share them: a heard participant of one would vouch
+    for an unheard one of the other. So each heard participant accounts for one port
+    only, of a process whose pid it matches, and the ports are matched to participants so
+    that as many as possible are accounted for (augmenting paths; a few dozen ports)."""
+    holders = port_processes(ports.values()) if holders is None else holders
+    mask = (1 << GUID_PID_BITS) - 1
+    candidates = {port: {pid & mask for pid in holders[inode]}
+                  for port, inode in ports.items() if holders.get(inode)}
+    slots = [(bits, k) for bits, count in Counter(heard).items() for k in range(count)]
+    owner: dict[tuple[int, int], int] = {}
+
+    def assign(port: int, tried: set[tuple[int, int]]) -> bool:
+        for slot in slots:
+            if slot[0] in candidates[port] and slot not in tried:
+                tried.add(slot)
+                if slot not in owner or assign(owner[slot], tried):
+                    owner[slot] = port
+                    return True
+        return False
+
+    return sorted(port for port in candidates if not assign(port, set()))

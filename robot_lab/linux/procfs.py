@@ -120,24 +120,23 @@ def mount_points() -> list[str]:
 
 
 _holders_lock = threading.Lock()
-_holders: dict[tuple[frozenset[int], int], list[set[int]]] = {}
+_holders: dict[frozenset[int], dict[int, frozenset[int]]] = {}
 
 
-def socket_holders(inodes: Iterable[int], pid_bits: int = 16) -> list[set[int]]:
-    """For each of these sockets that this user may trace, the pids (their low `pid_bits`
-    bits) of the processes in this PID namespace that hold it (a child that inherited the
-    socket holds it too); sockets held elsewhere are left out. Cached per set of sockets: a
+def socket_holders(inodes: Iterable[int]) -> dict[int, frozenset[int]]:
+    """Socket inode -> the pids of the processes in this PID namespace that hold it (a
+    child that inherited the socket holds it too), for each of these sockets that this
+    user may trace; sockets held elsewhere are left out. Cached per set of sockets: a
     scan of /proc takes ~2 ms per 150 processes."""
     key = frozenset(inodes)
-    mask = (1 << pid_bits) - 1
     with _holders_lock:
-        if (key, mask) in _holders:
-            return _holders[(key, mask)]
+        if key in _holders:
+            return _holders[key]
     wanted = {f'socket:[{inode}]': inode for inode in key}
     try:
         own_ns = pid_namespace()
     except OSError:
-        return []
+        return {}
     by_inode: dict[int, set[int]] = {}
     foreign: set[int] = set()
     for pid in pids():
@@ -150,12 +149,12 @@ def socket_holders(inodes: Iterable[int], pid_bits: int = 16) -> list[set[int]]:
             same = False
         for inode in held:
             if same:
-                by_inode.setdefault(inode, set()).add(pid & mask)
+                by_inode.setdefault(inode, set()).add(pid)
             else:
                 foreign.add(inode)
-    found = [holders for inode, holders in by_inode.items() if inode not in foreign]
+    found = {inode: frozenset(held) for inode, held in by_inode.items() if inode not in foreign}
     with _holders_lock:
         if len(_holders) > 64:
             _holders.clear()
-        _holders[(key, mask)] = found
+        _holders[key] = found
     return found
