@@ -7,7 +7,6 @@ it loaded, since it may take no lock another thread held at the fork.
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 import threading
 
@@ -27,8 +26,14 @@ def _load() -> None:
         try:
             if os.name != 'posix':
                 raise OSError('no C library of the kind the kit needs (not Linux)')
-            name = ctypes.util.find_library('c') or 'libc.so.6'
-            library = ctypes.CDLL(name, use_errno=True)
+            name = 'libc.so.6'  # glibc's soname: no ldconfig run (ctypes.util) to find it
+            try:
+                library = ctypes.CDLL(name, use_errno=True)
+            except OSError:
+                from ctypes.util import find_library
+
+                name = find_library('c') or name
+                library = ctypes.CDLL(name, use_errno=True)
             pylibrary = ctypes.PyDLL(name, use_errno=True)  # holds the GIL across a call
             library.sbrk.restype = ctypes.c_void_p
             library.pthread_self.restype = ctypes.c_void_p

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import ctypes
 import os
+import struct
 import subprocess
 import sys
 
@@ -19,8 +20,9 @@ from robot_lab.linux.libc import check, libc
 
 __all__ = ['CLONE_NEWIPC', 'CLONE_NEWNET', 'CLONE_NEWNS', 'CLONE_NEWPID', 'CLONE_NEWUSER',
            'MS_BIND', 'MS_NODEV', 'MS_NOEXEC', 'MS_NOSUID', 'MS_PRIVATE', 'MS_RDONLY', 'MS_REC',
-           'MS_REMOUNT', 'bind', 'job_namespaces', 'kept_flags', 'mount', 'mount_points',
-           'probe', 'remount', 'unshare']
+           'MS_REMOUNT', 'bind', 'drop_capabilities', 'in_initial_user_namespace',
+           'job_namespaces', 'kept_flags', 'map_ids', 'mount', 'mount_points', 'probe', 'remount',
+           'unmount', 'unshare']
 
 CLONE_NEWNS, CLONE_NEWIPC, CLONE_NEWUSER = 0x00020000, 0x08000000, 0x10000000
 CLONE_NEWPID, CLONE_NEWNET = 0x20000000, 0x40000000
@@ -28,6 +30,8 @@ MS_RDONLY, MS_NOSUID, MS_NODEV, MS_NOEXEC = 1, 2, 4, 8
 MS_REMOUNT, MS_BIND, MS_REC, MS_PRIVATE = 32, 4096, 16384, 1 << 18
 MS_NOATIME, MS_NODIRATIME, MS_RELATIME = 1024, 2048, 1 << 21
 _ST_RELATIME = 4096
+MNT_DETACH = 2
+_CAPABILITY_V3 = 0x20080522  # _LINUX_CAPABILITY_VERSION_3
 _PROBE_TIMEOUT = 10.0
 
 
@@ -75,6 +79,38 @@ def bind(source: str, target: str, recursive: bool = True) -> None:
 def mount_points() -> list[str]:
     """This mount namespace's mount points, in mount order."""
     return procfs.mount_points()
+
+
+def unmount(target: str, detach: bool = False) -> None:
+    """umount2(2) (MNT_DETACH: lazily, once no one uses it); OSError if refused."""
+    check(libc().umount2(_bytes(target), MNT_DETACH if detach else 0), f'umount {target}')
+
+
+def in_initial_user_namespace() -> bool:
+    """True in the machine's own user namespace, where every uid maps to itself; False in
+    one that `unshare --user` (or `unshare(CLONE_NEWUSER)`) made."""
+    try:
+        with open('/proc/self/uid_map', encoding='ascii') as file:
+            return file.read().split() == ['0', '0', '4294967295']
+    except OSError:
+        return True  # no user namespaces on this kernel: the machine's own
+
+
+def map_ids(inner_uid: int, inner_gid: int, outer_uid: int, outer_gid: int) -> None:
+    """Right after unshare(CLONE_NEWUSER): map one uid and one gid of the new namespace to
+    the ones this process had outside (setgroups denied first, as the kernel requires of an
+    unprivileged writer); OSError if refused."""
+    for name, line in (('setgroups', 'deny'), ('uid_map', f'{inner_uid} {outer_uid} 1'),
+                       ('gid_map', f'{inner_gid} {outer_gid} 1')):
+        with open(f'/proc/self/{name}', 'w', encoding='ascii') as file:
+            file.write(line)
+
+
+def drop_capabilities() -> None:
+    """Empty this thread's effective, permitted and inheritable capability sets (capset(2),
+    version 3); a process forked later without an exec holds none either."""
+    header = struct.pack('=Ii', _CAPABILITY_V3, 0)
+    check(libc().capset(header, bytes(24)), 'capset')
 
 
 def _try_in_child() -> int:
