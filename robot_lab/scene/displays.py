@@ -160,8 +160,7 @@ class RobotModel(Display):
         try:
             root = ET.fromstring(urdf)
         except ET.ParseError as err:
-            line = err.position[0]
-            self.error = (f'the URDF on {self.topic} does not parse (line {line}: {err.msg}); '
+            self.error = (f'the URDF on {self.topic} does not parse ({err}); '
                           'fix: check it with `check_urdf` or `xacro` first')
             self.links, self.root = [], None
             return

@@ -12,7 +12,8 @@ Poses are tuples `(x, y, z, qx, qy, qz, qw)`: what the browser takes, no numpy.
 from __future__ import annotations
 
 import math
-from typing import TypeAlias
+import struct
+from typing import Any, TypeAlias
 
 __all__ = ['IDENTITY', 'FrameTree', 'Pose', 'compose', 'inverse']
 
@@ -178,3 +179,41 @@ class FrameTree:
             return f'the TF tree above [{frame if a is None else fixed}] has a loop'
         return (f'[{frame}] and [{fixed}] are not part of the same tree '
                 f'(their roots are [{a[0]}] and [{b[0]}])')
+
+
+def parse_tf_message(raw: bytes) -> list[tuple[str, str, Pose]]:
+    """A serialized tf2_msgs/TFMessage (CDR, as a raw subscription hands it over) →
+    [(parent, child, pose)], stamps skipped.
+
+    rclpy builds a Python object per field: 0.68 ms for a 19-transform message, 3.4 % of a
+    core at 50 Hz, most of the view's cost; reading the doubles straight from the bytes
+    costs a few percent of that. Raises ValueError on an encoding it does not know
+    (the caller then lets rclpy deserialize).
+    """
+    if len(raw) < 8 or raw[0] != 0 or raw[1] not in (0, 1):
+        raise ValueError('not plain CDR')
+    order = '<' if raw[1] == 1 else '>'
+    origin = 4  # alignment counts from after the encapsulation header
+    count = _unpack(order + 'I', raw, origin)[0]
+    offset = origin + 4
+    out: list[tuple[str, str, Pose]] = []
+    for _ in range(count):
+        offset += (-(offset - origin)) % 4 + 8  # stamp: int32 sec, uint32 nanosec
+        names = []
+        for _name in range(2):  # header.frame_id, child_frame_id
+            offset += (-(offset - origin)) % 4
+            length = _unpack(order + 'I', raw, offset)[0]
+            offset += 4
+            names.append(raw[offset:offset + max(0, length - 1)].decode('utf-8'))
+            offset += length
+        offset += (-(offset - origin)) % 8
+        pose = _unpack(order + '7d', raw, offset)
+        offset += 56
+        out.append((names[0], names[1], pose))
+    return out
+
+
+def _unpack(fmt: str, raw: bytes, offset: int) -> tuple[Any, ...]:
+    if offset + struct.calcsize(fmt) > len(raw):
+        raise ValueError('truncated TFMessage')
+    return struct.unpack_from(fmt, raw, offset)
