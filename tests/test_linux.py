@@ -4,6 +4,7 @@ doctor's table, and a launch and a cold `node list` with each capability off."""
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import platform
@@ -253,6 +254,32 @@ def test_a_cloned_child_is_the_grandparents_with_its_robust_futex_list() -> None
     assert child == forked and child_parent == os.getpid()  # CLONE_PARENT: ours
     assert os.waitpid(child, 0)[1] >> 8 == 7
     assert child_list == parent_list != 0
+
+
+def test_a_fork_server_that_stops_answering_is_ended_and_the_node_execd(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its socket is read with a timeout: a server stuck (here: stopped) is killed, and the
+    launcher execs the node instead of waiting forever."""
+    from robot_lab.env import ros_environment
+    from robot_lab.launch.plan import ProcessSpec
+    from robot_lab.pkg.index import find_executable
+
+    monkeypatch.setattr(fork_client, '_REPLY_TIMEOUT', 0.5)
+    env = ros_environment()
+    server = fork_client.ForkServer(env)
+    try:
+        script = str(find_executable('robot_lab', 'sensor_node'))
+        spec = ProcessSpec(cmd=[script], label='sensor_node-1', env={}, package='robot_lab')
+        assert server._warm(), server.error  # imported, ready to fork
+        os.kill(server.pid, signal.SIGSTOP)
+        began = time.monotonic()
+        assert server.start(spec, env, None, sys.executable) is None
+        assert time.monotonic() - began < 10
+        assert server.error is not None and 'did not answer' in server.error
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(server.pid, signal.SIGCONT)
+        server.discard()
 
 
 # --- namespaces ---------------------------------------------------------------------------

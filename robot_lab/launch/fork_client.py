@@ -54,6 +54,7 @@ _RUNTIME = ('ROS_', 'RMW_', 'RCUTILS_', 'RCL_', 'FASTRTPS_', 'FASTDDS_', 'AMENT_
 _READY_TIMEOUT = 120.0  # the server's imports, on a host as loaded as a class hub gets
 _MESSAGE = 1 << 16
 _POLL = 0.05  # a forked node's exit, looked for without a pidfd
+_REPLY_TIMEOUT = 30.0  # a loaded host's fork takes well under a second
 
 
 def enabled(environ: Mapping[str, str] | None = None) -> bool:
@@ -221,8 +222,17 @@ class ForkServer:
         return self._ready and self.error is None
 
     def _reply(self) -> dict[str, Any]:
+        """The server's answer to a request: it forks in milliseconds, so one that has not
+        answered in _REPLY_TIMEOUT is stuck; it is ended, and this node and the rest are
+        exec'd."""
+        deadline = time.monotonic() + _REPLY_TIMEOUT
         while not self._replies and self.error is None:
-            self.pump(None)
+            left = deadline - time.monotonic()
+            if left <= 0:
+                self.error = f'the fork server did not answer within {_REPLY_TIMEOUT:.0f} s'
+                self._proc.kill()
+                break
+            self.pump(left)
         return self._replies.pop(0) if self._replies else {}
 
     def pump(self, timeout: float | None) -> None:
