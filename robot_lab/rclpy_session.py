@@ -385,22 +385,43 @@ def defer_code_generator() -> None:
 
 
 def guard_action_clients() -> None:
-    """Close a window in rclpy's (Jazzy) ActionClient where an answer gets lost.
+    """Close a window in older rclpy's ActionClient where an answer gets lost.
 
     It sends a goal (result, cancel) request and only then notes its sequence number; an
     executor on another thread (the kit's, a kernel's) that takes the answer in between
     drops it ("Ignoring unexpected goal response. There may be more than one action
     server"), and the goal's future never completes (CI: `send_goal --feedback` printed
-    nothing more). One lock per client around sending-and-noting and around handling an
-    answer closes it, as later rclpy releases do. Applied once, to every ActionClient of
-    the process, students' own included: now if rclpy.action is imported, else when it is
-    (a process that makes no action client, most `ros2` commands, then never imports it).
+    nothing more). Upstream closed it with a lock per client around sending-and-noting and
+    around taking the answers (ros2/rclpy#1308; Jazzy 7.1.6, #1517). An rclpy without it
+    gets the same here, from outside; one that has it is left as it is
+    (`action_client_has_lock`). Neither holds a lock while the answer is handled, so a
+    student's feedback or done callback may send another goal from any thread. Applied
+    once, to every ActionClient of the process, students' own included: now if
+    rclpy.action is imported, else when it is (a process that makes no action client, most
+    `ros2` commands, then never imports it).
     """
     module = sys.modules.get('rclpy.action.client')
     if module is not None:
         _guard(module.ActionClient)
     elif not any(isinstance(finder, _GuardOnImport) for finder in sys.meta_path):
         sys.meta_path.insert(0, _GuardOnImport())
+
+
+# What the upstream fix locks: the three requests and the take of their answers.
+_SENDING = ('send_goal_async', '_cancel_goal_async', '_get_result_async')
+
+
+def action_client_has_lock(ActionClient: Any) -> bool:  # noqa: N803 - the class
+    """Whether this rclpy's ActionClient sends and takes under a lock of its own (#1308).
+
+    Read from the methods' code, not the version: the PyPI wheel ros-rclpy 7.1.6 ships
+    rclpy 7.1.5's sources (its egg-info and package.xml say 7.1.5), without the fix.
+    """
+    def names(method: str) -> tuple[str, ...]:
+        code = getattr(getattr(ActionClient, method, None), '__code__', None)
+        return () if code is None else tuple(code.co_names)
+
+    return all('_lock' in names(method) for method in (*_SENDING, 'take_data'))
 
 
 class _GuardOnImport(importlib.abc.MetaPathFinder):
@@ -427,27 +448,21 @@ class _GuardOnImport(importlib.abc.MetaPathFinder):
 
 
 def _guard(ActionClient: Any) -> None:  # noqa: N803 - the class
+    """Send-and-note and take under one lock per client, as upstream's fix does."""
     if getattr(ActionClient, '_robot_lab_guarded', False):
         return
+    ActionClient._robot_lab_guarded = True  # checked: upstream's lock, or the kit's below
+    ActionClient._robot_lab_wrapped = not action_client_has_lock(ActionClient)
+    if not ActionClient._robot_lab_wrapped:
+        return
 
-    def lock_of(client: Any) -> threading.RLock:
-        return client.__dict__.setdefault('_robot_lab_lock', threading.RLock())  # type: ignore[no-any-return]
-
-    def sending(method: Callable[..., Any]) -> Callable[..., Any]:
+    def locked(method: Callable[..., T]) -> Callable[..., T]:
         @functools.wraps(method)
-        def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
-            with lock_of(self):
+        def wrapper(self: Any, *args: Any, **kwargs: Any) -> T:
+            lock = self.__dict__.setdefault('_robot_lab_lock', threading.RLock())
+            with lock:
                 return method(self, *args, **kwargs)
         return wrapper
 
-    def handling(method: Callable[..., Any]) -> Callable[..., Any]:
-        @functools.wraps(method)
-        async def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
-            with lock_of(self):
-                return await method(self, *args, **kwargs)
-        return wrapper
-
-    for name in ('send_goal_async', '_get_result_async', '_cancel_goal_async'):
-        setattr(ActionClient, name, sending(getattr(ActionClient, name)))
-    ActionClient.execute = handling(ActionClient.execute)
-    ActionClient._robot_lab_guarded = True
+    for name in (*_SENDING, 'take_data'):
+        setattr(ActionClient, name, locked(getattr(ActionClient, name)))
