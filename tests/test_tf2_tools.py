@@ -56,6 +56,22 @@ def test_static_publisher_parses_jazzy_flags_and_the_old_forms() -> None:
         assert str(caught.value) == why
 
 
+def test_tf2_echo_refuses_its_arguments_as_upstream(capsys: pytest.CaptureFixture[str]) -> None:
+    from robot_lab.tf2.echo import echo_main
+
+    for argv, code in ((['tf2_echo'], 1), (['tf2_echo', 'a', 'b', 'foo'], 2),
+                       (['tf2_echo', 'a', 'b', '1.0foo'], 3)):
+        with pytest.raises(SystemExit) as caught:
+            echo_main(argv)
+        assert caught.value.code == code
+    out, err = capsys.readouterr()
+    assert out.startswith('Usage: tf2_echo source_frame target_frame [echo_rate]\n\n')
+    assert out.endswith('Default echo rate is 1 if echo_rate is not given.\n')
+    assert err.splitlines() == [
+        "Failed to convert rate argument 'foo' to a floating-point number",
+        "Failed to convert rate argument '1.0foo' to a floating-point number"]
+
+
 # --- tf2_ros_py/test/test_listener_and_broadcaster.py, as facts -----------------------------
 
 def _msg(parent: str, child: str, sec: float) -> TransformStamped:

@@ -86,6 +86,14 @@ class _Listening:
         rclpy.utilities.try_shutdown()
 
 
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def echo_main(argv: Sequence[str] | None = None) -> None:
     """The tf2_echo program."""
     from rclpy.time import Time
@@ -101,14 +109,16 @@ def echo_main(argv: Sequence[str] | None = None) -> None:
         return
     rate_hz = 1.0
     if len(args) == 4:
-        try:
-            rate_hz = float(args[3])
-        except ValueError:
-            print(f"Failed to convert rate argument '{args[3]}' to a floating-point number",
+        # std::stof: no number at all exits 2, a number with junk after it exits 3
+        text = args[3]
+        numeric = [end for end in range(len(text), 0, -1) if _is_float(text[:end])]
+        if not numeric or numeric[0] != len(text):
+            print(f"Failed to convert rate argument '{text}' to a floating-point number",
                   file=sys.stderr)
-            sys.exit(2)
+            sys.exit(3 if numeric else 2)
+        rate_hz = float(text)
     elif len(args) != 3:
-        print(ECHO_USAGE)
+        sys.stdout.write(ECHO_USAGE)
         sys.exit(1)
     source, target = args[1], args[2]
     period = 1.0 / rate_hz if rate_hz > 0 else 1.0
