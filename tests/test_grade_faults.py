@@ -209,6 +209,9 @@ def test_no_score_drops_when_grader_calls_fail(tmp_path: Path,
         assert report.score == lamp.score, report.markdown()
         assert {c.id for c in report.checks if c.grader_error} == failed, report.markdown()
         assert report.status == ('grader error' if failed else 'graded')
+        for check in report.checks:  # nothing for the student to fix there
+            assert not check.grader_error or 'How to fix' not in check.output, check.output
+        assert report.markdown().count('(grader error, points kept)') == len(failed)
     line = run_summary(run.reports)
     assert line.endswith('; 17 grader error(s) in 4 student(s), points kept: regrade with '
                          '--only lamp_build,lamp_calls,lamp_graph,lamp_watch'), line

@@ -135,7 +135,8 @@ class StudentReport:
         for name in image_names:
             lines += [f'![your running graph]({name})', '']
         for c in self.checks:  # each check once: its points, then why
-            mark = 'passed' if c.passed else ('partly' if c.score > 0 else 'not met')
+            mark = ('grader error, points kept' if c.grader_error else 'passed' if c.passed
+                    else 'partly' if c.score > 0 else 'not met')
             lines += [f'## {c.name or c.id} — {number(c.score)}/{number(c.max_score)} '
                       f'({mark})', '',
                       c.output.strip() or ('Passed.' if c.passed else 'Not met.'), '']

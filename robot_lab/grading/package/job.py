@@ -28,7 +28,7 @@ from robot_lab.errors import RobotLabError
 from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.registry import Stage, registered_checks
 from robot_lab.grading.package.rubric import Rubric, RubricCheck, load_rubric
-from robot_lab.grading.package.state import JobState, Verdict
+from robot_lab.grading.package.state import JobState, Verdict, section
 from robot_lab.grading.package.submission import find_package
 from robot_lab.grading.report import CheckOutcome, StudentReport
 
@@ -80,10 +80,11 @@ def score_stage(state: JobState, stage: Stage) -> None:
             _grader_error(state, check, _where(err))
             continue
         own = state.check_faults.get(check.id, '')
+        seen = section(verdict.expected, verdict.observed)  # no fix: nothing for them to fix
         if verdict.grader_error:
-            _grader_error(state, check, verdict.grader_error, verdict.text())
+            _grader_error(state, check, verdict.grader_error, seen)
         elif (fault or own) and verdict.fraction < 1:
-            _grader_error(state, check, own or fault, verdict.text())
+            _grader_error(state, check, own or fault, seen)
         else:
             _outcome(state, check.id, verdict)
 
