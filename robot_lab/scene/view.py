@@ -343,6 +343,8 @@ class SceneView(LiveView):
     def tick(self) -> dict[str, object] | None:
         """Send the browser what changed since the last tick; returns the message sent."""
         self._take()
+        if self._scene_canvas is None:  # nothing shows it (yet): keep what is new for it
+            return None
         out = Outbox()
         msg: dict[str, object] = {}
         with self._lock:

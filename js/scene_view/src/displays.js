@@ -15,9 +15,10 @@ function disposeTree(root) {
   });
 }
 
+// ROS colours are what the screen shows (RViz applies no gamma): sRGB, not linear.
 function colour(rgba, fallback) {
   const c = rgba || fallback;
-  return new THREE.Color(c[0], c[1], c[2]);
+  return new THREE.Color().setRGB(c[0], c[1], c[2], THREE.SRGBColorSpace);
 }
 
 function material(rgba, fallback = [1, 1, 1, 1]) {
@@ -346,7 +347,11 @@ class Markers extends Display {
     const pointColours = (geometry) => {
       if (!m.colors || m.colors.length / 4 !== n) return false;
       const cols = [];
-      for (let i = 0; i < n; i++) cols.push(m.colors[4 * i], m.colors[4 * i + 1], m.colors[4 * i + 2]);
+      const c = new THREE.Color();
+      for (let i = 0; i < n; i++) {
+        c.setRGB(m.colors[4 * i], m.colors[4 * i + 1], m.colors[4 * i + 2], THREE.SRGBColorSpace);
+        cols.push(c.r, c.g, c.b);
+      }
       geometry.setAttribute('color', new THREE.Float32BufferAttribute(cols, 3));
       return true;
     };
@@ -390,7 +395,7 @@ class Markers extends Display {
         for (let i = 0; i < n; i++) {
           mesh.setMatrixAt(i, t.makeTranslation(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]));
           if (m.colors && m.colors.length / 4 === n) {
-            mesh.setColorAt(i, new THREE.Color(m.colors[4 * i], m.colors[4 * i + 1], m.colors[4 * i + 2]));
+            mesh.setColorAt(i, colour(m.colors.slice(4 * i, 4 * i + 3)));
           }
         }
         return mesh;

@@ -1,0 +1,175 @@
+"""Every display of the 3D view, kernel side to pixels, without JupyterLab: a real
+`SceneView` takes real messages (LaserScan, MarkerArray, Path, Odometry, PoseStamped, /tf
+as its bytes) and what it would send the widget is recorded, then replayed into the
+committed bundle in headless Chromium through a model like anywidget's. Each display's
+colour must appear on the canvas, and the fixed-frame menu must set the model's trait."""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+import threading
+import time
+from typing import Any
+
+import browser_lab
+import pytest
+from geometry_msgs.msg import Point, PoseStamped, TransformStamped
+from nav_msgs.msg import Odometry, Path
+from rclpy.serialization import serialize_message
+from sensor_msgs.msg import LaserScan
+from tf2_msgs.msg import TFMessage
+from visualization_msgs.msg import Marker, MarkerArray
+
+from robot_lab.scene import displays
+from robot_lab.scene.canvas import BUNDLE
+from robot_lab.scene.view import SceneView
+
+pytestmark = pytest.mark.browser
+CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
+Image = pytest.importorskip('PIL.Image')
+
+_PAGE = """<html><body style="margin:0"><div id="view" style="width: 800px"></div><script>
+window.saved = [];
+window.makeModel = (state) => {
+  const handlers = {};
+  const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
+  window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
+  return {
+    get: (key) => state[key],
+    set: (key, value) => { state[key] = value; },
+    save_changes: () => { window.saved.push(JSON.stringify(state)); },
+    on: (event, f) => { (handlers[event] = handlers[event] || []).push(f); },
+    off: (event, f) => { handlers[event] = (handlers[event] || []).filter(g => g !== f); },
+    send: () => {},
+  };
+};
+</script></body></html>"""
+_RENDER = """async (source) => {
+  const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
+  const widget = (await import(url)).default;
+  widget.render({model: window.makeModel({height: 400, fixed_frame: '', hidden_frames: [],
+                                          status: []}),
+                 el: document.getElementById('view')});
+}"""
+_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
+  const bytes = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
+  return new DataView(bytes.buffer);
+}))"""
+# what each display draws in, and how a pixel of it is told (r, g, b)
+COLOURS = {
+    'scan': lambda r, g, b: r > 200 and g > 200 and b < 80,  # yellow points
+    'cube': lambda r, g, b: r > 120 and b > 120 and g < 60,  # magenta marker
+    'path': lambda r, g, b: g > 200 and r < 80 and b < 80,  # RViz's path green
+    'arrows': lambda r, g, b: r > 150 and g < 60 and b < 60,  # odometry and pose: red
+}
+
+
+class Recorder:
+    """Stands in for the widget: keeps what the view sends, in order."""
+
+    def __init__(self) -> None:
+        self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
+        self.status: list[str] = []
+        self.fixed_frame = ''
+        self.lock = threading.Lock()
+
+    def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
+        with self.lock:
+            self.sent.append((msg, list(buffers or [])))
+
+
+def _tf(parent: str, child: str, x: float, yaw: float) -> TransformStamped:
+    t = TransformStamped()
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.transform.translation.x = x
+    t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return t
+
+
+def _messages(view: SceneView) -> None:
+    """Real messages into the view's displays (as their subscriptions would take them)."""
+    view._on_tf(serialize_message(TFMessage(transforms=[
+        _tf('odom', 'base_link', 0.3, 0.0), _tf('base_link', 'laser', 0.1, 0.0)])))
+    scan = LaserScan(angle_min=-math.pi, angle_increment=2 * math.pi / 360, range_min=0.1,
+                     range_max=10.0, ranges=[1.2] * 360)
+    scan.header.frame_id = 'laser'
+    view.displays['laser_scan:/scan'].take(scan)
+    cube = Marker(ns='w', id=1, type=Marker.CUBE, action=Marker.ADD)
+    cube.header.frame_id = 'odom'
+    cube.pose.position.y, cube.pose.orientation.w = -0.8, 1.0
+    cube.scale.x = cube.scale.y = cube.scale.z = 0.4
+    cube.color.r, cube.color.b, cube.color.a = 1.0, 1.0, 1.0
+    view.displays['markers:/world'].take(MarkerArray(markers=[cube]))
+    path = Path()
+    path.header.frame_id = 'odom'
+    for k in range(20):
+        stamped = PoseStamped()
+        stamped.pose.position = Point(x=-1.0 + 0.1 * k, y=0.6, z=0.05)
+        path.poses.append(stamped)
+    view.displays['path:/plan'].take(path)
+    odom = Odometry()
+    odom.header.frame_id = 'odom'
+    odom.pose.pose.position.x, odom.pose.pose.orientation.w = -0.5, 1.0
+    view.displays['odometry:/odom'].take(odom)
+    goal = PoseStamped()
+    goal.header.frame_id = 'base_link'
+    goal.pose.position.y, goal.pose.orientation.w = 0.4, 1.0
+    view.displays['pose:/goal_pose'].take(goal)
+
+
+def _count(picture: Any, test: Any) -> int:
+    data = picture.tobytes()
+    return sum(1 for i in range(0, len(data), 3) if test(data[i], data[i + 1], data[i + 2]))
+
+
+def test_each_display_draws_what_the_kernel_sent(ros_domain: int) -> None:
+    view = SceneView('odom', robot_description=None)
+    recorder = Recorder()
+    try:
+        view.remove('tf')  # its yellow-magenta arrows would count as the scan's yellow
+        view.add('/scan', 'LaserScan', color=[1, 1, 0])
+        view.add_display(displays.Markers('/world'))
+        view.add('/plan', 'Path')
+        view.add('/odom', 'Odometry')
+        view.add('/goal_pose', 'Pose')
+        view._scene_canvas = recorder  # type: ignore[assignment]
+        view._on_msg(recorder, {'kind': 'ready'}, [])  # as a page that appeared asks
+        _messages(view)
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:  # the view's thread sends at its next tick
+            with recorder.lock:
+                sent = {k for msg, _ in recorder.sent for k in msg.get('data', {})}
+            if len(sent) == 5:
+                break
+            view._closed.wait(0.05)
+        assert len(sent) == 5, sent
+        with recorder.lock:
+            replay = list(recorder.sent)
+    finally:
+        view.close()
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={'width': 820, 'height': 600})
+            page.set_content(_PAGE)
+            page.evaluate(_RENDER, BUNDLE.read_text())
+            canvas = page.locator('.rl-scene canvas')
+            empty = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
+            for msg, buffers in replay:
+                page.evaluate(_SEND, [msg, [base64.b64encode(b).decode() for b in buffers]])
+            assert browser_lab.wait_in_page(
+                page, "() => document.querySelector('.rl-scene').dataset.drawnPoses === "
+                "document.querySelector('.rl-scene').dataset.poses", None, 10)
+            drawn = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
+            for name, test in COLOURS.items():
+                before, after = _count(empty, test), _count(drawn, test)
+                # the path is a line one pixel wide, about 200 pixels long
+                assert before == 0 and after > 100, f'{name}: {before} pixels, then {after}'
+            menu = page.locator('.rl-scene select')
+            assert menu.locator('option').all_text_contents() == ['base_link', 'laser', 'odom']
+            menu.select_option('laser')
+            assert page.evaluate('() => JSON.parse(window.saved.at(-1)).fixed_frame') == 'laser'
+        finally:
+            browser.close()
