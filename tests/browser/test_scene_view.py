@@ -129,6 +129,12 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             moved = sum(1 for a, b in zip(_pixels(before), _pixels(after), strict=True)
                         if sum(abs(x - y) for x, y in zip(a, b, strict=True)) > 60)
             assert moved > 500, f'only {moved} pixels changed when the gripper and head moved'
+            # each TF frame can be hidden, as in RViz's TF display
+            shown = int(view.get_attribute('data-tf-shown') or 0)
+            view.locator('details summary').click()
+            view.locator('details label', has_text='head').first.locator('input').uncheck()
+            assert wait_in_page(page, '([el, n]) => +el.dataset.tfShown === n - 1',
+                                [handle, shown], 10)
             assert not book.errors(), book.errors()
             browser.close()
     finally:

@@ -167,6 +167,27 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int) -> None:
                 before, after = _count(empty, test), _count(drawn, test)
                 # the path is a line one pixel wide, about 200 pixels long
                 assert before == 0 and after > 100, f'{name}: {before} pixels, then {after}'
+            # orbit (drag), then zoom (wheel): the camera moves, the picture with it
+            box = canvas.bounding_box()
+            cx, cy = box['x'] + box['width'] / 2, box['y'] + box['height'] / 2
+            for gesture in ('drag', 'wheel'):
+                frames = int(page.evaluate("() => +document.querySelector('.rl-scene')"
+                                           '.dataset.frames'))
+                if gesture == 'drag':
+                    page.mouse.move(cx, cy)
+                    page.mouse.down()
+                    page.mouse.move(cx + 120, cy + 30, steps=6)
+                    page.mouse.up()
+                else:
+                    page.mouse.wheel(0, -400)
+                assert browser_lab.wait_in_page(
+                    page, "n => +document.querySelector('.rl-scene').dataset.frames > n",
+                    frames, 10), gesture
+                moved = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
+                changed = sum(1 for a, b in zip(drawn.tobytes(), moved.tobytes(), strict=True)
+                              if abs(a - b) > 40)
+                assert changed > 2000, f'{gesture}: {changed} channel values changed'
+                drawn = moved
             menu = page.locator('.rl-scene select')
             assert menu.locator('option').all_text_contents() == ['base_link', 'laser', 'odom']
             menu.select_option('laser')
