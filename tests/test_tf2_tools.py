@@ -159,6 +159,43 @@ def test_a_kernels_tf_buffer_hears_the_graph() -> None:
         node.destroy_node()
 
 
+def test_buffer_server_answers_a_buffer_client(start) -> None:  # type: ignore[no-untyped-def]
+    """`ros2 run tf2_ros buffer_server` and tf2_ros.BufferClient over LookupTransform."""
+    import threading
+
+    from rclpy.context import Context
+    from rclpy.duration import Duration
+    from rclpy.executors import SingleThreadedExecutor
+    from tf2_ros import BufferClient  # type: ignore[import-untyped]  # the kit's module path
+
+    from robot_lab.tf2.exceptions import LookupException
+
+    start(*STATIC, '--x', '3', '--frame-id', 'world', '--child-frame-id', 'dock')
+    start('ros2', 'run', 'tf2_ros', 'buffer_server')
+    context = Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node('buffer_client_test', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    spinning = threading.Thread(target=executor.spin, daemon=True)
+    spinning.start()
+    try:
+        client = BufferClient(node, 'tf2_buffer_server')
+        assert client.action_client.wait_for_server(timeout_sec=20)
+        got = client.lookup_transform('world', 'dock', rclpy.time.Time(),
+                                      timeout=Duration(seconds=10))
+        assert got.transform.translation.x == 3.0
+        with pytest.raises(LookupException) as missing:
+            client.lookup_transform('world', 'nowhere', rclpy.time.Time())
+        assert str(missing.value) == ('"nowhere" passed to lookupTransform argument '
+                                      'source_frame does not exist. ')
+        assert client.can_transform('world', 'dock', rclpy.time.Time()) is True
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        rclpy.utilities.try_shutdown(context=context)
+
+
 # --- the programs ---------------------------------------------------------------------------
 
 def test_static_publisher_echo_and_view_frames(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]

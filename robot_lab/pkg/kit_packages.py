@@ -89,6 +89,7 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
         'static_transform_publisher': 'robot_lab.tf2.static_publisher:main',
         'tf2_echo': 'robot_lab.tf2.echo:echo_main',
         'tf2_monitor': 'robot_lab.tf2.echo:monitor_main',
+        'buffer_server': 'robot_lab.tf2.buffer_server:main',
     },
     'tf2_tools': {
         'view_frames': 'robot_lab.tf2.view_frames:program',
@@ -208,14 +209,34 @@ unset _robot_lab_prefix _robot_lab_var _robot_lab_have
 """
 
 
+# Appended to the venv's bin/activate (bash, zsh): the README's `source .venv/bin/activate`
+# gives a terminal what setup.bash gives, or its `colcon build` of an interface package
+# stops at "No 'rosidl_typesupport_c' found" (AMENT_PREFIX_PATH unset).
+_ACTIVATE_HOOK = """
+# robot_lab: the venv as a ROS 2 underlay too (AMENT_PREFIX_PATH, CMAKE_PREFIX_PATH), as
+# its setup.bash makes it, so colcon builds interface packages; deactivate leaves them set,
+# as a sourced setup.bash does.
+if [ -f "$VIRTUAL_ENV/setup.sh" ] ; then
+    . "$VIRTUAL_ENV/setup.sh"
+fi
+"""
+
+
 def install_underlay(prefix: Path | None = None) -> Path:
     """Write <venv>/setup.bash (and local_setup.*, setup.sh): `source` it as a ROS setup.
 
     colcon also looks for these: an AMENT_PREFIX_PATH entry without them draws a warning.
+    The venv's bin/activate sources setup.sh as well (`_ACTIVATE_HOOK`).
     """
     root = Path(sys.prefix) if prefix is None else prefix
     for name in ('setup.sh', 'setup.bash', 'local_setup.sh', 'local_setup.bash'):
         _write_if_changed(root / name, _UNDERLAY.format(name=name, prefix=root), 0o644)
+    activate = root / 'bin' / 'activate'
+    with contextlib.suppress(FileNotFoundError):  # a prefix that is no venv has none
+        text = activate.read_text()
+        if _ACTIVATE_HOOK not in text:
+            _write_if_changed(activate, text.rstrip('\n') + '\n' + _ACTIVATE_HOOK,
+                              activate.stat().st_mode & 0o777)
     return root / 'setup.bash'
 
 

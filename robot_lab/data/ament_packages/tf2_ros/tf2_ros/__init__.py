@@ -11,6 +11,7 @@ from tf2_py import (
 )
 
 from tf2_ros.buffer import Buffer
+from tf2_ros.buffer_client import BufferClient
 from tf2_ros.buffer_interface import (
     BufferInterface,
     ConvertRegistration,
@@ -26,6 +27,7 @@ from tf2_ros.transform_listener import TransformListener
 
 __all__ = [
     'Buffer',
+    'BufferClient',
     'BufferCore',
     'BufferInterface',
     'ConnectivityException',
