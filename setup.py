@@ -61,12 +61,13 @@ setup(
     ],
     python_requires='>=3.10',
     install_requires=[
-        # Ubuntu 24.04's python3-setuptools, what Jazzy's colcon builds with. Python 3.11's
-        # own 65.5 imports pkg_resources on `import setuptools`, which reads every installed
-        # package's metadata: 0.40 CPU-s per setup.py run against 0.16, four runs per build.
-        # (Ubuntu 24.04 runs Python 3.12; on 3.13, which no Jazzy platform uses, any goes.)
-        'setuptools>=68.1,<68.2; python_version < "3.13"',
-        'setuptools; python_version >= "3.13"',
+        # Ubuntu 24.04's python3-setuptools, what Jazzy's colcon builds with, on every
+        # Python (3.10-3.13; tests/test_python_versions.py): from 72 `colcon test` finds no
+        # tests (tests_require is gone), from 80 `colcon build --symlink-install` fails
+        # (--editable; colcon-core #696). Python 3.11's own 65.5 imports pkg_resources on
+        # `import setuptools`, which reads every installed package's metadata: 0.40 CPU-s
+        # per setup.py run against 0.16, four runs per build.
+        'setuptools>=68.1,<68.2',
         'pyyaml',
         # ament_cmake interface packages (rosidl) and colcon test: see robot_lab/pkg/kit_packages.py
         'cmake>=3.22,<3.31',  # 3.31+ warns on the template's cmake_minimum_required(3.8)

@@ -1,0 +1,83 @@
+"""Every supported Python, every shell (README: *Supported platforms*, *Terminals*).
+
+setup.py's setuptools range is one that colcon builds and tests with on Python 3.10-3.13:
+setuptools 80+ refuses `colcon build --symlink-install` (--editable, colcon-core #696) and
+72-79 leave `colcon test` without tests (tests_require is gone). And a terminal that only
+ran `source .venv/bin/activate`, as the README says, builds an interface package.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib.metadata
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from packaging.markers import default_environment
+from packaging.requirements import Requirement
+from packaging.version import Version
+
+from robot_lab.pkg.kit_packages import TUTORIAL_SOURCES
+
+pytestmark = pytest.mark.no_ros  # files and a build: no ROS graph
+
+REPO = Path(__file__).resolve().parents[1]
+SUPPORTED = ('3.10', '3.11', '3.12', '3.13')
+# Versions colcon fails with (see above), and Ubuntu 24.04's, which Jazzy's colcon uses.
+BROKEN = ('72.0', '75.8.2', '79.0.1', '80.0', '84.0')
+WORKS = '68.1.2'
+
+
+def _install_requires() -> list[Requirement]:
+    """setup.py's install_requires, read as written (a literal list)."""
+    tree = ast.parse((REPO / 'setup.py').read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.keyword) and node.arg == 'install_requires':
+            return [Requirement(text) for text in ast.literal_eval(node.value)]
+    raise AssertionError('setup.py has no install_requires')
+
+
+def _setuptools_for(python: str) -> list[Requirement]:
+    environment = {key: str(value) for key, value in default_environment().items()}
+    environment.update(python_version=python, python_full_version=f'{python}.0')
+    return [req for req in _install_requires() if req.name == 'setuptools'
+            and (req.marker is None or req.marker.evaluate(environment))]
+
+
+@pytest.mark.parametrize('python', SUPPORTED)
+def test_setuptools_is_pinned_to_what_colcon_works_with(python: str) -> None:
+    wanted = _setuptools_for(python)
+    assert wanted, f'setup.py leaves setuptools free on Python {python}'
+    for version in (*BROKEN, WORKS):
+        admitted = all(req.specifier.contains(version, prereleases=True) for req in wanted)
+        assert admitted is (version == WORKS), (
+            f'on Python {python}, setup.py {"admits" if admitted else "refuses"} '
+            f'setuptools {version}: {", ".join(map(str, wanted))}')
+
+
+def test_this_venv_has_the_pinned_setuptools() -> None:
+    installed = importlib.metadata.version('setuptools')
+    python = '{}.{}'.format(*sys.version_info[:2])
+    assert all(req.specifier.contains(installed) for req in _setuptools_for(python)), installed
+    assert Version(installed) < Version('72')
+
+
+def test_a_shell_with_only_bin_activate_builds_an_interface_package(tmp_path: Path) -> None:
+    """Notebook 09's robot_interfaces, built as a student's own terminal would: a login's
+    bare environment, then the README's one line."""
+    ws = tmp_path / 'ws'
+    shutil.copytree(TUTORIAL_SOURCES / 'robot_interfaces', ws / 'src' / 'robot_interfaces')
+    bare = {'HOME': os.environ['HOME'], 'PATH': '/usr/local/bin:/usr/bin:/bin',
+            'LANG': 'C.UTF-8', 'TMPDIR': os.environ.get('TMPDIR', '/tmp')}
+    script = (f'source {Path(sys.prefix) / "bin" / "activate"} && '
+              'colcon build --symlink-install --event-handlers console_direct- && '
+              'source install/setup.bash && '
+              "python -c 'from robot_interfaces.action import Drive; print(Drive.__name__)'")
+    done = subprocess.run(['bash', '-c', script], cwd=ws, env=bare, capture_output=True,
+                          text=True, timeout=600, check=False)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert done.stdout.splitlines()[-1] == 'Drive'
