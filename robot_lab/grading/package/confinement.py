@@ -28,27 +28,30 @@ import contextlib
 import os
 import re
 import socket
-import struct
 import sys
 from collections.abc import Iterable
 from pathlib import Path
 
 from robot_lab.linux import namespaces, prctl
-from robot_lab.linux.libc import check, libc
-from robot_lab.linux.namespaces import MS_NODEV, MS_NOEXEC, MS_NOSUID, bind, mount, remount
+from robot_lab.linux.namespaces import (
+    MS_NODEV,
+    MS_NOEXEC,
+    MS_NOSUID,
+    bind,
+    in_initial_user_namespace,
+    mount,
+    remount,
+)
 
 __all__ = ['JOB_USER', 'SYSTEM_DIRS', 'blocked_attempts', 'confine', 'drop_privileges',
-           'hidden_tops', 'in_initial_user_namespace', 'job_uid', 'leftover_processes',
-           'machine_files']
+           'hidden_tops', 'job_uid', 'leftover_processes', 'machine_files']
 
 # Top-level folders a job sees (read-only); every other one is hidden.
 SYSTEM_DIRS = frozenset({'bin', 'sbin', 'lib', 'lib32', 'lib64', 'libx32', 'usr', 'etc',
                          'opt', 'var', 'proc', 'sys', 'dev', 'tmp'})
 PRIVATE_TMP = ('/tmp', '/var/tmp', '/dev/shm')
-_MNT_DETACH = 2
 _UID_BASE = 200_000  # job uids: 200000 + ROS domain (no host account, owns nothing else)
 JOB_USER = 'student'  # the job's name in its own /etc/passwd and /etc/group
-_CAPABILITY_V3 = 0x20080522
 
 
 def job_uid(domain: int) -> int:
@@ -158,7 +161,8 @@ def _mount_machine_files(uid: int, home: Path) -> list[str]:
             except OSError as err:
                 problems.append(f'{target}: {err.strerror}')
     finally:
-        if libc().umount2(os.fsencode(staging), _MNT_DETACH) == 0:
+        with contextlib.suppress(OSError):
+            namespaces.unmount(str(staging), detach=True)
             staging.rmdir()
     return problems
 
@@ -208,19 +212,6 @@ def confine(job_dir: Path, uid: int | None = None, home: Path | None = None) -> 
     return problems
 
 
-def in_initial_user_namespace() -> bool:
-    """True in the machine's own user namespace (a root grader's job), where every uid maps
-    to itself; False in the user namespace a non-root grader's `unshare` made."""
-    return _read('/proc/self/uid_map').split() == ['0', '0', '4294967295']
-
-
-def _drop_capabilities() -> None:
-    """Empty the effective, permitted and inheritable sets (capset(2), version 3): a process
-    forked from the job without an exec (the launcher's fork server) holds none either."""
-    header = struct.pack('=Ii', _CAPABILITY_V3, 0)
-    check(libc().capset(header, bytes(24)), 'capset')
-
-
 def drop_privileges(uid: int | None) -> None:
     """Become `uid` with no capabilities: as the machine's root by setresuid; inside a
     non-root grader's user namespace by one more user namespace that maps `uid` to the
@@ -236,10 +227,8 @@ def drop_privileges(uid: int | None) -> None:
         outer_uid, outer_gid = os.geteuid(), os.getegid()
         namespaces.unshare(namespaces.CLONE_NEWUSER)
         if uid is not None:  # one line, our own id: what a user namespace may map itself
-            Path('/proc/self/setgroups').write_text('deny')
-            Path('/proc/self/uid_map').write_text(f'{uid} {outer_uid} 1')
-            Path('/proc/self/gid_map').write_text(f'{uid} {outer_gid} 1')
-    _drop_capabilities()
+            namespaces.map_ids(uid, uid, outer_uid, outer_gid)
+    namespaces.drop_capabilities()
     prctl.set_no_new_privs()
     prctl.set_dumpable(False)
 

@@ -292,11 +292,8 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         env[CGROUP_VAR] = str(group)
     cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
-        from robot_lab.grading.package.confinement import (
-            JOB_USER,
-            in_initial_user_namespace,
-            job_uid,
-        )
+        from robot_lab.grading.package.confinement import JOB_USER, job_uid
+        from robot_lab.linux.namespaces import in_initial_user_namespace
 
         cmd = [shutil.which('unshare') or 'unshare', *unshare_args(), *cmd]
         env.update({UID_VAR: str(job_uid(domain)), 'USER': JOB_USER, 'LOGNAME': JOB_USER})
