@@ -227,11 +227,16 @@ def test_display_launch_runs_the_publishers_and_the_sliders_move_the_robot(
     sliders = robot_lab.joint_sliders()  # the URDF from /robot_description
     try:
         assert sliders.robot.name == 'macroed' and len(sliders.widget.children) == 8 + 3
+        feed = sliders._feed
+        assert feed is not None
+        deadline = time.monotonic() + 15  # the launch's joint_state_publisher matched
+        while feed.get_subscription_count() != 1:
+            assert time.monotonic() < deadline, 'joint_state_publisher never took the feed'
+            time.sleep(0.05)
         assert sliders.set('gripper_extension', -1.0) == -0.38  # held at <limit lower>
         tf.wait_for(lambda m: any(t.child_frame_id == 'gripper_pole' and
                                   abs(t.transform.translation.x - (0.19 - 0.38)) < 1e-9
                                   for t in m.transforms), 'the pole moved by the slider')
-        assert sliders._feed is not None and sliders._feed.get_subscription_count() == 1
     finally:
         sliders.close()
 
