@@ -17,6 +17,7 @@ import pytest
 import yaml
 from builtin_interfaces.msg import Time
 from rclpy.qos import DurabilityPolicy, QoSProfile
+from rosutil import set_param
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 from test_urdf import MIMIC, model_text, random_positions, reference
@@ -158,6 +159,30 @@ def test_tf_and_tf_static_equal_yourdfpy(start: Any, tmp_path: Path, topics: Any
                 assert np.abs(poses[prefix + link] - expected).max() < 1e-9, link
     finally:
         session().node.destroy_publisher(states)
+
+
+def test_a_new_robot_description_is_published_and_a_bad_one_refused(
+        start: Any, tmp_path: Path, topics: Any) -> None:
+    """`ros2 param set` of robot_description: read again, latched again, its fixed joints
+    sent again; an unreadable one is refused with the line and the fix, as the reason."""
+    node = start('ros2', 'run', 'robot_state_publisher', 'robot_state_publisher',
+                 '--ros-args', '--params-file',
+                 str(params_file(tmp_path, robot_description=MIMIC)))
+    node.wait_for(r'Robot initialized')
+    other = model_text('03-origins.urdf')
+    assert set_param('/robot_state_publisher', 'robot_description', other) == (True, '')
+    description = topics('/robot_description', String, LATCHED)
+    assert description.wait_for(lambda m: m.data == other, 'the new description').data
+    static = topics('/tf_static', TFMessage, LATCHED).wait_for(
+        lambda m: 'right_leg' in {t.child_frame_id for t in m.transforms}, 'its fixed joint')
+    assert {t.child_frame_id for t in static.transforms} == {'right_leg'}  # MIMIC: none
+    ok, reason = set_param('/robot_state_publisher', 'robot_description',
+                           other.replace('<link name="right_leg">', '<link name="rite_leg">'))
+    assert not ok and reason.startswith('robot_description:') and (
+        "joint 'base_to_right_leg' names child link 'right_leg', which no <link> defines — "
+        "fix: did you mean 'rite_leg'?") in reason
+    assert set_param('/robot_state_publisher', 'robot_description', '') == (
+        False, 'Empty URDF is not allowed')
 
 
 def test_joint_state_publisher_feeds_robot_state_publisher(start: Any, tmp_path: Path,
