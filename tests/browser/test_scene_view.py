@@ -30,29 +30,18 @@ Image = pytest.importorskip('PIL.Image')
 
 URDF = (Path(robot_lab.__file__).parent / 'data' / 'ament_packages' / 'urdf_tutorial' / 'urdf'
         / '06-flexible.urdf')
-JOINTS = ['gripper_extension', 'head_swivel', 'left_back_wheel_joint',
-          'left_front_wheel_joint', 'left_gripper_joint', 'right_back_wheel_joint',
-          'right_front_wheel_joint', 'right_gripper_joint']
 VIEW = '.rl-scene'
 
 
 def _notebook(root: Path) -> None:
     (root / 'view.ipynb').write_text(json.dumps({
-        'cells': [{'cell_type': 'code', 'execution_count': None, 'id': 'view', 'metadata': {},
-                   'outputs': [], 'source': "import robot_lab\nrobot_lab.scene_view('base_link')"}],
+        'cells': [{'cell_type': 'code', 'execution_count': None, 'id': cell, 'metadata': {},
+                   'outputs': [], 'source': source} for cell, source in (
+                       ('view', "import robot_lab\nrobot_lab.scene_view('base_link')"),
+                       ('sliders', 'robot_lab.joint_sliders()'))],
         'metadata': {'kernelspec': {'name': 'robot_lab', 'display_name': 'robot_lab',
                                     'language': 'python'}},
         'nbformat': 4, 'nbformat_minor': 5}))
-
-
-def _joint_states(**positions: float) -> None:
-    """Stamped now: robot_state_publisher, as upstream's, skips a stamp no newer than the
-    last one it published plus 1/publish_frequency (a zero stamp never passes)."""
-    values = [positions.get(name, 0.0) for name in JOINTS]
-    robot_lab.publish('/joint_states', 'sensor_msgs/msg/JointState',
-                      f'{{header: auto, name: {json.dumps(JOINTS)}, '
-                      f'position: {json.dumps(values)}}}',
-                      wait_for_subscriber=30)  # returns once robot_state_publisher matched
 
 
 def _picture(view: Any) -> Any:
@@ -111,7 +100,10 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             assert '[head]' in status and 'drawn white at the origin' in status, status
             assert 'joint_state_publisher' in status, status
 
-            _joint_states()
+            book.run(1)  # the sliders: /joint_states at 10 Hz, every joint at 0
+            sliders = book.output(1)
+            sliders.locator('.widget-slider').first.wait_for(timeout=30_000)
+            view.scroll_into_view_if_needed()  # a view out of sight draws nothing
             assert wait_in_page(page, """el => !el.querySelector('.rl-status')
                 .textContent.includes('No transform')""", handle, 30), \
                 view.locator('.rl-status').text_content()
@@ -122,13 +114,25 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             assert inside > 1500, f'{inside} blue pixels where the robot stands, box {box}'
             assert _blue(before) - inside < 0.05 * inside, 'blue drawn away from the robot'
 
+            # drag head_swivel's slider from 0 to near +π, as a student would
             poses = int(view.get_attribute('data-poses') or 0)
-            _joint_states(gripper_extension=-0.38, head_swivel=1.5)
+            slider = sliders.locator('.widget-slider', has_text='head_swivel')
+            slider.scroll_into_view_if_needed()
+            knob = slider.locator('.noUi-handle').bounding_box()
+            track = slider.locator('.noUi-target').bounding_box()
+            y = knob['y'] + knob['height'] / 2
+            page.mouse.move(knob['x'] + knob['width'] / 2, y)
+            page.mouse.down()
+            page.mouse.move(track['x'] + 0.92 * track['width'], y, steps=8)
+            page.mouse.up()
+            readout = slider.locator('.widget-readout')
+            assert float(readout.text_content() or 0) > 2.0, readout.text_content()
+            view.scroll_into_view_if_needed()
             assert wait_in_page(page, _SHOWN, [handle, poses], 30)
             after = _picture(view)
             moved = sum(1 for a, b in zip(_pixels(before), _pixels(after), strict=True)
                         if sum(abs(x - y) for x, y in zip(a, b, strict=True)) > 60)
-            assert moved > 500, f'only {moved} pixels changed when the gripper and head moved'
+            assert moved > 500, f'only {moved} pixels changed when the head turned'
             # each TF frame can be hidden, as in RViz's TF display
             shown = int(view.get_attribute('data-tf-shown') or 0)
             view.locator('details summary').click()

@@ -105,11 +105,18 @@ function render({ model, el: host }) {
   };
   const displays = new Map();  // id -> display object
 
-  let dirty = true, handle = 0, frames = 0, stopped = false, lastStatus = '';
+  // Draw only when something changed, and only while the view is on screen: a notebook
+  // scrolled past a live view costs the page nothing (it draws again when it comes back).
+  let dirty = true, handle = 0, frames = 0, stopped = false, lastStatus = '', seen = true;
   const wake = () => {
     dirty = true;
-    if (!handle && !stopped) handle = requestAnimationFrame(draw);
+    if (!handle && !stopped && seen) handle = requestAnimationFrame(draw);
   };
+  const watch = new IntersectionObserver((entries) => {
+    seen = entries[entries.length - 1].isIntersecting;
+    if (seen && dirty) wake();
+  });
+  watch.observe(root);
   const size = () => {
     const width = Math.max(200, Math.min(root.clientWidth || 800, 960));
     const cur = renderer.getSize(new THREE.Vector2());
@@ -132,7 +139,7 @@ function render({ model, el: host }) {
   };
   const draw = () => {
     handle = 0;
-    if (stopped || !root.isConnected || !dirty) return;
+    if (stopped || !root.isConnected || !dirty || !seen) return;
     dirty = false;
     size();
     for (const display of displays.values()) display.beforeRender?.();
@@ -222,6 +229,7 @@ function render({ model, el: host }) {
     stopped = true;
     cancelAnimationFrame(handle);
     resize.disconnect();
+    watch.disconnect();
     model.off('msg:custom', take);
     model.off('change:status', changed);
     for (const d of displays.values()) d.dispose();
