@@ -79,6 +79,7 @@ KIT_PACKAGES: tuple[str, ...] = (
     'joint_state_publisher',
     'urdf_launch',
     'urdf_tutorial',
+    'xacro',
 )
 
 # The contract for programs a kit package provides: package -> {executable: 'module:func'}.
@@ -112,6 +113,9 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
     },
     'joint_state_publisher': {
         'joint_state_publisher': 'robot_lab.urdf.joint_state_publisher:main',
+    },
+    'xacro': {
+        'xacro': 'robot_lab.urdf.xacro_command:main',
     },
 }
 
