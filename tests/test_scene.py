@@ -175,6 +175,11 @@ def test_a_view_takes_the_robot_and_its_static_frames(ros_domain: int) -> None:
         view.fixed_frame = 'right_leg'
         assert view.frames()['base_link'] == (0.0, 0.22, 0.0, -0.0, -0.0, -0.0, 1.0)
         assert view.render_png().startswith(b'\x89PNG')
+        wall = Marker(ns='walls', id=3, type=Marker.CUBE)
+        wall.header.frame_id = 'base_link'
+        shown = view.show_markers('world', [wall])
+        assert view.displays['world'] is shown and list(shown.items) == ['walls/3']
+        assert shown.status(view.frames(), view.tree, 'right_leg') == []
     finally:
         view.close()
         session.node.destroy_publisher(description)

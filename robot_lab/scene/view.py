@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import GraphError
-from robot_lab.scene.displays import BY_TYPE, TF, Display, Grid, Outbox, RobotModel
+from robot_lab.scene.displays import BY_TYPE, TF, Display, Grid, Markers, Outbox, RobotModel
 from robot_lab.scene.frames import FrameTree, Pose, parse_tf_message
 from robot_lab.widgets.live_view import LiveView
 from robot_lab.widgets.output import owned_by_cell
@@ -225,6 +225,17 @@ class SceneView(LiveView):
         with self._lock:
             self.displays[display.id] = display
             self._added.append(display)
+        return display
+
+    def show_markers(self, name: str, markers: Iterable[Any]) -> Markers:
+        """Draw visualization_msgs/Marker messages made in Python, under the display
+        `name` (a simulated world's walls and obstacles, a goal): no topic needed. Call it
+        again to add, change (same ns and id) or delete (DELETE, DELETEALL) shapes."""
+        display = self.displays.get(name)
+        if not isinstance(display, Markers):
+            display = Markers(None, name=name)
+            self.add_display(display)
+        display.set_markers(markers)
         return display
 
     def remove(self, display_id: str) -> None:
