@@ -169,6 +169,19 @@ def test_urdfdoms_refusals_are_one_line_with_a_line_and_a_fix(
     assert '\n' not in str(err)
 
 
+def test_an_error_in_xacros_output_names_the_xacro_file() -> None:
+    from robot_lab.urdf.state_publisher import read_description
+
+    source = SHARE / 'urdf' / '08-macroed.urdf.xacro'
+    text = model_text(source.name).replace('<parent link="base_link"/>',
+                                           '<parent link="bse_link"/>', 1)
+    with pytest.raises(UrdfError) as caught:
+        read_description(text)
+    line = next(n for n, row in enumerate(text.splitlines(), 1) if 'bse_link' in row) - 1
+    assert str(caught.value).startswith(f"robot_description:{line}: joint 'base_to_right_leg'")
+    assert str(caught.value).endswith(f"(line {line} of `xacro {source}`'s output)")
+
+
 def test_a_revolute_joint_without_limits_says_which_limit_to_write() -> None:
     text = """<robot name="r"><link name="a"/><link name="b"/>
     <joint name="elbow" type="revolute"><parent link="a"/><child link="b"/></joint></robot>"""
