@@ -289,3 +289,55 @@ def test_sliders_alone_publish_joint_states_within_the_limits(topics: Any) -> No
             sliders.set('b', 0.0)
     finally:
         sliders.close()
+
+
+class Sent:
+    """Stands in for the node's /tf publisher: keeps what it would have sent."""
+
+    def __init__(self) -> None:
+        self.messages: list[TFMessage] = []
+
+    def publish(self, message: TFMessage) -> None:
+        self.messages.append(message)
+
+
+def state(stamp_ns: int, **positions: float) -> JointState:
+    message = JointState(name=list(positions), position=list(positions.values()))
+    message.header.stamp = Time(sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9)
+    return message
+
+
+@pytest.mark.parametrize('ignore_timestamp', [False, True])
+def test_publish_frequency_limits_each_joint_by_its_stamps(ignore_timestamp: bool) -> None:
+    """Upstream's rule: a joint's transform goes out again only once the message's stamp
+    is 1/publish_frequency past the last one sent for the least recent of its joints
+    (ignore_timestamp: every message); a malformed message is dropped."""
+    from rclpy.parameter import Parameter
+
+    from robot_lab.urdf.state_publisher import RobotStatePublisher
+
+    node = RobotStatePublisher(context=session().context, parameter_overrides=[
+        Parameter('robot_description', value=MIMIC),
+        Parameter('ignore_timestamp', value=ignore_timestamp),
+        Parameter('frame_prefix', value='p/')])
+    try:
+        sent = Sent()
+        node.tf = sent  # type: ignore[assignment]
+        base = 5 * 10**9
+        node.on_joint_state(state(base, a=0.1))  # new joints: always sent
+        node.on_joint_state(state(base + 49_000_000, a=0.2))  # < 50 ms (20 Hz) later
+        node.on_joint_state(state(base + 50_000_000, a=0.3))
+        node.on_joint_state(state(base + 60_000_000, s=0.07))  # s is new: sent
+        bad = state(base + 10**9, a=0.1, s=0.1)
+        bad.position = [0.1]
+        node.on_joint_state(bad)
+        children = [sorted(t.child_frame_id for t in m.transforms) for m in sent.messages]
+        expected_a = ['p/finger_a', 'p/finger_b']  # b mimics a
+        if ignore_timestamp:
+            assert children == [expected_a] * 3 + [['p/slider']]
+        else:
+            assert children == [expected_a] * 2 + [['p/slider']]
+            assert [m.transforms[0].header.stamp.nanosec for m in sent.messages] == [
+                0, 50_000_000, 60_000_000]
+    finally:
+        node.destroy_node()
