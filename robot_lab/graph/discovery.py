@@ -32,6 +32,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import threading
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, TypeVar
@@ -45,6 +46,7 @@ from robot_lab.graph.host_sockets import (
     socket_drops,
     unheard_ports,
 )
+from robot_lab.graph.settler import HostPorts, Rules, RunClock, Settler
 from robot_lab.linux import procfs
 
 if TYPE_CHECKING:
@@ -162,25 +164,10 @@ def absolute_name(name: str) -> str:
     return name if name.startswith('/') else '/' + name
 
 
-class RunClock:
-    """Seconds since it was made, each gap between two readings counted at most
-    MAX_POLL_GAP (see there): the time this process had to see discovery progress."""
-
-    def __init__(self) -> None:
-        self._last = time.monotonic()
-        self._elapsed = 0.0
-
-    def __call__(self) -> float:
-        now = time.monotonic()
-        self._elapsed += min(now - self._last, MAX_POLL_GAP)
-        self._last = now
-        return self._elapsed
-
-
 def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
     """Poll `probe` until it returns something other than None, or `timeout` passes (in
     `RunClock` time)."""
-    clock = RunClock()
+    clock = RunClock(MAX_POLL_GAP)
     while True:
         value = probe()
         if value is not None:
@@ -262,16 +249,8 @@ def participants_on_host(domain_id: int) -> int | None:
     return None if ports is None else len(ports)
 
 
-def _host_ports(domain_id: int) -> dict[int, int] | None:
-    """The domain's bound discovery ports (port -> socket inode) when they can be counted
-    (see `participants_on_host`), else None. Only a yes is kept: this process's port,
-    once found, stays its own."""
-    ports = discovery_ports(domain_id)
-    if domain_id not in _own_port_found:
-        if not own_sockets() & set(ports.values()):
-            return None
-        _own_port_found.add(domain_id)
-    return ports
+# The host's discovery ports, once this process's own is among them (see HostPorts).
+_host_ports = HostPorts(lambda domain: discovery_ports(domain), lambda: own_sockets())
 
 
 def participants_seen(session: Session) -> tuple[int, set[str]]:
@@ -295,10 +274,22 @@ def _named_participants(session: Session) -> tuple[set[bytes], set[str]]:
     return prefixes, named
 
 
-# Nodes each session lists without endpoints, and since when (see BARE_NODE_WAIT).
-_bare_since: WeakKeyDictionary[Session, dict[str, float]] = WeakKeyDictionary()
 _EPROSIMA = b'\x01\x0f'  # a GUID prefix's vendor id: Fast DDS
-_own_port_found: set[int] = set()  # domains in which this process's port was found
+_settlers: WeakKeyDictionary[Session, Settler] = WeakKeyDictionary()
+_settlers_lock = threading.Lock()
+
+
+def settler_of(session: Session) -> Settler:
+    """The session's settler (made at its first query; it lives as long as the session)."""
+    with _settlers_lock:
+        try:
+            found = _settlers.get(session)
+            if found is None:
+                found = _settlers[session] = Settler(session.created)
+        except TypeError:  # a stand-in session without weak references: one per query
+            found = Settler(session.created)
+        found.created = session.created  # a session made young again (a test) is young
+        return found
 
 
 def node_processes(session: Session) -> set[int] | None:
@@ -351,9 +342,7 @@ class HostCount:
             return False  # not heard yet
         bare = set(full_node_names(self.session, include_hidden=True)) - with_endpoints
         # kept per session: a kernel's next query does not wait for the same node again
-        now, before = time.monotonic(), _bare_since.get(self.session, {})
-        since = _bare_since[self.session] = {name: before.get(name, now) for name in bare}
-        return all(now - first >= BARE_NODE_WAIT for first in since.values())
+        return settler_of(self.session).bare_long_enough(bare, BARE_NODE_WAIT)
 
     def unheard(self) -> list[str]:
         """`pid:command` of each process holding a discovery port of the domain whose
@@ -448,73 +437,25 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
     if ready is None:
         ready = launched_nodes_seen(session)
     began = time.monotonic()
-    young = began - session.created < WARM_AGE
-    clock, start = RunClock(), 0.0  # all times below are the clock's
-    if not young:
-        settle = min(settle, WARM_SETTLE)
-    heard = heard_from_others(session)
+    rules = Rules(settle=SETTLE, warm_age=WARM_AGE, warm_settle=WARM_SETTLE,
+                  answer_burst=ANSWER_BURST, expected_timeout=EXPECTED_TIMEOUT,
+                  names_timeout=NAMES_TIMEOUT, participant_timeout=PARTICIPANT_TIMEOUT,
+                  warm_participant_timeout=WARM_PARTICIPANT_TIMEOUT, resend_wait=RESEND_WAIT,
+                  bare_node_wait=BARE_NODE_WAIT, max_poll_gap=MAX_POLL_GAP, poll=POLL)
     complete = host_participants_seen(session)
-    heard_at: float | None = None
-    lost, lost_at = 0, 0.0
-    value: T | None = None
-    changed = start
-    while True:
-        # Every condition is read before the answer: the graph only grows while discovery
-        # settles, so an answer read after them holds all they saw. The other way round,
-        # the whole graph can arrive between the two reads (this process not run for a
-        # moment while its DDS threads were): a cold `node list` on a CI host printed no
-        # node at all, the graph complete and the answer from before it.
-        now = clock()
-        expectation = ready()
-        everyone = complete()
-        heard_now = heard() if everyone is None and young else False
-        pending = expectation is False and names_pending(session)
-        fresh = probe()
-        if value is None or fresh != value:
-            value, changed = fresh, now
-        deadline = start + timeout
-        if everyone is not None:
-            # Every participant on the host is seen with its nodes' endpoints: complete,
-            # however young the session and however slow the others were to answer.
-            old_enough = everyone
-            if not everyone:
-                deadline = start + max(timeout, PARTICIPANT_TIMEOUT if young
-                                       else WARM_PARTICIPANT_TIMEOUT)
-        elif young:
-            # No count to go by: answer once the others have answered (a whole burst)
-            # and every node listed has its endpoints; never on the session's age alone.
-            if heard_at is None and heard_now:
-                heard_at = now
-            old_enough = heard_at is not None and now - heard_at >= ANSWER_BURST and heard_now
-        else:
-            old_enough = True
-        if expectation is True:
-            # Every announced node is seen; a young session still waits for the others'
-            # answers, since a node nobody announced (a kernel's) may not be heard yet.
-            settle = min(settle, ready_settle)
-        elif expectation is False:
-            # Nodes are on their way: a quiet graph is not a complete one yet.
-            wait = NAMES_TIMEOUT if pending else EXPECTED_TIMEOUT
-            old_enough, deadline = False, max(deadline, start + wait)
-        if young and old_enough and now - changed >= settle:
-            dropped = socket_drops()
-            if dropped > lost:
-                lost, lost_at = dropped, now
-            if lost and now - lost_at < RESEND_WAIT:
-                old_enough = False  # a lost announcement is on its way again
-                deadline = max(deadline, min(lost_at + RESEND_WAIT + settle,
-                                             start + PARTICIPANT_TIMEOUT))
-        if (old_enough and now - changed >= settle) or now >= deadline:
-            counted = complete if isinstance(complete, HostCount) else None
-            if everyone is False and not old_enough and counted is not None:
-                counted.say_unheard(now)
-            if switched_on(DEBUG_VARIABLE):
-                _debug(f'{"complete" if old_enough else "deadline"} young={young} '
-                       f'age={began - session.created:.2f} waited={now:.2f} '
-                       f'wall={time.monotonic() - began:.2f} everyone={everyone} '
-                       f'expected={expectation} ports={counted and counted.ports} '
-                       f'seen={counted and counted.seen} dropped={lost}'
-                       + ('' if old_enough or counted is None else
-                          f' unheard={counted.unheard()}'))
-            return fresh
-        time.sleep(POLL)
+    outcome = settler_of(session).settle(
+        probe, rules=rules, timeout=timeout, settle=settle, ready=ready,
+        ready_settle=ready_settle, complete=complete, heard=heard_from_others(session),
+        pending=lambda: names_pending(session), drops=lambda: socket_drops())
+    counted = complete if isinstance(complete, HostCount) else None
+    if outcome.everyone is False and not outcome.complete and counted is not None:
+        counted.say_unheard(outcome.waited)
+    if switched_on(DEBUG_VARIABLE):
+        _debug(f'{"complete" if outcome.complete else "deadline"} young={outcome.young} '
+               f'age={began - session.created:.2f} waited={outcome.waited:.2f} '
+               f'wall={time.monotonic() - began:.2f} everyone={outcome.everyone} '
+               f'expected={outcome.expectation} ports={counted and counted.ports} '
+               f'seen={counted and counted.seen} dropped={outcome.lost}'
+               + ('' if outcome.complete or counted is None else
+                  f' unheard={counted.unheard()}'))
+    return outcome.value
