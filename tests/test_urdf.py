@@ -256,3 +256,19 @@ def test_xacro_finds_kit_packages_without_a_sourced_prefix(tmp_path: Path) -> No
     run = subprocess.run([str(BIN / 'ros2'), 'run', 'xacro', 'xacro', str(source)],
                          capture_output=True, text=True, env=env, check=False)
     assert run.returncode == 0 and run.stdout == done.stdout, run.stderr
+
+
+def test_dependent_joints_chain_and_a_loop_is_refused() -> None:
+    """joint_state_publisher's dependent_joints: a chain multiplies factors and carries
+    offsets (b = 2·a + 1, then s = 3·b − 1); a loop is an error, as upstream exits."""
+    from robot_lab.urdf.joints import Dependent
+
+    robot = parse_urdf(MIMIC)
+    table = joint_table(robot, zeros={'a': 0.5}, use_mimic_tags=False,
+                        dependent={'b': Dependent('a', 2.0, 1.0), 's': Dependent('b', 3.0, -1.0)})
+    assert table.order == ['a', 'b', 's'] and set(table.free) == {'a'}
+    assert table.positions() == pytest.approx([0.5, 2.0, 5.0])
+    looped = joint_table(robot, use_mimic_tags=False,
+                         dependent={'b': Dependent('s'), 's': Dependent('b')})
+    with pytest.raises(ValueError, match='infinite recursive mimic chain'):
+        looped.positions()
