@@ -1,12 +1,13 @@
 """How long grading takes: per solution notebook (target ≤ 30 s each), the fixed cost of a
 kernel, generating the exercises, and a batch of unanswered exercises graded with -j;
 and for package submissions (issue 12): the median seconds per package at --jobs 1
-(aim ≤ 10 s), the minutes for a class of 30 at --jobs 2 (aim ≤ 3 min on 2 cores), and
-the grader's peak memory (its own process, and its whole tree of jobs).
+(aim ≤ 10 s with the sandbox; again beside --busy loops, issue 51), the minutes for a
+class of 30 at --jobs 2 (aim ≤ 3 min on 2 cores), and the grader's peak memory (its own
+process, and its whole tree of jobs).
 
 Median over RUNS runs, with the load average (other work on the machine slows kernels).
 
-    .venv/bin/python bench/bench_grading.py [--runs 3] [--domain 96] [--only packages]
+    .venv/bin/python bench/bench_grading.py [--runs 3] [--domain 96] [--only packages] [--busy 3]
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from pathlib import Path
 
 import nbformat
 import psutil
+from busy import busy_loops
 from nbclient import NotebookClient
 
 from robot_lab.grading.exercises import build_exercises, kit_root
@@ -139,6 +141,14 @@ def bench_packages(args: argparse.Namespace) -> None:
     runs = ', '.join(f'{t:.1f}' for t in times)
     print(f'package submission, --jobs 1: median {median:.2f} s per submission '
           f'(runs {runs}; scores {", ".join(scores)})')
+    if args.busy:
+        reports.clear()
+        with busy_loops(args.busy):
+            loaded, times = timed(one, args.runs)
+        scores = sorted({f'{r.score:g}/{r.max_score:g}' for r in reports})
+        runs = ', '.join(f'{t:.1f}' for t in times)
+        print(f'package submission beside {args.busy} busy loops: median {loaded:.2f} s '
+              f'(runs {runs}; scores {", ".join(scores)})')
     bench_sandbox_cost(args, one, median)
     bench_fork_cost(args, one)
     with tempfile.TemporaryDirectory() as tmp:
@@ -172,6 +182,8 @@ def main() -> None:
     parser.add_argument('--domain', type=int, default=96, help='first ROS domain used')
     parser.add_argument('--jobs', type=int, default=4, help='-j for the exercise batch')
     parser.add_argument('--only', choices=('all', 'notebooks', 'packages'), default='all')
+    parser.add_argument('--busy', type=int, default=3,
+                        help='busy loops beside a second per-package run (0: none)')
     parser.add_argument('--class-size', type=int, default=30,
                         help='package submissions in the class run (default: 30)')
     args = parser.parse_args()
