@@ -5,7 +5,9 @@ kinematics (an independent library) to 1e-9; and urdf_tutorial's display.launch.
 from __future__ import annotations
 
 import math
+import os
 import random
+import subprocess
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -20,7 +22,7 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosutil import set_param
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
-from test_urdf import MIMIC, model_text, random_positions, reference
+from test_urdf import BIN, MIMIC, model_text, random_positions, reference
 from tf2_msgs.msg import TFMessage
 
 import robot_lab
@@ -234,6 +236,21 @@ def test_a_bad_urdf_is_one_line_naming_its_line(start: Any, tmp_path: Path) -> N
         "link 'finger_c', which no <link> defines — fix: did you mean 'finger_a'? name an "
         'existing link, or add <link name="finger_c"/>')
     assert not any('Traceback' in row for row in node.lines)
+
+
+def test_ros2_run_xacro_is_the_venvs_xacro(tmp_path: Path) -> None:
+    """As the pages also write it: `ros2 run xacro xacro`, $(find) through the kit's index
+    even with AMENT_PREFIX_PATH unset (a module with a domain: `ros2 run` reads it)."""
+    source = tmp_path / 'include.urdf.xacro'
+    source.write_text('<robot name="i" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                      '<xacro:include filename="$(find urdf_tutorial)/urdf/01-myfirst.urdf"/>'
+                      '</robot>')
+    env = {k: v for k, v in os.environ.items() if k != 'AMENT_PREFIX_PATH'}
+    runs = [subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
+            for cmd in ([str(BIN / 'ros2'), 'run', 'xacro', 'xacro', str(source)],
+                        [str(BIN / 'xacro'), str(source)])]
+    assert all(run.returncode == 0 for run in runs), [run.stderr for run in runs]
+    assert runs[0].stdout == runs[1].stdout and '<link name="base_link">' in runs[0].stdout
 
 
 def test_display_launch_runs_the_publishers_and_the_sliders_move_the_robot(
