@@ -22,14 +22,14 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosutil import set_param
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
-from test_urdf import BIN, MIMIC, model_text, random_positions, reference
+from test_urdf import BIN, MIMIC, MODELS, model_text, random_positions, reference
 from tf2_msgs.msg import TFMessage
 
 import robot_lab
 from robot_lab.errors import GraphError
 from robot_lab.rclpy_session import session
 from robot_lab.urdf.joints import joint_table
-from robot_lab.urdf.model import parse_urdf
+from robot_lab.urdf.model import Robot, parse_urdf
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
@@ -105,10 +105,25 @@ def compose(root: str, edges: dict[str, tuple[str, np.ndarray]]) -> dict[str, np
     return poses
 
 
-@pytest.mark.parametrize(('model', 'prefix'), [('08-macroed.urdf.xacro', 'r2/'),
-                                               ('06-flexible.urdf', ''), ('mimic', 'g/')])
+def equal_to_yourdfpy(robot: Robot, ref: Any, prefix: str,
+                      edges: dict[str, tuple[str, np.ndarray]],
+                      positions: dict[str, float]) -> None:
+    """The frames composed from the messages' edges are yourdfpy's link poses (1e-9)."""
+    poses = compose(prefix + robot.root, edges)
+    ref.update_cfg(positions)
+    for link in robot.links:
+        expected = ref.get_transform(link, robot.root)
+        assert np.abs(poses[prefix + link] - expected).max() < 1e-9, link
+
+
+@pytest.mark.parametrize(('model', 'prefix'), [
+    *((name, '') for name in MODELS[:5]),  # fixed joints only: /tf_static alone
+    ('06-flexible.urdf', ''), ('07-physics.urdf', 'bot/'), ('08-macroed.urdf.xacro', 'r2/'),
+    ('mimic', 'g/')])
 def test_tf_and_tf_static_equal_yourdfpy(start: Any, tmp_path: Path, topics: Any,
                                          model: str, prefix: str) -> None:
+    """urdf_tutorial 01–08 (each through xacro, as urdf_launch loads them) and a mimic
+    joint: what the node sends, composed, is yourdfpy's forward kinematics."""
     text = MIMIC if model == 'mimic' else model_text(model)
     robot = parse_urdf(text)
     node = start('ros2', 'run', 'robot_state_publisher', 'robot_state_publisher',
@@ -124,12 +139,15 @@ def test_tf_and_tf_static_equal_yourdfpy(start: Any, tmp_path: Path, topics: Any
         prefix + j.child for j in fixed)
     edges = {t.child_frame_id: (t.header.frame_id, pose_matrix(t.transform))
              for t in static.transforms}
+    ref = reference(text)
+    moving = sorted(prefix + j.child for j in robot.joints.values() if j.moves)
+    if not moving:
+        equal_to_yourdfpy(robot, ref, prefix, edges, {})
+        return
 
     tf = topics('/tf', TFMessage)
     states = session().node.create_publisher(JointState, '/joint_states', 10)
-    ref = reference(text)
     rng = random.Random(model)
-    moving = sorted(prefix + j.child for j in robot.joints.values() if j.moves)
     try:
         for second in range(1, 6):  # stamps 1 s apart: past the 20 Hz limit per joint
             positions = random_positions(robot, rng)
@@ -152,13 +170,9 @@ def test_tf_and_tf_static_equal_yourdfpy(start: Any, tmp_path: Path, topics: Any
             # every moving joint, mimic ones from their leader, once, at the state's stamp
             assert sorted(t.child_frame_id for t in moved.transforms) == moving
             assert all(t.header.stamp == stamp for t in moved.transforms)
-            poses = compose(prefix + robot.root, {
+            equal_to_yourdfpy(robot, ref, prefix, {
                 **edges, **{t.child_frame_id: (t.header.frame_id, pose_matrix(t.transform))
-                            for t in moved.transforms}})
-            ref.update_cfg(positions)
-            for link in robot.links:
-                expected = ref.get_transform(link, robot.root)
-                assert np.abs(poses[prefix + link] - expected).max() < 1e-9, link
+                            for t in moved.transforms}}, positions)
     finally:
         session().node.destroy_publisher(states)
 
