@@ -81,3 +81,22 @@ def test_a_shell_with_only_bin_activate_builds_an_interface_package(tmp_path: Pa
                           text=True, timeout=600, check=False)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     assert done.stdout.splitlines()[-1] == 'Drive'
+
+
+def _kit(*args: str, **env: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([str(REPO / 'kit'), *args], cwd=REPO, capture_output=True, text=True,
+                          env={**os.environ, **env}, timeout=240, check=False)
+
+
+def test_kit_runs_the_python_it_is_given_or_none() -> None:
+    refused = _kit('setup', '--python', '3.9')
+    assert refused.returncode == 1
+    assert 'error: PYTHON=3.9 is not a CPython 3.10-3.13 that runs here' in refused.stderr
+    # --python anywhere among test's arguments; ROBOT_LAB_VENV names its venv (this one).
+    collected = _kit('test', tests_path := 'tests/test_python_versions.py', '-k', 'colcon_works',
+                     '--python', sys.executable, '--co', '-q', '-n', '0',
+                     ROBOT_LAB_VENV=sys.prefix)
+    assert collected.returncode == 0, collected.stdout[-2000:] + collected.stderr[-2000:]
+    assert [line for line in collected.stdout.splitlines() if '::' in line] == [
+        f'{tests_path}::test_setuptools_is_pinned_to_what_colcon_works_with[{v}]'
+        for v in SUPPORTED]
