@@ -41,9 +41,9 @@ K_GRAM = 12  # tokens a fingerprint spans (about one statement)
 WINDOW = 4  # winnowing window: any shared run of K_GRAM + WINDOW - 1 tokens is seen
 OUTLIER_Z = 3.5  # Iglewicz & Hoaglin: modified z-score above 3.5 is an outlier
 # Never name a pair sharing less than FLOOR, however quiet the class: in a small class the
-# median and MAD rest on few students, so the floor decides. Measured on
-# tests/data/class_independent (24 honest packages, 6 renamed and reordered copies):
-# honest pairs reach 33 %, copies start at 60 %.
+# median and MAD rest on few students, so the floor decides. Measured on the 30 honest
+# students of tests/data/class_independent and class_ch6 and 7 renamed or reordered
+# copies: honest pairs reach 33 %, copies start at 60 %.
 FLOOR = 0.45
 CAP = 0.7  # always name a pair sharing more than this, however alike the class
 MIN_SHARED = 40  # tokens two students must share to be named at all
