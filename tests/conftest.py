@@ -56,14 +56,14 @@ os.environ[AUTOSTART_VARIABLE] = '0'
 # its own for as long as it runs, and so has everything else that runs ROS beside them:
 #   1       nothing leased: every worker's default before a module leases one (above), and
 #           the first user domain the host registry gives (a Lab terminal's, `./kit start`'s)
-#   2-50, 53-60, 71-76, 91-92   test modules (leased, see `_lease_domain`)
-#   51-52   nbval's notebooks 09 and 10 (robot_lab/grading/course.py)
+#   2-50, 55-60, 71-76   test modules (leased, see `_lease_domain`)
+#   51-54   nbval's notebooks 09-12 (robot_lab/grading/course.py)
 #   61-69   nbval's notebooks 00-08 (lesson n: 61 + n, robot_lab/grading/course.py)
 #   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
 #   77-79   the browser mistake tests' JupyterLab kernels (lessons 01-03: 76 + lesson)
-#   80-90   the browser course tests' JupyterLab kernels (80 + lesson)
+#   80-92   the browser course tests' JupyterLab kernels (80 + lesson)
 #   93-101  the Unix users of tests/test_domains.py (their registry's pool)
-_MODULE_SLOTS = [*range(2, 51), *range(53, 61), *range(71, 77), *range(91, 93)]
+_MODULE_SLOTS = [*range(2, 51), *range(55, 61), *range(71, 77)]
 # Leases are file locks, shared by every pytest on this host (and /tmp): two runs at once
 # take different domains too. A lock dies with its process, even after kill -9.
 _LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
