@@ -268,3 +268,18 @@ def test_dependent_joints_chain_and_a_loop_is_refused() -> None:
                          dependent={'b': Dependent('s'), 's': Dependent('b')})
     with pytest.raises(ValueError, match='infinite recursive mimic chain'):
         looped.positions()
+
+
+@pytest.mark.parametrize(('parent', 'hint'), [
+    ('base', "did you mean 'base_link'? "),  # a shortened name
+    ('bsae_link', "did you mean 'base_link'? "),  # a typo
+    ('wheel', ''),  # nothing like it; never the joint's own child
+])
+def test_a_missing_links_hint_names_only_a_link_that_was_likely_meant(
+        parent: str, hint: str) -> None:
+    text = (f'<robot name="r"><link name="base_link"/><link name="wheel_link"/>'
+            f'<joint name="j" type="continuous"><parent link="{parent}"/>'
+            '<child link="wheel_link"/></joint></robot>')
+    with pytest.raises(UrdfError) as caught:
+        parse_urdf(text, 'r.urdf')
+    assert caught.value.fix == f'{hint}name an existing link, or add <link name="{parent}"/>'

@@ -240,7 +240,11 @@ def _joint(element: Element, source: str) -> Joint:
 
 def _missing_link(joint: Joint, end: str, link: str, links: dict[str, Link],
                   source: str) -> UrdfError:
-    close = sorted(links, key=lambda name: _distance(name, link))[:1]
+    other = joint.child if end == 'parent' else joint.parent
+    close = sorted((name for name in links if name != other and (
+                        _distance(name, link) <= max(2, len(link) // 3)
+                        or name.startswith(link) or link.startswith(name))),
+                   key=lambda name: _distance(name, link))[:1]
     hint = f"did you mean '{close[0]}'? " if close else ''
     return UrdfError(
         f"joint '{joint.name}' names {end} link '{link}', which no <link> defines",
