@@ -1,57 +1,29 @@
-# Copyright 2021 Open Source Robotics Foundation, Inc.
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
+"""turtle2 chases `target_frame` (default turtle1): turtlesim, one pose broadcaster per
+turtle, and the listener that steers turtle2.
 
-from launch import LaunchDescription
+robot_lab's stand-in for the tutorial package's launch file; written for the kit.
+"""
+
 from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
-
 from launch_ros.actions import Node
+
+from launch import LaunchDescription
+
+
+def pose_broadcaster(name, turtle):
+    return Node(package='turtle_tf2_py', executable='turtle_tf2_broadcaster', name=name,
+                parameters=[{'turtlename': turtle}])
 
 
 def generate_launch_description():
+    target = DeclareLaunchArgument('target_frame', default_value='turtle1',
+                                   description='Target frame name.')
     return LaunchDescription([
-        DeclareLaunchArgument(
-            'target_frame', default_value='turtle1',
-            description='Target frame name.'
-        ),
-        Node(
-            package='turtlesim',
-            executable='turtlesim_node',
-            name='sim'
-        ),
-        Node(
-            package='turtle_tf2_py',
-            executable='turtle_tf2_broadcaster',
-            name='broadcaster1',
-            parameters=[
-                {'turtlename': 'turtle1'}
-            ]
-        ),
-        Node(
-            package='turtle_tf2_py',
-            executable='turtle_tf2_broadcaster',
-            name='broadcaster2',
-            parameters=[
-                {'turtlename': 'turtle2'}
-            ]
-        ),
-        Node(
-            package='turtle_tf2_py',
-            executable='turtle_tf2_listener',
-            name='listener',
-            parameters=[
-                {'target_frame': LaunchConfiguration('target_frame')}
-            ]
-        ),
+        target,
+        Node(package='turtlesim', executable='turtlesim_node', name='sim'),
+        pose_broadcaster('broadcaster1', 'turtle1'),
+        pose_broadcaster('broadcaster2', 'turtle2'),
+        Node(package='turtle_tf2_py', executable='turtle_tf2_listener', name='listener',
+             parameters=[{'target_frame': LaunchConfiguration('target_frame')}]),
     ])

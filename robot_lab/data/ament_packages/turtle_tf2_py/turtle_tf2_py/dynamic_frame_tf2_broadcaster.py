@@ -1,59 +1,45 @@
-# Copyright 2021 Open Source Robotics Foundation, Inc.
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
+"""dynamic_frame_tf2_broadcaster: carrot1 on a 10 m circle around turtle1, at 10 Hz on /tf.
+
+robot_lab's stand-in for the tutorial package's node (see __init__.py); written for the kit.
+Node name dynamic_frame_tf2_broadcaster. The angle is pi times the clock's *whole* seconds,
+as in the tutorial's program, so in practice the carrot hops between (0, 10) and (0, -10) in
+turtle1's frame once a second: what a Jazzy install shows too.
+"""
 
 import math
 
-from geometry_msgs.msg import TransformStamped
-
 import rclpy
+from geometry_msgs.msg import TransformStamped
 from rclpy.node import Node
-
 from tf2_ros import TransformBroadcaster
 
+from turtle_tf2_py._shared import spin_until_stopped
 
-class DynamicFrameBroadcaster(Node):
+RADIUS = 10.0
+
+
+class CirclingCarrot(Node):
+    """Publishes turtle1 -> carrot1 every 100 ms, placed by the current time."""
 
     def __init__(self):
         super().__init__('dynamic_frame_tf2_broadcaster')
-        self.tf_broadcaster = TransformBroadcaster(self)
-        self.timer = self.create_timer(0.1, self.broadcast_timer_callback)
+        self.broadcaster = TransformBroadcaster(self)
+        self.timer = self.create_timer(0.1, self.on_timer)
 
-    def broadcast_timer_callback(self):
-        seconds, _ = self.get_clock().now().seconds_nanoseconds()
-        x = seconds * math.pi
-
-        t = TransformStamped()
-        t.header.stamp = self.get_clock().now().to_msg()
-        t.header.frame_id = 'turtle1'
-        t.child_frame_id = 'carrot1'
-        t.transform.translation.x = 10 * math.sin(x)
-        t.transform.translation.y = 10 * math.cos(x)
-        t.transform.translation.z = 0.0
-        t.transform.rotation.x = 0.0
-        t.transform.rotation.y = 0.0
-        t.transform.rotation.z = 0.0
-        t.transform.rotation.w = 1.0
-
-        self.tf_broadcaster.sendTransform(t)
+    def on_timer(self):
+        now = self.get_clock().now()
+        whole_seconds = now.seconds_nanoseconds()[0]
+        angle = math.pi * whole_seconds
+        carrot = TransformStamped()
+        carrot.header.stamp = now.to_msg()
+        carrot.header.frame_id = 'turtle1'
+        carrot.child_frame_id = 'carrot1'
+        carrot.transform.translation.x = RADIUS * math.sin(angle)
+        carrot.transform.translation.y = RADIUS * math.cos(angle)
+        carrot.transform.rotation.w = 1.0
+        self.broadcaster.sendTransform(carrot)
 
 
 def main():
     rclpy.init()
-    node = DynamicFrameBroadcaster()
-    try:
-        rclpy.spin(node)
-    except KeyboardInterrupt:
-        pass
-
-    rclpy.shutdown()
+    spin_until_stopped(CirclingCarrot())

@@ -1,55 +1,39 @@
-# Copyright 2021 Open Source Robotics Foundation, Inc.
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
+"""fixed_frame_tf2_broadcaster: carrot1, 2 m to turtle1's left, re-sent at 10 Hz on /tf.
 
-from geometry_msgs.msg import TransformStamped
+robot_lab's stand-in for the tutorial package's node (see __init__.py); written for the kit.
+Node name fixed_frame_tf2_broadcaster. The offset never changes, but the frame goes on /tf
+(not /tf_static) so that it is stamped now and rides along with the moving turtle1.
+"""
 
 import rclpy
+from geometry_msgs.msg import TransformStamped
 from rclpy.node import Node
-
 from tf2_ros import TransformBroadcaster
 
+from turtle_tf2_py._shared import spin_until_stopped
 
-class FixedFrameBroadcaster(Node):
+CARROT_OFFSET = (0.0, 2.0, 0.0)  # metres in turtle1's frame: y is the turtle's left
+
+
+class FixedCarrot(Node):
+    """Publishes turtle1 -> carrot1 every 100 ms."""
 
     def __init__(self):
         super().__init__('fixed_frame_tf2_broadcaster')
-        self.tf_broadcaster = TransformBroadcaster(self)
-        self.timer = self.create_timer(0.1, self.broadcast_timer_callback)
+        self.broadcaster = TransformBroadcaster(self)
+        self.timer = self.create_timer(0.1, self.on_timer)
 
-    def broadcast_timer_callback(self):
-        t = TransformStamped()
-
-        t.header.stamp = self.get_clock().now().to_msg()
-        t.header.frame_id = 'turtle1'
-        t.child_frame_id = 'carrot1'
-        t.transform.translation.x = 0.0
-        t.transform.translation.y = 2.0
-        t.transform.translation.z = 0.0
-        t.transform.rotation.x = 0.0
-        t.transform.rotation.y = 0.0
-        t.transform.rotation.z = 0.0
-        t.transform.rotation.w = 1.0
-
-        self.tf_broadcaster.sendTransform(t)
+    def on_timer(self):
+        carrot = TransformStamped()
+        carrot.header.stamp = self.get_clock().now().to_msg()
+        carrot.header.frame_id = 'turtle1'
+        carrot.child_frame_id = 'carrot1'
+        offset = carrot.transform.translation
+        offset.x, offset.y, offset.z = CARROT_OFFSET
+        carrot.transform.rotation.w = 1.0
+        self.broadcaster.sendTransform(carrot)
 
 
 def main():
     rclpy.init()
-    node = FixedFrameBroadcaster()
-    try:
-        rclpy.spin(node)
-    except KeyboardInterrupt:
-        pass
-
-    rclpy.shutdown()
+    spin_until_stopped(FixedCarrot())
