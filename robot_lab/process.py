@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import IO, Any
 
+from robot_lab.linux import capabilities
 from robot_lab.linux.libc import libc
 from robot_lab.linux.prctl import set_parent_death_signal
 
@@ -49,14 +50,15 @@ def spawn(
     pass_fds: Sequence[int] = (),
     stdin: int | IO[Any] | None = subprocess.DEVNULL,
 ) -> subprocess.Popen[bytes]:
-    """Start `cmd`; it dies with this process (SIGKILL) if this process dies first.
+    """Start `cmd`; it dies with this process (SIGKILL) if this process dies first. The
+    capabilities switched off here (`linux.capabilities.switched_off`) are off in it too.
 
     The parent-death signal fires when the *thread* that forked exits, so call this from
     the main thread or a thread that lives as long as the child should.
     """
     return subprocess.Popen(
         list(cmd) if not shell else ' '.join(cmd),
-        env=dict(env) if env is not None else None,
+        env=capabilities.child_environment(os.environ if env is None else env),
         cwd=cwd,
         stdin=stdin,
         stdout=stdout,

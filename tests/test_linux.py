@@ -354,6 +354,15 @@ def test_switches_by_variable_and_by_block(monkeypatch: pytest.MonkeyPatch) -> N
         capabilities.disabled('pidfds')
 
 
+def test_a_capability_switched_off_here_is_off_in_the_children_spawned() -> None:
+    from robot_lab.process import spawn
+
+    show = [sys.executable, '-c', 'import os; print(os.environ.get("ROBOT_LAB_DISABLE"))']
+    with capabilities.switched_off('pidfd'):
+        child = spawn(show)
+    assert child.communicate(timeout=30)[0].decode().strip() == 'pidfd'
+
+
 def test_the_doctor_prints_each_capability_and_its_fallback() -> None:
     every = ','.join(capabilities.CAPABILITIES)
     result = run_cli('doctor', env={capabilities.DISABLE_VARIABLE: every})
