@@ -49,7 +49,7 @@ CAPABILITIES: dict[str, Capability] = {c.name: c for c in (
     Capability('pidfd', 'pidfd_open waits for a forked node without a pid race',
                'polls each forked node with waitpid every 50 ms', 'pidfd:probe'),
     Capability('namespaces', 'unshare: user, mount, PID, network and IPC namespaces',
-               'refuses to grade as root; as a user, grades without a sandbox',
+               'refuses to grade, saying why and how (--no-sandbox: no containment)',
                'namespaces:probe'),
     Capability('parent_death', 'prctl(PR_SET_PDEATHSIG): children die with their parent',
                'stops children only while it lives (kill -9 leaves them running)',
