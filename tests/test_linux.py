@@ -282,6 +282,37 @@ def test_a_fork_server_that_stops_answering_is_ended_and_the_node_execd(
         server.discard()
 
 
+_THREAD_CHECK = """
+import faulthandler, json, socket
+from robot_lab.launch import fork_server
+
+class NoFork:
+    def fork(self):
+        raise RuntimeError('would fork now')
+
+ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+server = fork_server._Server(theirs, NoFork())
+for step in ('alone', 'with a C thread'):
+    if step != 'alone':
+        faulthandler.dump_traceback_later(600)  # a native thread threading never sees
+    ours.send(b'{}')
+    server.request()
+    print(step, json.loads(ours.recv(4096))['error'], flush=True)
+faulthandler.cancel_dump_traceback_later()
+"""
+
+
+def test_the_fork_server_refuses_to_fork_beside_a_native_thread() -> None:
+    """A thread a library started (not Python's) could hold a lock the child would never
+    see released: the server counts the kernel's threads, not only Python's."""
+    done = subprocess.run([sys.executable, '-c', _THREAD_CHECK], capture_output=True,
+                          text=True, timeout=60, check=False)
+    assert done.stdout.splitlines() == [
+        'alone RuntimeError: would fork now',
+        'with a C thread RuntimeError: the fork server has threads: forking it is unsafe',
+    ], done.stdout + done.stderr
+
+
 # --- namespaces ---------------------------------------------------------------------------
 
 _NAMESPACES = """
