@@ -12,15 +12,18 @@ variant's cell. Measured over `--seconds`, median of `--runs`:
   meshes loaded (the page's clock); goal ≤ 1 s.
 
 Variants: `session` (the kernel's ROS session only: the floor), `view` (scene_view at its
-default 30 Hz display rate, RViz's default frame rate), `view60` (rate=60: the browser's
-headroom when fed faster).
+default 40 Hz display rate), `view30` (rate=30, RViz's default frame rate), `view60`
+(rate=60: the browser's headroom when fed faster).
 
-Measured 2026-12-06 on this 2-core host while seven other sessions ran (load average 8),
-median of 3 runs of 5 s: session 0.2 %; view 2.8 % of a core, 30.0 frames/s, model drawn
-0.48 s after Shift+Enter; view60 4.2 %, 43.6 frames/s (SwiftShader, no GPU: the page's
-software WebGL is the limit there). Before the view read /tf's bytes itself and took its
-messages in batches: 5.8 % (rclpy built 0.68 ms of Python objects per message, and its
-executor woke per message); with multisampling on in software WebGL, 27 frames/s at 60 Hz.
+Measured 2026-12-06 on this 2-core host while seven other sessions ran (load average 6-8),
+median of 3 runs of 10 s: session 0.1 %; view (40 Hz) 4.3 % of a core, 35.5 frames/s,
+model drawn 0.79 s after Shift+Enter; view30 3.4 %, 29.1 frames/s (2.8-3.2 % and
+29.4-30.0 in other runs); view60 5.2 %, 40.4 frames/s (SwiftShader, no GPU: the page's
+software WebGL is the limit there). Most of a tick's cost is the comm message itself, so
+the kernel's share grows with the display rate, not with /tf's. Before the view read /tf's
+bytes itself and took its messages in batches: 5.8 % at 30 Hz (rclpy built 0.68 ms of
+Python objects per message, and its executor woke per message); with multisampling on in
+software WebGL, 27 frames/s at 60 Hz.
 
 Usage: python bench/bench_scene_view.py [--runs N] [--seconds S] [--domain-id D]
 (wrap it in `unshare --net --mount` as the tests are, on a shared host)
@@ -49,6 +52,7 @@ SETUP = 'import os, robot_lab\nrobot_lab.session()\nprint("pid", os.getpid())'
 VARIANTS = {
     'session': None,
     'view': "robot_lab.scene_view('base_link')",
+    'view30': "robot_lab.scene_view('base_link', rate=30)",
     'view60': "robot_lab.scene_view('base_link', rate=60)",
 }
 

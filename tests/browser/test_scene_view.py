@@ -139,6 +139,9 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             view.locator('details label', has_text='head').first.locator('input').uncheck()
             assert wait_in_page(page, '([el, n]) => +el.dataset.tfShown === n - 1',
                                 [handle, shown], 10)
+            # another fixed frame, picked in the view's menu: the kernel re-resolves every pose
+            view.locator('select').select_option('right_leg')
+            assert wait_in_page(page, "el => el.dataset.fixed === 'right_leg'", handle, 10)
             assert not book.errors(), book.errors()
             browser.close()
     finally:

@@ -206,6 +206,11 @@ function render({ model, el: host }) {
       root.dataset.fixed = msg.fixed;
       for (const spec of msg.displays) addDisplay(spec);
     }
+    if (msg.fixed !== undefined && msg.kind !== 'reset') {
+      ctx.fixed = msg.fixed;
+      root.dataset.fixed = msg.fixed;
+      fixedSelect.value = msg.fixed;
+    }
     if (msg.meshes) ctx.meshes.add(msg.meshes, bufs);
     if (msg.add) for (const spec of msg.add) addDisplay(spec);
     if (msg.remove) for (const id of msg.remove) { displays.get(id)?.dispose(); displays.delete(id); ctx.notes.delete(id); }
