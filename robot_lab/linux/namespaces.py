@@ -114,17 +114,30 @@ def drop_capabilities() -> None:
 
 
 def _try_in_child() -> int:
-    """In a fresh process: make the job's namespaces; 0 if the kernel allowed it."""
+    """In a fresh process: make the job's namespaces and mount a tmpfs in them, as the
+    sandbox will; 0 if the kernel allowed it, else the errno. (Ubuntu 24.04 lets an
+    unprivileged unshare through but takes its capabilities: the mount is what fails.)"""
+    import tempfile
+
+    uid, gid, flags = os.getuid(), os.getgid(), job_namespaces()
+    folder = tempfile.mkdtemp(prefix='robot_lab_probe_')
     try:
-        unshare(job_namespaces())
+        unshare(flags)
+        if flags & CLONE_NEWUSER:
+            map_ids(0, 0, uid, gid)
+        mount(None, '/', None, MS_REC | MS_PRIVATE)
+        mount('tmpfs', folder, 'tmpfs', MS_NOSUID | MS_NODEV, 'size=1m')
+        unmount(folder)
     except OSError as exc:
         return exc.errno or 1
+    finally:
+        os.rmdir(folder)
     return 0
 
 
 def probe() -> str | None:
-    """Whether a process here may make a grading job's namespaces (asked in a child
-    process: unshare cannot be undone)."""
+    """Whether a process here may make a grading job's namespaces and mount in them
+    (asked in a child process: unshare cannot be undone)."""
     try:
         done = subprocess.run([sys.executable, '-m', 'robot_lab.linux.namespaces'],
                               capture_output=True, timeout=_PROBE_TIMEOUT, check=False)
