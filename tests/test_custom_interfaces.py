@@ -1,18 +1,19 @@
 """*Creating custom msg and srv files* (Jazzy) end to end, in a kit terminal: `ros2 pkg
 create --build-type ament_cmake`, the tutorial's edits to CMakeLists.txt and package.xml,
-the real `colcon build` (CMake, rosidl, the system compiler), then the types from the CLI
-and from a Python node.
+the real `colcon build` (CMake, rosidl, the system compiler) in a shell that only sourced
+the venv's bin/activate, then the types from the CLI and from a Python node.
 """
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import textwrap
 from pathlib import Path
 
 import pytest
-from conftest import Proc, venv_env
+from conftest import BIN, Proc, venv_env
 
 # ros2pkg's ament_cmake/CMakeLists.txt.em for a package without dependencies or node.
 JAZZY_CMAKELISTS = """\
@@ -145,7 +146,14 @@ def test_custom_msg_and_srv_tutorial(tmp_path: Path, procs: list[Proc]) -> None:
     (pkg / 'package.xml').write_text(xml.replace(lint, TUTORIAL_PACKAGE_XML + '\n' + lint))
 
     ws = tmp_path / 'ros2_ws'
-    built = terminal('colcon build --packages-select tutorial_interfaces', ws)
+    # As in a student's own terminal: a bare login environment, then only the README's
+    # `source .venv/bin/activate` (before, the build needed .venv/setup.bash as well).
+    bare = {'HOME': os.environ['HOME'], 'PATH': '/usr/local/bin:/usr/bin:/bin',
+            'LANG': 'C.UTF-8', 'TMPDIR': os.environ.get('TMPDIR', '/tmp')}
+    built = subprocess.run(
+        ['bash', '-c', f'source {BIN / "activate"} && '
+         'colcon build --packages-select tutorial_interfaces'],
+        cwd=ws, env=bare, capture_output=True, text=True, timeout=900, check=False)
     assert built.returncode == 0, built.stdout + built.stderr
     finished = re.search(r'Finished <<< tutorial_interfaces \[([^\]]+)\]', built.stdout)
     assert finished, built.stdout
