@@ -16,7 +16,12 @@ const result = await build({
   legalComments: 'eof',
   metafile: true,
   outfile: out,
-  banner: { js: '// robot_lab scene_view bundle: built from js/scene_view (three, urdf-loader); do not edit.' },
+  banner: {
+    js: '// robot_lab scene_view bundle, built from js/scene_view (do not edit). It contains\n'
+      + '// three 0.187.0 (MIT, Copyright 2010-2026 Three.js Authors) and urdf-loader 0.13.1\n'
+      + '// (Apache-2.0, https://www.apache.org/licenses/LICENSE-2.0; Garrett Johnson and\n'
+      + '// contributors, https://github.com/gkjohnson/urdf-loaders): see js/scene_view/NOTICE.md.',
+  },
 });
 const bytes = Object.values(result.metafile.outputs)[0].bytes;
 console.log(`${path.relative(process.cwd(), out)}: ${(bytes / 1024).toFixed(0)} KiB`);

@@ -34,7 +34,7 @@ function el(tag, props = {}, ...children) {
 }
 
 // A buffer from the widget channel as bytes (ipywidgets gives DataViews or ArrayBuffers).
-export function bytes(buffer) {
+function bytes(buffer) {
   if (buffer instanceof ArrayBuffer) return new Uint8Array(buffer);
   return new Uint8Array(buffer.buffer, buffer.byteOffset, buffer.byteLength);
 }
