@@ -41,6 +41,9 @@ KIT = [
     'anywidget',
     # Chapter 7: the venv's `xacro` is robot_lab.urdf.xacro_command (the kit's ament index)
     'xacro>=2.1.1,<2.2',
+    # Module 2's simulator (robot_lab/sim): MuJoCo's bindings alone, without its GLFW viewer
+    # (bench/bench_sim.py measured it against PyBullet)
+    'mujoco-core>=4.0.1,<4.1',
 ]
 
 setup(
