@@ -16,6 +16,7 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker
 
 import robot_lab
+from robot_lab.errors import GraphError
 from robot_lab.scene.displays import Markers, Outbox, RobotModel
 from robot_lab.scene.frames import FrameTree, compose, inverse, parse_tf_message
 from robot_lab.scene.meshes import MeshFiles, mesh_uris
@@ -175,6 +176,11 @@ def test_a_view_takes_the_robot_and_its_static_frames(ros_domain: int) -> None:
         view.fixed_frame = 'right_leg'
         assert view.frames()['base_link'] == (0.0, 0.22, 0.0, -0.0, -0.0, -0.0, 1.0)
         assert view.render_png().startswith(b'\x89PNG')
+        with pytest.raises(GraphError, match=r"cannot tell which display draws /nobody: "
+                           r"nothing publishes it yet.*view.add\('/nobody', 'LaserScan'\)"):
+            view.add('/nobody')
+        with pytest.raises(GraphError, match=r"no display named 'PointCloud2'"):
+            view.add('/cloud', 'PointCloud2')
         wall = Marker(ns='walls', id=3, type=Marker.CUBE)
         wall.header.frame_id = 'base_link'
         shown = view.show_markers('world', [wall])
