@@ -213,6 +213,22 @@ def test_a_forked_node_is_waited_for_and_signalled_without_pidfds(
         assert sleeps.wait(timeout=30) == -signal.SIGTERM
 
 
+def test_a_kernel_with_pidfds_but_no_waitid_on_them_is_polled(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Linux 5.3 has pidfd_open but not waitid(P_PIDFD) (5.4)."""
+    real = os.waitid
+
+    def waitid(idtype: int, ident: int, options: int) -> object:
+        if idtype == os.P_PIDFD:
+            raise OSError(errno.EINVAL, 'Invalid argument')
+        return real(idtype, ident, options)
+
+    monkeypatch.setattr(os, 'waitid', waitid)
+    with open(os.devnull, 'rb') as out, open(os.devnull, 'rb') as err:
+        exits = fork_client.ForkedProcess(_child('import sys; sys.exit(4)'), ['exits'], out, err)
+        assert exits.wait(timeout=30) == 4
+
+
 def test_switched_off_pidfds_are_not_opened() -> None:
     assert pidfd.open_pidfd(os.getpid()) is not None or not capabilities.available('pidfd')
     with capabilities.switched_off('pidfd'):

@@ -131,6 +131,11 @@ class ForkedProcess:
                           os.waitid(os.P_PIDFD, self._pidfd, os.WEXITED | os.WNOHANG))
             except ChildProcessError:  # reaped by someone else: as Popen, code 0
                 result, self.returncode = None, 0
+            except OSError:  # Linux 5.3 has pidfd_open, not waitid(P_PIDFD): poll by pid
+                assert self._pidfd is not None
+                os.close(self._pidfd)
+                self._pidfd = None
+                return self.poll()
             if result is not None and result.si_pid:
                 exited = result.si_code == os.CLD_EXITED
                 self.returncode = result.si_status if exited else -result.si_status
