@@ -1,21 +1,20 @@
 """tf2 over DDS and the tools the tf2 pages run: tf2_ros_py's listener/broadcaster test as
 facts; static_transform_publisher (Jazzy flags, the deprecated positional form), tf2_echo,
-view_frames (.gv + .pdf with no Graphviz); and the tf2 tutorials' files, unchanged, in a
-student's colcon package against the kit's turtlesim (turtle2 follows the carrot).
+tf2_monitor, view_frames (.gv + .pdf with no Graphviz). The tutorials' own files, in a
+student's colcon package, are tests/test_tf2_tutorials.py.
 """
 
 from __future__ import annotations
 
 import math
 import re
-import shutil
 import subprocess
 import time
 from pathlib import Path
 
 import pytest
 import rclpy
-from conftest import Proc, cli_ok, venv_env
+from conftest import BIN, Proc, cli_ok
 from geometry_msgs.msg import TransformStamped
 
 from robot_lab.tf2.static_publisher import ParseError, parse_args
@@ -229,138 +228,41 @@ def test_static_publisher_echo_and_view_frames(start, tmp_path: Path) -> None:  
     assert (tmp_path / 'frames.pdf').read_bytes().startswith(b'%PDF')
 
 
-# The launch files of *Writing a tf2 listener (Python)* and *Adding a frame (Python)*, as the
-# pages have the student type them.
-DEMO_LAUNCH = """\
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
-from launch.substitutions import LaunchConfiguration
+def test_tf2_monitor_reports_frames_and_a_chain(start) -> None:  # type: ignore[no-untyped-def]
+    """`tf2_monitor` and `tf2_monitor world carrot1` against a static publisher and a 10 Hz
+    broadcaster: after their 10 s of gathering, the lines tf2_monitor.cpp prints."""
+    start(*STATIC, '--x', '1', '--frame-id', 'world', '--child-frame-id', 'turtle1')
+    start('ros2', 'run', 'turtle_tf2_py', 'dynamic_frame_tf2_broadcaster')  # turtle1 -> carrot1
+    every = start('ros2', 'run', 'tf2_ros', 'tf2_monitor')
+    chain = start('ros2', 'run', 'tf2_ros', 'tf2_monitor', 'world', 'carrot1')
+    usage = subprocess.run([str(BIN / 'ros2'), 'run', 'tf2_ros', 'tf2_monitor', 'world'],
+                           capture_output=True, text=True, timeout=60, check=False)
+    assert usage.returncode == 255
+    assert 'TF_Monitor: usage: tf2_monitor framea frameb' in usage.stdout + usage.stderr
+    number = r'(-?[0-9.e+-]+)'
 
-from launch_ros.actions import Node
+    def frame(proc: Proc, name: str) -> tuple[float, float]:
+        found = proc.wait_for(rf'^Frame: {name}, published by <no authority available>, '
+                              rf'Average Delay: {number}, Max Delay: {number}$', timeout=30)
+        return float(found[1]), float(found[2])
 
+    every.wait_for(r'^Gathering data on all frames for 10 seconds\.\.\.$')
+    every.wait_for(r'^RESULTS: for all Frames$', timeout=30)
+    carrot_avg, carrot_max = frame(every, 'carrot1')
+    assert 0.0 <= carrot_avg <= carrot_max < 1.0  # stamped now, heard at once
+    static_avg, static_max = frame(every, 'turtle1')
+    assert 0.0 < static_avg <= static_max  # stamped once, when the publisher started
+    rate = every.wait_for(rf'^Node: <no authority available> {number} Hz, Average Delay: '
+                          rf'{number} Max Delay: {number}$')
+    assert 5.0 < float(rate[1]) < 15.0  # the broadcaster's 10 Hz (and the static message)
+    assert 'All Broadcasters:' in every.lines
+    lines = every.lines
+    assert lines.index('Frames:') < lines.index(next(x for x in lines if 'Frame: carrot1' in x))
 
-def generate_launch_description():
-    return LaunchDescription([
-        Node(
-            package='turtlesim',
-            executable='turtlesim_node',
-            name='sim'
-        ),
-        Node(
-            package='learning_tf2_py',
-            executable='turtle_tf2_broadcaster',
-            name='broadcaster1',
-            parameters=[
-                {'turtlename': 'turtle1'}
-            ]
-        ),
-        DeclareLaunchArgument(
-            'target_frame', default_value='turtle1',
-            description='Target frame name.'
-        ),
-        Node(
-            package='learning_tf2_py',
-            executable='turtle_tf2_broadcaster',
-            name='broadcaster2',
-            parameters=[
-                {'turtlename': 'turtle2'}
-            ]
-        ),
-        Node(
-            package='learning_tf2_py',
-            executable='turtle_tf2_listener',
-            name='listener',
-            parameters=[
-                {'target_frame': LaunchConfiguration('target_frame')}
-            ]
-        ),
-    ])
-"""
-FIXED_FRAME_LAUNCH = """\
-import os
-
-from ament_index_python.packages import get_package_share_directory
-
-from launch import LaunchDescription
-from launch.actions import IncludeLaunchDescription
-from launch.launch_description_sources import PythonLaunchDescriptionSource
-
-from launch_ros.actions import Node
-
-
-def generate_launch_description():
-    demo_nodes = IncludeLaunchDescription(
-        PythonLaunchDescriptionSource([os.path.join(
-            get_package_share_directory('learning_tf2_py'), 'launch'),
-            '/turtle_tf2_demo_launch.py']),
-        )
-
-    return LaunchDescription([
-        demo_nodes,
-        Node(
-            package='learning_tf2_py',
-            executable='fixed_frame_tf2_broadcaster',
-            name='fixed_broadcaster',
-        ),
-    ])
-"""
-TUTORIAL_NODES = ('static_turtle_tf2_broadcaster', 'turtle_tf2_broadcaster',
-                  'turtle_tf2_listener', 'fixed_frame_tf2_broadcaster')
-
-
-def test_tf2_tutorials_from_a_students_colcon_package(start, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
-    """The tf2 Python pages as a student does them: `ros2 pkg create learning_tf2_py`, the
-    node files the pages download (upstream's turtle_tf2_py, unchanged), the entry points,
-    package.xml dependencies and launch files they type, `colcon build`, then: the static
-    broadcaster seen by tf2_echo, and (adding a frame) turtle2 following carrot1 on the
-    kit's turtlesim."""
-    from robot_lab.pkg.kit_packages import kit_package_sources
-
-    ws = tmp_path / 'ws'
-    (ws / 'src').mkdir(parents=True)
-    created = subprocess.run(
-        ['bash', '-c', 'ros2 pkg create --build-type ament_python --license Apache-2.0 -- '
-         'learning_tf2_py'], cwd=ws / 'src', env=venv_env(), capture_output=True, text=True,
-        timeout=120, check=False)
-    assert created.returncode == 0, created.stdout + created.stderr
-    pkg = ws / 'src' / 'learning_tf2_py'
-    downloads = kit_package_sources('turtle_tf2_py') / 'turtle_tf2_py'
-    for name in TUTORIAL_NODES:  # what the pages' wget fetches
-        shutil.copy(downloads / f'{name}.py', pkg / 'learning_tf2_py' / f'{name}.py')
-    (pkg / 'launch').mkdir()
-    (pkg / 'launch' / 'turtle_tf2_demo_launch.py').write_text(DEMO_LAUNCH)
-    (pkg / 'launch' / 'turtle_tf2_fixed_frame_demo_launch.py').write_text(FIXED_FRAME_LAUNCH)
-    xml = (pkg / 'package.xml').read_text()
-    depends = ''.join(f'  <exec_depend>{d}</exec_depend>\n' for d in (
-        'geometry_msgs', 'python3-numpy', 'rclpy', 'tf2_ros_py', 'turtlesim', 'launch',
-        'launch_ros'))
-    (pkg / 'package.xml').write_text(xml.replace('  <test_depend>', depends + '  <test_depend>', 1))
-    setup = (pkg / 'setup.py').read_text()
-    marker = "        'console_scripts': [\n"
-    assert marker in setup and 'data_files=[\n' in setup
-    setup = setup.replace(marker, marker + ''.join(
-        f"            '{n} = learning_tf2_py.{n}:main',\n" for n in TUTORIAL_NODES))
-    setup = setup.replace('data_files=[\n', "data_files=[\n        (os.path.join('share', "
-                          "package_name, 'launch'), glob(os.path.join('launch', "
-                          "'*launch.[pxy][yma]*'))),\n", 1)
-    (pkg / 'setup.py').write_text('import os\nfrom glob import glob\n' + setup)
-    built = subprocess.run(['bash', '-c', 'colcon build --packages-select learning_tf2_py'],
-                           cwd=ws, env=venv_env(), capture_output=True, text=True, timeout=300,
-                           check=False)
-    assert built.returncode == 0, built.stdout + built.stderr
-
-    def sourced(command: str) -> list[str]:
-        return ['bash', '-c', f'source install/setup.bash && exec {command}']
-
-    start(*sourced('ros2 run learning_tf2_py static_turtle_tf2_broadcaster mystaticturtle '
-                   '0 0 1 0 0 0'), env=venv_env(), cwd=ws)
-    static = start('ros2', 'run', 'tf2_ros', 'tf2_echo', 'world', 'mystaticturtle')
-    assert _translation(static) == (0.0, 0.0, 1.0)
-    launch = start(*sourced('ros2 launch learning_tf2_py turtle_tf2_fixed_frame_demo_launch.py '
-                            'target_frame:=carrot1'), env=venv_env(), cwd=ws)
-    launch.wait_for(r'Successfully spawned turtle2', timeout=30)
-    echo = start('ros2', 'run', 'tf2_ros', 'tf2_echo', 'turtle2', 'carrot1', '5')
-    # carrot1 (2 m left of turtle1) seen from turtle2 comes within 0.3 (it started 5.6 away)
-    echo.wait_for(r'^- Translation: \[-?0\.[0-2]\d\d, -?0\.[0-2]\d\d, 0\.000\]$', timeout=40)
-    pose = start('ros2', 'topic', 'echo', '--once', '/turtle2/pose')
-    assert float(pose.wait_for(r'^y: (\S+)$')[1]) == pytest.approx(5.544 + 2.0, abs=0.35)
+    chain.wait_for(r'^Gathering data on world -> carrot1 for 10 seconds\.\.\.$')
+    chain.wait_for(r'^RESULTS: for world to carrot1$', timeout=30)
+    chain.wait_for(r'^Chain is: world -> turtle1 -> carrot1$')
+    net = chain.wait_for(rf'^Net delay     avg = {number}: max = {number}$')
+    assert 0.0 <= float(net[1]) <= float(net[2])
+    frame(chain, 'carrot1')
+    frame(chain, 'turtle1')
