@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import struct
-from typing import Any, TypeAlias
+from typing import TypeAlias
 
 __all__ = ['IDENTITY', 'FrameTree', 'Pose', 'compose', 'inverse']
 
@@ -60,12 +60,15 @@ def normalised(pose: Pose) -> Pose | None:
     """The pose with a unit quaternion; None for NaN or a zero quaternion (tf2 refuses
     those: TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION)."""
     x, y, z, qx, qy, qz, qw = pose
-    norm = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
-    if not all(math.isfinite(v) for v in pose) or norm < 1e-6:
+    norm2 = qx * qx + qy * qy + qz * qz + qw * qw
+    if not math.isfinite(x + y + z + norm2):  # a NaN or an infinity anywhere
         return None
-    if abs(norm - 1.0) > 1e-9:
-        qx, qy, qz, qw = qx / norm, qy / norm, qz / norm, qw / norm
-    return (x, y, z, qx, qy, qz, qw)
+    if abs(norm2 - 1.0) < 1e-12:
+        return pose  # the usual case: nothing to compute
+    if norm2 < 1e-12:
+        return None
+    norm = math.sqrt(norm2)
+    return (x, y, z, qx / norm, qy / norm, qz / norm, qw / norm)
 
 
 class FrameTree:
@@ -181,6 +184,10 @@ class FrameTree:
                 f'(their roots are [{a[0]}] and [{b[0]}])')
 
 
+_U32 = {'<': struct.Struct('<I'), '>': struct.Struct('>I')}
+_POSE = {'<': struct.Struct('<7d'), '>': struct.Struct('>7d')}
+
+
 def parse_tf_message(raw: bytes) -> list[tuple[str, str, Pose]]:
     """A serialized tf2_msgs/TFMessage (CDR, as a raw subscription hands it over) →
     [(parent, child, pose)], stamps skipped.
@@ -193,27 +200,24 @@ def parse_tf_message(raw: bytes) -> list[tuple[str, str, Pose]]:
     if len(raw) < 8 or raw[0] != 0 or raw[1] not in (0, 1):
         raise ValueError('not plain CDR')
     order = '<' if raw[1] == 1 else '>'
-    origin = 4  # alignment counts from after the encapsulation header
-    count = _unpack(order + 'I', raw, origin)[0]
-    offset = origin + 4
+    u32, seven = _U32[order].unpack_from, _POSE[order].unpack_from
+    # Alignment counts from after the 4-byte encapsulation header: offset - 4.
     out: list[tuple[str, str, Pose]] = []
-    for _ in range(count):
-        offset += (-(offset - origin)) % 4 + 8  # stamp: int32 sec, uint32 nanosec
-        names = []
-        for _name in range(2):  # header.frame_id, child_frame_id
-            offset += (-(offset - origin)) % 4
-            length = _unpack(order + 'I', raw, offset)[0]
-            offset += 4
-            names.append(raw[offset:offset + max(0, length - 1)].decode('utf-8'))
-            offset += length
-        offset += (-(offset - origin)) % 8
-        pose = _unpack(order + '7d', raw, offset)
-        offset += 56
-        out.append((names[0], names[1], pose))
+    try:
+        (count,) = u32(raw, 4)
+        offset = 8
+        for _ in range(count):
+            offset += (-offset) % 4 + 8  # stamp: int32 sec, uint32 nanosec
+            (length,) = u32(raw, offset)  # header.frame_id, with its NUL
+            parent = raw[offset + 4:offset + 3 + length].decode('utf-8')
+            offset += 4 + length
+            offset += (-offset) % 4
+            (length,) = u32(raw, offset)  # child_frame_id
+            child = raw[offset + 4:offset + 3 + length].decode('utf-8')
+            offset += 4 + length
+            offset += (-(offset - 4)) % 8
+            out.append((parent, child, seven(raw, offset)))
+            offset += 56
+    except struct.error as err:
+        raise ValueError(f'truncated TFMessage: {err}') from err
     return out
-
-
-def _unpack(fmt: str, raw: bytes, offset: int) -> tuple[Any, ...]:
-    if offset + struct.calcsize(fmt) > len(raw):
-        raise ValueError('truncated TFMessage')
-    return struct.unpack_from(fmt, raw, offset)
