@@ -385,6 +385,14 @@ def test_nothing_outside_the_layer_calls_ctypes_or_reads_proc() -> None:
     assert set(found) <= set(_NOT_YET), f'use robot_lab.linux instead: {found}'
 
 
+def test_procfs_reads_status_and_sysctls() -> None:
+    from robot_lab.linux import procfs
+
+    assert procfs.status()['Pid'] == str(os.getpid())
+    assert procfs.sysctl('kernel.pid_max') == Path('/proc/sys/kernel/pid_max').read_text().strip()
+    assert procfs.sysctl('kernel.no_such_setting') is None
+
+
 # --- switches and the doctor --------------------------------------------------------------
 
 def test_switches_by_variable_and_by_block(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -11,7 +11,7 @@ from collections.abc import Iterable
 
 __all__ = ['command_line', 'fd_targets', 'mapped_paths', 'maps', 'mount_points',
            'own_socket_inodes', 'pid_namespace', 'pids', 'process_running', 'socket_holders',
-           'start_time', 'stat_fields', 'thread_ids']
+           'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
 
 
 def _where(pid: int | None) -> str:
@@ -55,6 +55,24 @@ def pids() -> list[int]:
     with contextlib.suppress(OSError):
         return [int(e.name) for e in os.scandir('/proc') if e.name.isdigit()]
     return []
+
+
+def status(pid: int | None = None) -> dict[str, str]:
+    """/proc/PID/status as field -> value (`Seccomp` -> `2`, `CapEff` -> hex); OSError if
+    the process is gone."""
+    with open(f'{_where(pid)}/status', encoding='utf-8', errors='replace') as file:
+        return {key: value.strip() for key, _, value in
+                (line.partition(':') for line in file) if value}
+
+
+def sysctl(name: str) -> str | None:
+    """A kernel setting by its sysctl name (`kernel.unprivileged_userns_clone`), None where
+    this kernel has none."""
+    try:
+        with open('/proc/sys/' + name.replace('.', '/'), encoding='ascii') as file:
+            return file.read().strip()
+    except OSError:
+        return None
 
 
 def thread_ids(pid: int | None = None) -> list[int]:
