@@ -9,14 +9,17 @@ from __future__ import annotations
 import base64
 import io
 import math
+import struct
 import threading
 import time
+from pathlib import Path
 from typing import Any
 
 import browser_lab
 import pytest
 from geometry_msgs.msg import Point, PoseStamped, TransformStamped
-from nav_msgs.msg import Odometry, Path
+from nav_msgs.msg import Odometry
+from nav_msgs.msg import Path as PathMsg
 from rclpy.serialization import serialize_message
 from sensor_msgs.msg import LaserScan
 from tf2_msgs.msg import TFMessage
@@ -63,7 +66,26 @@ COLOURS = {
     'cube': lambda r, g, b: r > 120 and b > 120 and g < 60,  # magenta marker
     'path': lambda r, g, b: g > 200 and r < 80 and b < 80,  # RViz's path green
     'arrows': lambda r, g, b: r > 150 and g < 60 and b < 60,  # odometry and pose: red
+    'stl': lambda r, g, b: g > 120 and b > 120 and r < 60,  # a cyan STL mesh marker
+    'obj': lambda r, g, b: b > 120 and r < 50 and g < 50,  # a blue OBJ mesh marker
 }
+# a unit cube's corners and its 12 triangles (outward, counter-clockwise)
+_CORNERS = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+_FACES = [(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4),
+          (2, 6, 7), (2, 7, 3), (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5)]
+
+
+def _meshes(folder: Path) -> tuple[Path, Path]:
+    """The cube as a binary STL and as an OBJ file."""
+    stl = folder / 'cube.stl'
+    triangles = b''.join(struct.pack('<12fH', 0, 0, 0, *_CORNERS[a], *_CORNERS[b],
+                                     *_CORNERS[c], 0) for a, b, c in _FACES)
+    stl.write_bytes(b'robot_lab test cube'.ljust(80, b' ') + struct.pack('<I', len(_FACES))
+                    + triangles)
+    obj = folder / 'cube.obj'
+    obj.write_text(''.join(f'v {x} {y} {z}\n' for x, y, z in _CORNERS)
+                   + ''.join(f'f {a + 1} {b + 1} {c + 1}\n' for a, b, c in _FACES))
+    return stl, obj
 
 
 class Recorder:
@@ -88,7 +110,7 @@ def _tf(parent: str, child: str, x: float, yaw: float) -> TransformStamped:
     return t
 
 
-def _messages(view: SceneView) -> None:
+def _messages(view: SceneView, stl: Path, obj: Path) -> None:
     """Real messages into the view's displays (as their subscriptions would take them)."""
     view._on_tf(serialize_message(TFMessage(transforms=[
         _tf('odom', 'base_link', 0.3, 0.0), _tf('base_link', 'laser', 0.1, 0.0)])))
@@ -101,8 +123,19 @@ def _messages(view: SceneView) -> None:
     cube.pose.position.y, cube.pose.orientation.w = -0.8, 1.0
     cube.scale.x = cube.scale.y = cube.scale.z = 0.4
     cube.color.r, cube.color.b, cube.color.a = 1.0, 1.0, 1.0
-    view.displays['markers:/world'].take(MarkerArray(markers=[cube]))
-    path = Path()
+    meshes = []
+    for ident, (path, rgb, y) in enumerate(((stl, (0.0, 1.0, 1.0), 0.9),
+                                            (obj, (0.0, 0.0, 1.0), 1.5)), start=2):
+        mesh = Marker(ns='w', id=ident, type=Marker.MESH_RESOURCE, action=Marker.ADD,
+                      mesh_resource=f'file://{path}')
+        mesh.header.frame_id = 'odom'
+        mesh.pose.position.y, mesh.pose.position.x, mesh.pose.orientation.w = y, -0.6, 1.0
+        mesh.scale.x = mesh.scale.y = mesh.scale.z = 0.4
+        mesh.color.r, mesh.color.g, mesh.color.b = rgb
+        mesh.color.a = 1.0
+        meshes.append(mesh)
+    view.displays['markers:/world'].take(MarkerArray(markers=[cube, *meshes]))
+    path = PathMsg()
     path.header.frame_id = 'odom'
     for k in range(20):
         stamped = PoseStamped()
@@ -124,7 +157,7 @@ def _count(picture: Any, test: Any) -> int:
     return sum(1 for i in range(0, len(data), 3) if test(data[i], data[i + 1], data[i + 2]))
 
 
-def test_each_display_draws_what_the_kernel_sent(ros_domain: int) -> None:
+def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path) -> None:
     view = SceneView('odom', robot_description=None)
     recorder = Recorder()
     try:
@@ -136,7 +169,7 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int) -> None:
         view.add('/goal_pose', 'Pose')
         view._scene_canvas = recorder  # type: ignore[assignment]
         view._on_msg(recorder, {'kind': 'ready'}, [])  # as a page that appeared asks
-        _messages(view)
+        _messages(view, *_meshes(tmp_path))
         deadline = time.monotonic() + 10
         while time.monotonic() < deadline:  # the view's thread sends at its next tick
             with recorder.lock:
