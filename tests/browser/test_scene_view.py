@@ -59,6 +59,12 @@ def _blue(picture: Any, box: tuple[int, int, int, int] | None = None) -> int:
     return sum(1 for r, g, b in _pixels(part) if b > 90 and r < 70 and g < 70 and b > 2 * r)
 
 
+# the head's yaw in base_link is `v` (head_swivel turns about z), and that is drawn
+_HEAD_AT = """([el, v]) => {
+  const m = el.rlPoses.get('head');
+  return !!m && Math.abs(Math.atan2(m.elements[1], m.elements[0]) - v) < 0.01
+    && el.dataset.drawnPoses === el.dataset.poses;
+}"""
 # the page has drawn every pose update it got, and more than `n` of them
 _SHOWN = '([el, n]) => +el.dataset.poses > n && el.dataset.drawnPoses === el.dataset.poses'
 
@@ -126,9 +132,13 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             page.mouse.move(track['x'] + 0.92 * track['width'], y, steps=8)
             page.mouse.up()
             readout = slider.locator('.widget-readout')
-            assert float(readout.text_content() or 0) > 2.0, readout.text_content()
+            final = float(readout.text_content() or 0)
+            assert final > 2.0, readout.text_content()
             view.scroll_into_view_if_needed()
-            assert wait_in_page(page, _SHOWN, [handle, poses], 30)
+            # the drag sent several positions: wait for the head at the last one, drawn
+            assert wait_in_page(page, _HEAD_AT, [handle, final], 30), page.evaluate(
+                "el => el.rlPoses.get('head')?.elements", handle)
+            assert int(view.get_attribute('data-poses') or 0) > poses
             after = _picture(view)
             moved = sum(1 for a, b in zip(_pixels(before), _pixels(after), strict=True)
                         if sum(abs(x - y) for x, y in zip(a, b, strict=True)) > 60)

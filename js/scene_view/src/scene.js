@@ -104,6 +104,7 @@ function render({ model, el: host }) {
     wake: () => wake(),
   };
   const displays = new Map();  // id -> display object
+  root.rlPoses = ctx.poses;  // what the page shows, for tests and the curious (no DOM writes)
 
   // Draw only when something changed, and only while the view is on screen: a notebook
   // scrolled past a live view costs the page nothing (it draws again when it comes back).
