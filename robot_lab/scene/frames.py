@@ -4,7 +4,10 @@ RViz looks each frame up at the latest time the tree has (time 0), so a view onl
 needs the newest transform of each edge; keeping no history makes taking `/tf` at 50 Hz
 and resolving 20 frames at the display rate cost the kernel about a percent of a core
 (`bench/bench_scene_view.py`). Lessons that need tf2's semantics (interpolation, the 10 s
-cache, its exceptions) use `tf2_ros.Buffer`; this is only what a picture needs.
+cache, its exceptions) use `tf2_ros.Buffer` (robot_lab.tf2); this is only what a picture
+needs. The kit's BufferCore was measured for this job: 19 inserts 49 µs, but 19 lookups at
+time 0 take 0.62 ms (2.5 % of a core at the view's 40 Hz) against 0.06 ms for `resolve`
+here, and the view's whole budget is 5 %.
 
 Poses are tuples `(x, y, z, qx, qy, qz, qw)`: what the browser takes, no numpy.
 """
