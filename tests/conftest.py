@@ -156,6 +156,7 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'tests/browser/test_browser_mistakes.py',  # ~160 s: 01-03 in Chromium
                'notebooks/01',                      # nbval: lessons 01-06, ~51 s
                'notebooks/10', 'notebooks/07',      # ~38 s and ~29 s
+               'notebooks/12',                      # ~50 s: URDF, tf2 (12_robot_description)
                'notebooks/09', 'notebooks/08', 'notebooks/00',
                'tests/test_grade_contained.py', 'tests/test_grading.py',
                'tests/test_cli_inspect.py', 'tests/test_lab_bench.py',

@@ -6,8 +6,9 @@ otherwise raises CheckError: what was expected, what was seen, what to try. A fa
 check is a failing cell, so nbval fails with it. Checks return nothing: a check cell's
 output is only its ✓ lines, the same on every run (nbval compares it).
 
-One module per thing checked (`graph`, `parameters`, `package`, `output`, `unit_tests`
-with its pytest plugin `wrong_node`; `base` holds the error and the bounded wait);
+One module per thing checked (`graph`, `parameters`, `package`, `output`, `description`,
+`unit_tests` with its pytest plugin `wrong_node`; `base` holds the error and the bounded
+wait);
 notebooks use them all as `check.<name>`. The grader loads this package afresh from the
 kit's files for each check cell (answer_key).
 """
@@ -15,6 +16,13 @@ kit's files for each check cell (answer_key).
 from __future__ import annotations
 
 from robot_lab.grading.check.base import CheckError, eventually
+from robot_lab.grading.check.description import (
+    point_in_frame,
+    transform_broadcast,
+    translation_is,
+    urdf_tree,
+    xacro_expands,
+)
 from robot_lab.grading.check.graph import (
     graph_matches,
     node_subscribes,
@@ -82,6 +90,7 @@ __all__ = [
     'param_file_accepted',
     'param_refused',
     'plot_shows',
+    'point_in_frame',
     'readme_explains',
     'responds',
     'setup_py',
@@ -91,5 +100,9 @@ __all__ = [
     'topic_publishes',
     'topic_rate',
     'topics_exist',
+    'transform_broadcast',
+    'translation_is',
+    'urdf_tree',
     'wiring_is',
+    'xacro_expands',
 ]
