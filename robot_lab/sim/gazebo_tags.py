@@ -1,0 +1,191 @@
+"""A URDF's `<gazebo>` tags as Gazebo Harmonic reads them: systems, sensors, surfaces.
+
+sdformat turns `<gazebo>` (model-wide) and `<gazebo reference="link">` blocks into SDF:
+`<plugin>`s become model systems, `<sensor>`s attach to the link, `<mu1>`/`<mu2>` set the
+link's collision friction. The kit reads the same blocks into plain settings the simulator's
+systems take, with Gazebo's defaults; anything it does not simulate is one warning line.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from robot_lab.sim.xml_tree import Node, Warn
+
+__all__ = ['DiffDriveSettings', 'GazeboTags', 'JointStateSettings', 'LidarSettings',
+           'read_gazebo_tags']
+
+
+@dataclass
+class DiffDriveSettings:
+    """gz::sim::systems::DiffDrive's parameters (empty topics: Gazebo's defaults)."""
+
+    left_joints: list[str]
+    right_joints: list[str]
+    wheel_separation: float = 1.0
+    wheel_radius: float = 0.2
+    topic: str = ''
+    odom_topic: str = ''
+    tf_topic: str = ''
+    frame_id: str = ''
+    child_frame_id: str = ''
+    odom_publish_frequency: float = 50.0
+    max_linear_velocity: float = math.inf
+    min_linear_velocity: float = -math.inf
+    max_angular_velocity: float = math.inf
+    min_angular_velocity: float = -math.inf
+    max_linear_acceleration: float = math.inf
+    min_linear_acceleration: float = -math.inf
+    max_angular_acceleration: float = math.inf
+    min_angular_acceleration: float = -math.inf
+
+
+@dataclass
+class JointStateSettings:
+    """gz::sim::systems::JointStatePublisher: which joints (none named: all) and topic."""
+
+    joints: list[str] = field(default_factory=list)
+    topic: str = ''
+
+
+@dataclass
+class LidarSettings:
+    """A `lidar`/`gpu_lidar` sensor on a link: its beams, ranges, rate, topic and frame."""
+
+    name: str
+    link: str
+    samples: int = 640
+    min_angle: float = 0.0
+    max_angle: float = 0.0
+    range_min: float = 0.0
+    range_max: float = 10.0
+    update_rate: float = 10.0
+    topic: str = ''
+    frame_id: str = ''
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    noise_stddev: float = 0.0
+    noise_mean: float = 0.0
+
+
+@dataclass
+class GazeboTags:
+    """Everything the `<gazebo>` blocks asked for."""
+
+    diff_drives: list[DiffDriveSettings] = field(default_factory=list)
+    joint_states: list[JointStateSettings] = field(default_factory=list)
+    lidars: list[LidarSettings] = field(default_factory=list)
+    friction: dict[str, float] = field(default_factory=dict)  # link -> min(mu1, mu2)
+
+
+_DIFF_DRIVE_NUMBERS = ('wheel_separation', 'wheel_radius', 'odom_publish_frequency',
+                       'max_linear_velocity', 'min_linear_velocity', 'max_angular_velocity',
+                       'min_angular_velocity', 'max_linear_acceleration',
+                       'min_linear_acceleration', 'max_angular_acceleration',
+                       'min_angular_acceleration')
+_DIFF_DRIVE_TEXTS = ('topic', 'odom_topic', 'tf_topic', 'frame_id', 'child_frame_id')
+# Link-level tags sdformat reads that change nothing the kit simulates (rendering, ODE tuning)
+_QUIET = {'material', 'selfCollide', 'self_collide', 'gravity', 'turnGravityOff', 'kp', 'kd',
+          'maxVel', 'minDepth', 'fdir1', 'maxContacts', 'visual', 'provideFeedback',
+          'implicitSpringDamper', 'stopCfm', 'stopErp', 'springStiffness', 'springReference'}
+
+
+def _system_name(plugin: Node) -> str:
+    name = plugin.attrib.get('name', '')
+    return name.split('::')[-1] if name else plugin.attrib.get('filename', '')
+
+
+def _diff_drive(plugin: Node, warn: Warn) -> DiffDriveSettings:
+    settings = DiffDriveSettings([c.text for c in plugin.findall('left_joint')],
+                                 [c.text for c in plugin.findall('right_joint')])
+    for tag in _DIFF_DRIVE_NUMBERS:
+        setattr(settings, tag, plugin.number(tag, getattr(settings, tag)))
+    for tag in _DIFF_DRIVE_TEXTS:
+        setattr(settings, tag, plugin.value(tag))
+    # Gazebo's limiter takes a bare max/min for both directions as well
+    for kind in ('velocity', 'acceleration'):
+        for motion in ('linear', 'angular'):
+            maximum = getattr(settings, f'max_{motion}_{kind}')
+            if plugin.find(f'min_{motion}_{kind}') is None and math.isfinite(maximum):
+                setattr(settings, f'min_{motion}_{kind}', -maximum)
+    known = set(_DIFF_DRIVE_NUMBERS) | set(_DIFF_DRIVE_TEXTS) | {'left_joint', 'right_joint'}
+    for child in plugin.children:
+        if child.tag not in known:
+            warn(f'{child.where}: DiffDrive parameter <{child.tag}> is not supported by '
+                 f"robot_lab's simulator; ignored")
+    return settings
+
+
+def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
+    settings = LidarSettings(sensor.attrib.get('name', 'lidar'), link)
+    ray = sensor.find('lidar') or sensor.find('ray')
+    if ray is not None:
+        scan = ray.find('scan')
+        horizontal = scan.find('horizontal') if scan is not None else None
+        if horizontal is not None:
+            settings.samples = int(horizontal.number('samples', 640))
+            settings.min_angle = horizontal.number('min_angle', 0.0)
+            settings.max_angle = horizontal.number('max_angle', 0.0)
+            if horizontal.number('resolution', 1.0) != 1.0:
+                warn(f'{horizontal.where}: <resolution> other than 1 is not supported; '
+                     f'one ray per sample')
+        vertical = scan.find('vertical') if scan is not None else None
+        if vertical is not None and vertical.number('samples', 1) > 1:
+            warn(f'{vertical.where}: <vertical> samples > 1 (a 3D lidar) are not supported; '
+                 f'the horizontal plane only')
+        ranges = ray.find('range')
+        if ranges is not None:
+            settings.range_min = ranges.number('min', 0.0)
+            settings.range_max = ranges.number('max', 10.0)
+        noise = ray.find('noise')
+        if noise is not None:
+            settings.noise_mean = noise.number('mean', 0.0)
+            settings.noise_stddev = noise.number('stddev', 0.0)
+    settings.update_rate = sensor.number('update_rate', 10.0)
+    settings.topic = sensor.value('topic')
+    settings.frame_id = (sensor.value('gz_frame_id') or sensor.value('frame_id')
+                         or sensor.value('ignition_frame_id'))
+    pose = sensor.find('pose')
+    if pose is not None and pose.text:
+        values = [float(v) for v in pose.text.split()] + [0.0] * 6
+        settings.xyz = (values[0], values[1], values[2])
+        settings.rpy = (values[3], values[4], values[5])
+    for child in sensor.children:
+        if child.tag not in ('lidar', 'ray', 'update_rate', 'topic', 'gz_frame_id', 'frame_id',
+                             'ignition_frame_id', 'pose', 'always_on', 'visualize'):
+            warn(f'{child.where}: <{child.tag}> in sensor {settings.name!r} is not supported '
+                 f"by robot_lab's simulator; ignored")
+    return settings
+
+
+def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
+    """The `<gazebo>` blocks of a URDF root element, read as sdformat and gz-sim do."""
+    tags = GazeboTags()
+    for block in robot.findall('gazebo'):
+        link = block.attrib.get('reference', '')
+        mu = [block.number(tag, math.nan) for tag in ('mu1', 'mu2')]
+        if not all(math.isnan(m) for m in mu) and link:
+            tags.friction[link] = min(m for m in mu if not math.isnan(m))
+        for child in block.children:
+            if child.tag == 'plugin':
+                system = _system_name(child)
+                if system in ('DiffDrive', 'gz-sim-diff-drive-system'):
+                    tags.diff_drives.append(_diff_drive(child, warn))
+                elif system in ('JointStatePublisher', 'gz-sim-joint-state-publisher-system'):
+                    tags.joint_states.append(JointStateSettings(
+                        [c.text for c in child.findall('joint_name')], child.value('topic')))
+                else:
+                    warn(f'{child.where}: plugin {child.attrib.get("name", system)!r} is not '
+                         f"supported by robot_lab's simulator; ignored")
+            elif child.tag == 'sensor':
+                kind = child.attrib.get('type', '')
+                if kind in ('gpu_lidar', 'lidar', 'gpu_ray', 'ray'):
+                    tags.lidars.append(_lidar(child, link, warn))
+                else:
+                    warn(f'{child.where}: sensor type {kind!r} is not supported by '
+                         f"robot_lab's simulator yet; ignored")
+            elif child.tag not in ('mu1', 'mu2') and child.tag not in _QUIET:
+                warn(f'{child.where}: <gazebo> element <{child.tag}> is not supported by '
+                     f"robot_lab's simulator; ignored")
+    return tags

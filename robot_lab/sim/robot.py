@@ -1,0 +1,207 @@
+"""A robot from its URDF into the simulation, with the fixes a URDF needs, each said aloud.
+
+MuJoCo's own URDF loader drops links with only visuals, refuses moving links without
+inertia and `package://` paths, and welds the root to the world. The kit reads the URDF
+itself (the tree from `robot_lab.urdf.model`, the same the robot_state_publisher uses) and
+builds one body per link, so each of those cases becomes a fix with a warning that names
+the link, as Gazebo's sdformat warns when it converts a URDF:
+- a moving link without `<inertial>`: 0.1 kg and 1e-4 kg m² about each axis;
+- `package://pkg/...`: the package's share folder from the ament index;
+- meshes (.stl, .obj, .dae) read by trimesh into MuJoCo meshes, when trimesh can read them;
+- a root not attached to a `world` link gets a free joint, as Gazebo spawns a model.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+
+from robot_lab.sim.gazebo_tags import GazeboTags, read_gazebo_tags
+from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
+from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
+from robot_lab.urdf.model import Robot, parse_urdf
+
+__all__ = ['DEFAULT_INERTIA', 'DEFAULT_MASS', 'SpawnedRobot', 'add_robot']
+
+DEFAULT_MASS = 0.1
+DEFAULT_INERTIA = 1e-4
+
+
+@dataclass
+class SpawnedRobot:
+    """A robot in the spec: its name, parsed tree, `<gazebo>` settings and body names."""
+
+    name: str
+    urdf: Robot
+    tags: GazeboTags
+    bodies: dict[str, str]  # link -> MuJoCo body name
+    joints: dict[str, str]  # URDF joint -> MuJoCo joint name (moving joints)
+
+    def body(self, link: str) -> str:
+        return self.bodies[link]
+
+
+def _attribute_vector(node: Node | None, attribute: str, count: int) -> list[float]:
+    if node is None or attribute not in node.attrib:
+        return [0.0] * count
+    probe = Node(attribute, {}, node.line, node.source, node.attrib[attribute])
+    return vector(probe, count)
+
+
+def _origin(node: Node) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    origin = node.find('origin')
+    xyz = _attribute_vector(origin, 'xyz', 3)
+    rpy = _attribute_vector(origin, 'rpy', 3)
+    return (xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2])
+
+
+def _resolve_mesh(filename: str, node: Node, warn: Warn) -> Path | None:
+    if filename.startswith('package://'):
+        from robot_lab.pkg.index import package_share  # the index imports kit_packages
+
+        package, _, rest = filename.removeprefix('package://').partition('/')
+        try:
+            path = package_share(package) / rest
+        except Exception:  # PackageNotFoundError: said as this mesh's warning
+            warn(f'{node.where}: mesh {filename!r}: package {package!r} is not in the ament '
+                 f'index; this collision is left out')
+            return None
+        warn(f'{node.where}: mesh {filename!r} read from {path} (package:// resolved by the kit)')
+        return path
+    return Path(filename.removeprefix('file://')).expanduser()
+
+
+def _mesh(spec: mujoco.MjSpec, geometry: Node, link: str, warn: Warn) -> str:
+    mesh = geometry.find('mesh')
+    assert mesh is not None
+    path = _resolve_mesh(mesh.attrib.get('filename', ''), mesh, warn)
+    if path is None:
+        return ''
+    try:
+        import trimesh
+
+        loaded = trimesh.load(str(path), force='mesh')
+        mesh_data: Any = loaded  # a Trimesh: force='mesh'
+        vertices = mesh_data.vertices.flatten().tolist()
+        faces = mesh_data.faces.flatten().tolist()
+    except Exception as error:  # trimesh raises many kinds; the warning names the cause
+        warn(f'{mesh.where}: mesh {path.name} of link {link!r} could not be read '
+             f'({type(error).__name__}: {error}); this collision is left out')
+        return ''
+    scale = _attribute_vector(mesh, 'scale', 3) if 'scale' in mesh.attrib else [1.0] * 3
+    asset = spec.add_mesh()
+    asset.name = f'{link}::mesh{len(spec.meshes)}'
+    asset.uservert = vertices
+    asset.userface = faces
+    asset.scale = scale
+    if path.suffix.lower() == '.dae':
+        warn(f'{mesh.where}: {path.name} of link {link!r} converted from COLLADA with trimesh')
+    return str(asset.name)
+
+
+def _collision_shape(spec: mujoco.MjSpec, collision: Node, link: str, warn: Warn) -> Shape | None:
+    xyz, rpy = _origin(collision)
+    geometry = collision.find('geometry')
+    if geometry is None or not geometry.children:
+        warn(f'{collision.where}: <collision> of link {link!r} has no geometry; left out')
+        return None
+    shape = geometry.children[0]
+    if shape.tag == 'box':
+        return Shape('box', tuple(_attribute_vector(shape, 'size', 3)), xyz, rpy)
+    if shape.tag == 'cylinder':
+        radius, length = (float(shape.attrib.get(k, '0')) for k in ('radius', 'length'))
+        return Shape('cylinder', (radius, length), xyz, rpy)
+    if shape.tag == 'sphere':
+        return Shape('sphere', (float(shape.attrib.get('radius', '0')),), xyz, rpy)
+    if shape.tag == 'mesh':
+        name = _mesh(spec, geometry, link, warn)
+        return Shape('mesh', (), xyz, rpy, mesh=name) if name else None
+    warn(f'{shape.where}: <{shape.tag}> geometry is not a URDF shape; this collision is left out')
+    return None
+
+
+def _inertial(body: mujoco.MjsBody, link: Node, moves: bool, warn: Warn) -> None:
+    inertial = link.find('inertial')
+    if inertial is None:
+        if moves:
+            warn(f'{link.where}: link {link.attrib["name"]!r} has no <inertial>; the simulator '
+                 f'gives it {DEFAULT_MASS} kg and {DEFAULT_INERTIA} kg m² (Gazebo would drop it)')
+            body.mass = DEFAULT_MASS
+            body.inertia = [DEFAULT_INERTIA] * 3
+            body.explicitinertial = True
+        return
+    xyz, rpy = _origin(inertial)
+    mass_node = inertial.find('mass')
+    mass = float(mass_node.attrib.get('value', '0')) if mass_node is not None else 0.0
+    inertia = inertial.find('inertia')
+    values = [float(inertia.attrib.get(k, '0')) if inertia is not None else 0.0
+              for k in ('ixx', 'iyy', 'izz', 'ixy', 'ixz', 'iyz')]
+    if moves and (mass <= 0.0 or min(values[:3]) <= 0.0):
+        warn(f'{inertial.where}: link {link.attrib["name"]!r} has mass {mass} and inertia '
+             f'{values[:3]}; the simulator uses at least {DEFAULT_MASS} kg and '
+             f'{DEFAULT_INERTIA} kg m² on each axis')
+        mass = max(mass, DEFAULT_MASS)
+        values = [max(v, DEFAULT_INERTIA) for v in values[:3]] + values[3:]
+    body.mass = mass
+    body.ipos = list(xyz)
+    body.iquat = quat_from_rpy(*rpy)
+    body.fullinertia = values
+    body.explicitinertial = True
+
+
+def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
+              xyz: tuple[float, float, float], rpy: tuple[float, float, float],
+              warn: Warn) -> SpawnedRobot:
+    """The URDF's links as bodies of `spec` under a body named `name`, posed at xyz/rpy."""
+    tree = parse_urdf(urdf_text, source)  # urdfdom's refusals, file:line
+    root = parse(urdf_text, source)
+    if any(str(b.name).startswith(f'{name}::') or b.name == name for b in spec.bodies):
+        raise SimulationError(f'an entity named {name!r} already exists in the world',
+                              fix='give the robot another -name')
+    tags = read_gazebo_tags(root, warn)
+    links = {n.attrib.get('name', ''): n for n in root.findall('link')}
+    bodies: dict[str, str] = {}
+    joints: dict[str, str] = {}
+
+    def build(link: str, body: mujoco.MjsBody, moves: bool) -> None:
+        body.name = f'{name}::{link}'
+        bodies[link] = body.name
+        node = links[link]
+        _inertial(body, node, moves, warn)
+        friction = tags.friction.get(link)
+        for index, collision in enumerate(node.findall('collision')):
+            shape = _collision_shape(spec, collision, link, warn)
+            if shape is not None:
+                add_shape(body, shape, f'{body.name}::collision{index}', friction)
+        for joint in tree.child_joints.get(link, []):
+            child = body.add_body()
+            child.pos = list(joint.xyz)
+            child.quat = quat_from_rpy(*joint.rpy)
+            child_moves = moves or joint.type != 'fixed'
+            if joint.type in ('revolute', 'continuous', 'prismatic'):
+                mj_joint = child.add_joint()
+                mj_joint.name = f'{name}::{joint.name}'
+                mj_joint.type = (mujoco.mjtJoint.mjJNT_SLIDE if joint.type == 'prismatic'
+                                 else mujoco.mjtJoint.mjJNT_HINGE)
+                mj_joint.axis = list(joint.axis)
+                if joint.type != 'continuous' and joint.limit is not None:
+                    mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
+                    mj_joint.range = [joint.limit.lower, joint.limit.upper]
+                joints[joint.name] = mj_joint.name
+            elif joint.type != 'fixed':
+                warn(f'{source}:{joint.line}: joint {joint.name!r} of type {joint.type!r} is '
+                     f"not supported by robot_lab's simulator; simulated as fixed")
+            build(joint.child, child, child_moves)
+
+    base = spec.worldbody.add_body()
+    base.pos = list(xyz)
+    base.quat = quat_from_rpy(*rpy)
+    if tree.root == 'world':
+        build(tree.root, base, False)
+    else:
+        base.add_freejoint().name = f'{name}::free'
+        build(tree.root, base, True)
+    return SpawnedRobot(name, tree, tags, bodies, joints)

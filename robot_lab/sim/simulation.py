@@ -1,0 +1,129 @@
+"""One simulated world: MuJoCo's model and data, the robots spawned in it, their systems.
+
+This is gz-sim's server without its transport: `step()` advances the physics by the
+world's fixed step and runs the systems; `spawn()` is the create service; what systems
+publish goes to `on_publish`, and `command()` delivers a message to a system's
+subscription, the way a gz topic would. Time is an integer count of nanoseconds
+(steps x step), so the same world, commands and seed give the same trajectory.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+
+from robot_lab.sim.robot import SpawnedRobot, add_robot
+from robot_lab.sim.systems import (
+    DiffDrive,
+    JointStatePublisher,
+    Lidar,
+    Publish,
+    System,
+    header,
+    topic_name,
+)
+from robot_lab.sim.world import WorldInfo, find_world, load_world
+from robot_lab.sim.xml_tree import Warn
+
+__all__ = ['CLOCK_RATE', 'Simulation']
+
+Message = dict[str, Any]
+CLOCK_RATE = 100.0  # /clock messages per simulated second (Gazebo throttles its own too)
+
+
+def _print_warning(line: str) -> None:
+    print(f'[Wrn] {line}', flush=True)
+
+
+class Simulation:
+    """A world file loaded and ready to step; robots join it with `spawn`."""
+
+    def __init__(self, world: str | Path, *, warn: Warn = _print_warning, seed: int = 0,
+                 on_publish: Publish | None = None) -> None:
+        self.warn = warn
+        self.path = find_world(str(world))
+        self.spec, self.info = load_world(self.path, warn)
+        self.model = self.spec.compile()
+        self.data = mujoco.MjData(self.model)
+        mujoco.mj_forward(self.model, self.data)
+        self.rng = random.Random(seed)
+        self.steps = 0
+        self.step_ns = round(self.info.step * 1e9)
+        self.robots: dict[str, SpawnedRobot] = {}
+        self.systems: list[System] = []
+        self.subscriptions: dict[str, list[Callable[[Message], None]]] = {}
+        self.on_publish: Publish = on_publish or (lambda topic, kind, message: None)
+        self.clock_period = round(1e9 / CLOCK_RATE)
+
+    @property
+    def world(self) -> WorldInfo:
+        return self.info
+
+    @property
+    def time_ns(self) -> int:
+        return self.steps * self.step_ns
+
+    def subscribe(self, topic: str, callback: Callable[[Message], None]) -> None:
+        self.subscriptions.setdefault(topic_name(topic), []).append(callback)
+
+    def command(self, topic: str, message: Message) -> bool:
+        """Deliver a message to the systems that take `topic`; False if none does."""
+        callbacks = self.subscriptions.get(topic_name(topic), [])
+        for callback in callbacks:
+            callback(message)
+        return bool(callbacks)
+
+    def spawn(self, urdf: str, name: str, xyz: tuple[float, float, float] = (0.0, 0.0, 0.0),
+              rpy: tuple[float, float, float] = (0.0, 0.0, 0.0),
+              source: str = 'robot_description') -> SpawnedRobot:
+        """`ros_gz_sim create`: the URDF's robot at a pose, its `<gazebo>` systems running."""
+        robot = add_robot(self.spec, urdf, name, source, xyz, rpy, self.warn)
+        systems: list[System] = []
+        for drive in robot.tags.diff_drives:
+            missing = [j for j in drive.left_joints + drive.right_joints if j not in robot.joints]
+            if missing:
+                self.warn(f'{source}: DiffDrive names joint(s) {missing} that the robot has not '
+                          f'(or that do not move); the system is not loaded')
+                continue
+            systems.append(DiffDrive(drive, robot, self.spec, self.subscribe))
+        systems += [JointStatePublisher(j, robot, self.info.name)
+                    for j in robot.tags.joint_states]
+        systems += [Lidar(lidar, robot, self.info.name, self.rng) for lidar in robot.tags.lidars]
+        self.model, self.data = self.spec.recompile(self.model, self.data)
+        mujoco.mj_forward(self.model, self.data)
+        self.systems += systems
+        for system in self.systems:
+            system.bind(self.model)
+        self.robots[name] = robot
+        return robot
+
+    def step(self, count: int = 1) -> None:
+        """Advance `count` fixed steps, running every system around each."""
+        for _ in range(count):
+            time_ns = self.time_ns
+            for system in self.systems:
+                system.pre_update(self.model, self.data, time_ns)
+            mujoco.mj_step(self.model, self.data)
+            self.steps += 1
+            time_ns = self.time_ns
+            for system in self.systems:
+                system.post_update(self.model, self.data, time_ns, self.on_publish)
+            if time_ns % self.clock_period == 0:
+                clock = {'header': header(time_ns), 'sim': {'sec': time_ns // 1_000_000_000,
+                                                            'nsec': time_ns % 1_000_000_000}}
+                self.on_publish('/clock', 'gz.msgs.Clock', clock)
+                self.on_publish(f'/world/{self.info.name}/clock', 'gz.msgs.Clock', clock)
+
+    def body_pose(self, robot: str) -> tuple[float, float, float]:
+        """x, y and heading of a robot's root link in the world (for tests and views)."""
+        body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY,
+                                 self.robots[robot].body(self.robots[robot].urdf.root))
+        x, y = float(self.data.xpos[body][0]), float(self.data.xpos[body][1])
+        matrix = self.data.xmat[body]
+        import math
+
+        return x, y, math.atan2(float(matrix[3]), float(matrix[0]))

@@ -1,0 +1,231 @@
+"""SDF worlds (1.6-1.11) as Gazebo Harmonic loads them, built into a MuJoCo model spec.
+
+What a lab's world holds is read: `<physics>` (max_step_size, real_time_factor), static and
+dynamic `<model>`s of `<link>`s with box, cylinder, sphere and plane collisions, poses, and
+`<include>` of models found on GZ_SIM_RESOURCE_PATH or among the kit's own (ground_plane,
+sun, walls). What only a renderer or GUI uses (lights, visuals, materials, the GUI's
+plugins) has no effect on the simulation and passes quietly; any other element is one
+warning line naming it, its file and its line, so nothing is dropped unseen.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+
+from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
+from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
+
+__all__ = ['KIT_RESOURCES', 'WorldInfo', 'find_world', 'load_world', 'resource_path']
+
+KIT_RESOURCES = Path(__file__).resolve().parents[1] / 'data' / 'ament_packages' / 'ros_gz_sim'
+# Elements a renderer or GUI reads: no physics effect, so no warning.
+RENDERING = {'light', 'visual', 'gui', 'scene', 'material', 'atmosphere', 'audio', 'wind',
+             'magnetic_field', 'spherical_coordinates', 'self_collide', 'enable_wind',
+             'allow_auto_disable', 'sensor', 'surface'}
+# World systems every world has in the kit (Gazebo loads them from the world's plugins).
+WORLD_SYSTEMS = ('physics', 'user-commands', 'usercommands', 'scene-broadcaster',
+                 'scenebroadcaster', 'sensors', 'contact', 'imu', 'imu-system',
+                 'forcetorque', 'navsat', 'altimeter', 'magnetometer', 'air-pressure')
+
+
+@dataclass
+class WorldInfo:
+    """What the simulation loop needs from the world file besides the bodies."""
+
+    name: str = 'default'
+    step: float = 0.001
+    real_time_factor: float = 1.0
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.8)
+    models: list[str] = field(default_factory=list)
+
+
+def resource_path() -> list[Path]:
+    """Where `model://` and world names are found: GZ_SIM_RESOURCE_PATH, then the kit's."""
+    folders = [Path(p) for p in os.environ.get('GZ_SIM_RESOURCE_PATH', '').split(':') if p]
+    return [*folders, KIT_RESOURCES / 'worlds', KIT_RESOURCES / 'models']
+
+
+def find_world(name: str) -> Path:
+    """A world file as `gz sim` finds it: a path, else a name on the resource path."""
+    path = Path(name).expanduser()
+    if path.is_file():
+        return path
+    for folder in resource_path():
+        if (folder / name).is_file():
+            return folder / name
+    kit = sorted(p.name for p in (KIT_RESOURCES / 'worlds').glob('*.sdf'))
+    raise SimulationError(f'unable to find or download file {name!r}',
+                          fix=f"give a path to an .sdf file, or one of the kit's worlds: "
+                              f'{", ".join(kit)}')
+
+
+def _pose(node: Node) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    values = vector(node.find('pose'), 6)
+    return (values[0], values[1], values[2]), (values[3], values[4], values[5])
+
+
+def _geometry(collision: Node, warn: Warn) -> Shape | None:
+    geometry = collision.find('geometry')
+    xyz, rpy = _pose(collision)
+    shapes = geometry.children if geometry is not None else []
+    for shape in shapes:
+        if shape.tag == 'box':
+            return Shape('box', tuple(vector(shape.find('size'), 3, 1.0)), xyz, rpy)
+        if shape.tag == 'cylinder':
+            return Shape('cylinder', (shape.number('radius', 0.5), shape.number('length', 1.0)),
+                         xyz, rpy)
+        if shape.tag == 'sphere':
+            return Shape('sphere', (shape.number('radius', 0.5),), xyz, rpy)
+        if shape.tag == 'plane':
+            normal = vector(shape.find('normal'), 3)
+            if normal[:2] != [0.0, 0.0]:
+                warn(f'{shape.where}: <plane> with normal {normal}: only an upward normal is '
+                     f'supported; collides as 0 0 1')
+            return Shape('plane', (), xyz, rpy)
+        warn(f"{shape.where}: <{shape.tag}> geometry is not supported by robot_lab's "
+             f'simulator; this collision is left out')
+    return None
+
+
+class _Builder:
+    def __init__(self, spec: mujoco.MjSpec, info: WorldInfo, warn: Warn) -> None:
+        self.spec, self.info, self.warn = spec, info, warn
+
+    def unsupported(self, node: Node, where: str) -> None:
+        self.warn(f"{node.where}: <{node.tag}> in <{where}> is not supported by robot_lab's "
+                  f'simulator; ignored')
+
+    def world(self, world: Node) -> None:
+        self.info.name = world.attrib.get('name', 'default')
+        for child in world.children:
+            if child.tag == 'physics':
+                self.physics(child)
+            elif child.tag == 'gravity':
+                g = vector(child, 3)
+                self.info.gravity = (g[0], g[1], g[2])
+            elif child.tag == 'model':
+                self.model(child, None)
+            elif child.tag == 'include':
+                self.include(child)
+            elif child.tag == 'plugin':
+                self.world_plugin(child)
+            elif child.tag not in RENDERING:
+                self.unsupported(child, 'world')
+
+    def physics(self, node: Node) -> None:
+        self.info.step = node.number('max_step_size', 0.001)
+        self.info.real_time_factor = node.number('real_time_factor', 1.0)
+        for child in node.children:
+            if child.tag not in ('max_step_size', 'real_time_factor', 'real_time_update_rate',
+                                 'max_contacts', 'dart', 'ode', 'bullet', 'simbody'):
+                self.unsupported(child, 'physics')
+        if node.attrib.get('type', 'ode') not in ('ode', 'dart', 'bullet', 'bullet-featherstone'):
+            self.unsupported(node, 'world')
+
+    def world_plugin(self, node: Node) -> None:
+        filename = node.attrib.get('filename', '').lower()
+        name = filename.removeprefix('lib').removesuffix('.so')
+        for prefix in ('gz-sim-', 'ignition-gazebo-'):
+            name = name.removeprefix(prefix)
+        if name.removesuffix('-system') not in WORLD_SYSTEMS and name not in WORLD_SYSTEMS:
+            self.warn(f'{node.where}: world plugin {node.attrib.get("name", filename)!r} is '
+                      f"not supported by robot_lab's simulator; ignored")
+
+    def include(self, node: Node) -> None:
+        uri = node.value('uri')
+        model_name = uri.removeprefix('model://').rstrip('/').split('/')[-1]
+        for folder in resource_path():
+            candidate = folder / model_name / 'model.sdf'
+            if candidate.is_file():
+                root = parse(candidate.read_bytes(), str(candidate))
+                model = root.find('model')
+                if model is None:
+                    break
+                if node.find('name') is not None:
+                    model.attrib['name'] = node.value('name')
+                if node.find('pose') is not None:
+                    model.children = [c for c in model.children if c.tag != 'pose']
+                    model.children.append(node.find('pose'))  # type: ignore[arg-type]
+                if node.find('static') is not None:
+                    model.children.append(node.find('static'))  # type: ignore[arg-type]
+                self.model(model, None)
+                return
+            if (folder / model_name / 'model.config').is_file() and model_name == 'sun':
+                return
+        if model_name == 'sun':  # a light: nothing to simulate
+            return
+        raise SimulationError(f'<include> of {uri!r}: no such model on the resource path',
+                              file=node.source, line=node.line,
+                              fix='put the model folder on GZ_SIM_RESOURCE_PATH, or use one of '
+                                  "the kit's: " + ', '.join(
+                                      sorted(p.name for p in (KIT_RESOURCES / 'models').iterdir())))
+
+    def model(self, model: Node, parent: mujoco.MjsBody | None) -> None:
+        name = model.attrib.get('name', f'model_{len(self.info.models)}')
+        self.info.models.append(name)
+        static = model.value('static', 'false').lower() in ('1', 'true')
+        xyz, rpy = _pose(model)
+        frame = (parent or self.spec.worldbody).add_body()
+        frame.name = name
+        frame.pos = list(xyz)
+        frame.quat = quat_from_rpy(*rpy)
+        for child in model.children:
+            if child.tag == 'link':
+                self.link(child, frame, static, name)
+            elif child.tag == 'model':
+                self.model(child, frame)
+            elif child.tag == 'include':
+                self.include(child)
+            elif child.tag not in RENDERING | {'pose', 'static', 'plugin'}:
+                self.unsupported(child, 'model')
+            elif child.tag == 'plugin':
+                self.warn(f'{child.where}: model plugin {child.attrib.get("name", "")!r} in an '
+                          f'SDF world is not supported yet; spawn the robot from URDF instead')
+
+    def link(self, link: Node, frame: mujoco.MjsBody, static: bool, model: str) -> None:
+        xyz, rpy = _pose(link)
+        body = frame.add_body()
+        body.name = f'{model}::{link.attrib.get("name", "link")}'
+        body.pos = list(xyz)
+        body.quat = quat_from_rpy(*rpy)
+        if not static:
+            body.add_freejoint()
+            inertial = link.find('inertial')
+            mass = inertial.number('mass', 1.0) if inertial is not None else 1.0
+            body.mass = mass
+            inertia = inertial.find('inertia') if inertial is not None else None
+            if inertia is not None:
+                body.inertia = [inertia.number('ixx', 1.0), inertia.number('iyy', 1.0),
+                                inertia.number('izz', 1.0)]
+            else:
+                body.inertia = [mass / 6, mass / 6, mass / 6]  # SDF's default: unit diagonal
+            body.explicitinertial = True
+        for index, child in enumerate(link.children):
+            if child.tag == 'collision':
+                shape = _geometry(child, self.warn)
+                if shape is not None:
+                    add_shape(body, shape, f'{body.name}::{child.attrib.get("name", index)}')
+            elif child.tag not in RENDERING | {'pose', 'inertial', 'kinematic', 'gravity'}:
+                self.unsupported(child, 'link')
+
+
+def load_world(path: Path, warn: Warn) -> tuple[mujoco.MjSpec, WorldInfo]:
+    """The world file's bodies in a new spec, and its name, step and real-time factor."""
+    root = parse(path.read_bytes(), str(path))
+    world = root.find('world') if root.tag == 'sdf' else None
+    if world is None:
+        raise SimulationError('no <sdf><world> in the file', file=str(path), line=root.line,
+                              fix='a world file is <sdf version="1.9"><world name="..."> ...')
+    spec = mujoco.MjSpec()
+    info = WorldInfo()
+    _Builder(spec, info, warn).world(world)
+    spec.modelname = info.name
+    spec.option.timestep = info.step
+    spec.option.gravity = list(info.gravity)
+    # the wheels' velocity servos are stiff for a light wheel: implicit in velocity
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    return spec, info
