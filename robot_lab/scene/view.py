@@ -78,6 +78,10 @@ class SceneView(LiveView):
         self._take_lock = threading.Lock()
         self._tf_dirty = False
         self._send_all = True  # the next tick sends everything (a view appeared)
+        # the page's views by id: on screen, or scrolled out of sight (then nothing is sent)
+        self._views_seen: set[str] = set()
+        self._views_hidden: set[str] = set()
+        self.ticks = 0
         self._resend_poses = False
         self._sent_poses: dict[str, Pose | None] = {}
         self._sent_version = -1
@@ -328,9 +332,25 @@ class SceneView(LiveView):
         return self._widget
 
     def _on_msg(self, _widget: object, content: object, _buffers: object) -> None:
-        if isinstance(content, dict) and content.get('kind') == 'ready':
-            with self._lock:
+        if not isinstance(content, dict):
+            return
+        view = str(content.get('view', ''))
+        with self._lock:
+            if content.get('kind') == 'ready':
                 self._send_all = True
+            elif content.get('kind') == 'seen' and content.get('value'):
+                self._views_hidden.discard(view)
+                self._views_seen.add(view)
+                self._resend_poses = True  # catch up on what moved while out of sight
+            elif content.get('kind') == 'seen':
+                self._views_seen.discard(view)
+                self._views_hidden.add(view)
+
+    def _out_of_sight(self) -> bool:
+        """Every view of it that spoke is scrolled away (or gone): the kernel keeps taking
+        messages but sends nothing, and catches up when one is seen again."""
+        with self._lock:
+            return bool(self._views_hidden) and not self._views_seen
 
     def _on_fixed(self, change: dict[str, Any]) -> None:
         if change['new'] and change['new'] != self._fixed:
@@ -356,8 +376,9 @@ class SceneView(LiveView):
     def tick(self) -> dict[str, object] | None:
         """Send the browser what changed since the last tick; returns the message sent."""
         self._take()
-        if self._scene_canvas is None:  # nothing shows it (yet): keep what is new for it
-            return None
+        self.ticks += 1
+        if self._scene_canvas is None or self._out_of_sight():
+            return None  # nothing shows it now: keep what is new for when something does
         out = Outbox()
         msg: dict[str, object] = {}
         with self._lock:

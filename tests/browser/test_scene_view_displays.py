@@ -180,6 +180,19 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path
         assert len(sent) == 5, sent
         with recorder.lock:
             replay = list(recorder.sent)
+        # every view out of sight: the kernel keeps taking /tf but sends nothing, then
+        # catches up when a view is seen again
+        view._on_msg(recorder, {'kind': 'seen', 'view': 'v1', 'value': False}, [])
+        view._on_tf(serialize_message(TFMessage(transforms=[_tf('odom', 'base_link', 0.9, 0.0)])))
+        ticks, count = view.ticks, len(recorder.sent)
+        while view.ticks < ticks + 3:
+            view._closed.wait(0.02)  # the view's own ticks, counted
+        assert len(recorder.sent) == count, 'a view out of sight was sent poses'
+        view._on_msg(recorder, {'kind': 'seen', 'view': 'v1', 'value': True}, [])
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and len(recorder.sent) == count:
+            view._closed.wait(0.02)
+        assert recorder.sent[count][0]['poses']['base_link'][0] == 0.9
     finally:
         view.close()
     with sync_playwright() as pw:

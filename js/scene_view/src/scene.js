@@ -113,8 +113,12 @@ function render({ model, el: host }) {
     dirty = true;
     if (!handle && !stopped && seen) handle = requestAnimationFrame(draw);
   };
+  // The kernel sends nothing while every view of the widget is out of sight.
+  const viewId = Math.random().toString(36).slice(2);
   const watch = new IntersectionObserver((entries) => {
-    seen = entries[entries.length - 1].isIntersecting;
+    const now = entries[entries.length - 1].isIntersecting;
+    if (now !== seen) model.send({ kind: 'seen', view: viewId, value: now });
+    seen = now;
     if (seen && dirty) wake();
   });
   watch.observe(root);
@@ -229,10 +233,11 @@ function render({ model, el: host }) {
   model.on('msg:custom', take);
   const changed = () => { showStatus(); wake(); };
   model.on('change:status', changed);
-  model.send({ kind: 'ready' });
+  model.send({ kind: 'ready', view: viewId });
   wake();
   return () => {
     stopped = true;
+    try { model.send({ kind: 'seen', view: viewId, value: false }); } catch (err) { /* kernel gone */ }
     cancelAnimationFrame(handle);
     resize.disconnect();
     watch.disconnect();
