@@ -9,8 +9,10 @@ turtle_tf2_py is not used here: these are the pages' files.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import signal
 import subprocess
 from pathlib import Path
 
@@ -28,7 +30,8 @@ CARROT_IN_WORLD = (5.544445, 7.544445)
 
 def _run(command: str, cwd: Path) -> subprocess.Popen[str]:
     return subprocess.Popen(['bash', '-c', command], cwd=cwd, env=venv_env(), text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            start_new_session=True)  # its own group: colcon's children too
 
 
 def _finish(proc: subprocess.Popen[str], timeout: float = 300) -> None:
@@ -86,7 +89,18 @@ def test_tf2_tutorials_from_a_students_colcon_package(start, tmp_path: Path) -> 
     building = _hand_in(ws, PAGES / 'downloads' / 'turtle_tf2_listener.py')
     building_travel = _hand_in(ws_travel, PAGES / 'typed' / 'time_travel' /
                                'turtle_tf2_listener.py')
-    _finish(building)
+    try:
+        _finish(building)
+        _run_the_pages(start, ws, ws_travel, building_travel)
+    finally:
+        if building_travel.poll() is None:  # a failure before it was waited for
+            os.killpg(building_travel.pid, signal.SIGKILL)
+            building_travel.communicate()
+
+
+def _run_the_pages(start, ws: Path, ws_travel: Path,  # type: ignore[no-untyped-def]
+                   building_travel: subprocess.Popen[str]) -> None:
+    """The pages' commands in order, the second build joined before the time-travel run."""
 
     def sourced(command: str, where: Path = ws) -> Proc:
         return start('bash', '-c', f'source install/setup.bash && exec {command}',
