@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -281,3 +282,88 @@ def test_a_listeners_mistakes_are_named(spin: Callable[[Node], Node], mistake: s
         with pytest.raises(CheckError, match=says):
             check.point_in_frame('/sensor/temperature_location', 'odom', 'temp_sensor_link',
                                  timeout=2)
+
+
+# --- the package grader's optional rubric lines (grading/package/checks/description) ------
+
+RUBRIC_LINES = """
+  - id: urdf_describes
+    name: The URDF describes the robot
+    points: 2
+    links: [base_link, left_wheel, right_wheel, caster, temp_sensor_link]
+    parents: {left_wheel: base_link, right_wheel: base_link, caster: base_link,
+              temp_sensor_link: base_link}
+    joints: {left_wheel_joint: continuous, right_wheel_joint: continuous,
+             caster_joint: fixed, temp_sensor_joint: fixed}
+  - id: tf_tree
+    name: robot_state_publisher publishes the robot's TF tree
+    points: 1
+"""
+
+
+def _graded(tmp_path: Path, files: dict[str, str]) -> Any:
+    """A job's state for a description package holding `files`, under the shipped
+    ch6-lab1 rubric with its commented optional lines switched on."""
+    from robot_lab.grading.package.rubric import load_rubric, rubric_path
+    from robot_lab.grading.package.state import JobState
+
+    shipped = rubric_path('ch6-lab1').read_text()
+    assert '# - id: urdf_describes' in shipped and '# - id: tf_tree' in shipped
+    rubric = _file(tmp_path, 'rubric.yaml', shipped + RUBRIC_LINES)
+    package = tmp_path / 'my_robot_description'
+    for rel, text in files.items():
+        (package / rel).parent.mkdir(parents=True, exist_ok=True)
+        (package / rel).write_text(text)
+    return JobState(load_rubric(rubric), package=package, package_name=package.name)
+
+
+def _verdict(state: Any, check_id: str) -> Any:
+    from robot_lab.grading.package.registry import registered_checks
+
+    return registered_checks()[check_id].run(state, state.rubric.check(check_id))
+
+
+@pytest.mark.no_ros
+@pytest.mark.usefixtures('venv_path')
+@pytest.mark.parametrize(('files', 'earned', 'says'), [
+    ({'urdf/my_robot.urdf': ROBOT}, True, r'`urdf/my_robot\.urdf`: robot `my_robot`, root '
+                                          r'`base_link`, 5 links, 4 joints$'),
+    ({'urdf/my_robot.urdf.xacro': XACRO}, True, r'`urdf/my_robot\.urdf\.xacro`: .* 5 links'),
+    ({'urdf/my_robot.urdf': _caster_on(ROBOT)}, False,
+     r'`caster` has parent `left_wheel` \(joint `caster_joint`, line \d+\), not `base_link`'),
+    ({'urdf/my_robot.urdf': ROBOT.replace('type="continuous"', 'type="revolute"')}, False,
+     r"check_urdf refuses it: urdf/my_robot\.urdf:\d+: joint 'left_wheel_joint' is revolute "
+     r'but has no <limit>'),
+    ({'setup.py': ''}, False, r'no \.urdf or \.xacro file in `my_robot_description/`'),
+])
+def test_the_package_grader_reads_a_description(tmp_path: Path, files: dict[str, str],
+                                                earned: bool, says: str) -> None:
+    verdict = _verdict(_graded(tmp_path, files), 'urdf_describes')
+    assert verdict.earned is earned
+    assert re.search(says, verdict.observed), verdict.observed
+
+
+@pytest.mark.no_ros
+@pytest.mark.parametrize(('topics', 'earned', 'says'), [
+    ({'/robot_description': [], '/tf_static': [],
+      '/tf': [('base_link', 'left_wheel'), ('base_link', 'right_wheel')]}, True,
+     r'/tf carries 2 moving joint\(s\)'),
+    ({'/robot_description': [], '/tf_static': [], '/tf': [('base_link', 'left_wheel')]}, False,
+     r'/tf never carried base_link → right_wheel'),
+    ({'/tf': [('base_link', 'left_wheel'), ('base_link', 'right_wheel')]}, False,
+     r'nobody publishes /robot_description.*nobody publishes /tf_static'),
+])
+def test_the_package_grader_reads_the_tf_tree(tmp_path: Path, topics: dict[str, Any],
+                                              earned: bool, says: str) -> None:
+    from robot_lab.grading.package.roles import Observation, Roles, TopicSeen
+
+    state = _graded(tmp_path, {'urdf/my_robot.urdf': ROBOT})
+    obs = Observation()
+    for name, edges in topics.items():
+        seen = obs.topics[name] = TopicSeen(name, ['t'], publishers=['/robot_state_publisher'])
+        seen.values.extend({'transforms': [{'header': {'frame_id': p}, 'child_frame_id': c}]}
+                           for p, c in edges)
+    state.live.obs, state.live.roles = obs, Roles()
+    verdict = _verdict(state, 'tf_tree')
+    assert verdict.earned is earned
+    assert re.search(says, verdict.observed), verdict.observed
