@@ -96,6 +96,8 @@ _API: dict[str, str] = {
     'TurtlesimView': 'robot_lab.widgets.turtlesim_view',
     'joint_sliders': 'robot_lab.widgets.joint_sliders',
     'JointSliders': 'robot_lab.widgets.joint_sliders',
+    'teleop': 'robot_lab.widgets.teleop',
+    'Teleop': 'robot_lab.widgets.teleop',
     # tf2 (the tf2_ros API itself is the kit package tf2_ros: `import tf2_ros`)
     'view_frames': 'robot_lab.tf2.view_frames',
     'frames_figure': 'robot_lab.tf2.view_frames',

@@ -80,6 +80,10 @@ KIT_PACKAGES: tuple[str, ...] = (
     'urdf_launch',
     'urdf_tutorial',
     'xacro',
+    # Module 2's simulation packages (robot_lab/sim; launch file and worlds, programs below)
+    'ros_gz_sim',
+    'ros_gz_bridge',
+    'teleop_twist_keyboard',
 )
 
 # The contract for programs a kit package provides: package -> {executable: 'module:func'}.
@@ -116,6 +120,16 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
     },
     'xacro': {
         'xacro': 'robot_lab.urdf.xacro_command:main',
+    },
+    'ros_gz_sim': {
+        'gz_sim': 'robot_lab.sim.server:main',  # what gz_sim.launch.py runs for `gz sim`
+        'create': 'robot_lab.sim.create:main',
+    },
+    'ros_gz_bridge': {
+        'parameter_bridge': 'robot_lab.sim.bridge:main',
+    },
+    'teleop_twist_keyboard': {
+        'teleop_twist_keyboard': 'robot_lab.keyboard_teleop.terminal:main',
     },
 }
 
