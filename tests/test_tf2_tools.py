@@ -237,6 +237,14 @@ def test_tf2_monitor_and_the_kits_turtle_demo(start) -> None:  # type: ignore[no
     demo.wait_for(r'\[listener\]: Successfully spawned turtle2', timeout=30)
     every = start('ros2', 'run', 'tf2_ros', 'tf2_monitor')
     chain = start('ros2', 'run', 'tf2_ros', 'tf2_monitor', 'world', 'carrot1')
+    # the package's other nodes, beside: turtle3's PointStamped source (in the same turtlesim)
+    # and the dynamic carrot, its /tf remapped so that it leaves the fixed carrot1 alone
+    start('ros2', 'run', 'turtle_tf2_py', 'turtle_tf2_message_broadcaster')
+    start('ros2', 'run', 'turtle_tf2_py', 'dynamic_frame_tf2_broadcaster', '--ros-args', '-r',
+          '/tf:=/tf_dynamic')
+    point = start('ros2', 'topic', 'echo', '--once', '/turtle3/turtle_point_stamped',
+                  'geometry_msgs/msg/PointStamped')
+    hop = start('ros2', 'topic', 'echo', '--once', '/tf_dynamic', 'tf2_msgs/msg/TFMessage')
     usage = subprocess.run([str(BIN / 'ros2'), 'run', 'tf2_ros', 'tf2_monitor', 'world'],
                            capture_output=True, text=True, timeout=60, check=False)
     assert usage.returncode == 255
@@ -244,6 +252,11 @@ def test_tf2_monitor_and_the_kits_turtle_demo(start) -> None:  # type: ignore[no
     # the kit's demo: turtle2 (spawned at (4, 2)) comes within 0.3 m of carrot1
     echo = start('ros2', 'run', 'tf2_ros', 'tf2_echo', 'turtle2', 'carrot1', '5')
     echo.wait_for(r'^- Translation: \[-?0\.[0-2]\d\d, -?0\.[0-2]\d\d, 0\.000\]$', timeout=40)
+    point.wait_for(r'^  frame_id: world$', timeout=30)
+    assert 0.0 < float(point.wait_for(r'^  x: (\S+)$')[1]) < 11.1  # inside turtlesim's window
+    hop.wait_for(r'^  child_frame_id: carrot1$', timeout=30)
+    assert '    frame_id: turtle1' in hop.lines
+    assert abs(float(hop.wait_for(r'^      y: (\S+)$')[1])) == pytest.approx(10.0)
     number = r'(-?[0-9.e+-]+)'
 
     def frame(proc: Proc, name: str) -> tuple[float, float]:
