@@ -1,0 +1,184 @@
+"""`ros2 run ros_gz_bridge parameter_bridge`: where the simulator's topics become ROS topics.
+
+Upstream's syntax, on the command line (`TOPIC@ROS_TYPE]GZ_TYPE` ROS -> gz,
+`TOPIC@ROS_TYPE[GZ_TYPE` gz -> ROS, `TOPIC@ROS_TYPE@GZ_TYPE` both) or in a YAML file
+(`--ros-args -p config_file:=bridge.yaml`: a list of entries with `ros_topic_name`,
+`gz_topic_name` or `topic_name`, `ros_type_name`, `gz_type_name`, `direction`
+BIDIRECTIONAL | GZ_TO_ROS | ROS_TO_GZ), as a node named `ros_gz_bridge` (so a launch file's
+`Node(package='ros_gz_bridge', executable='parameter_bridge', ...)` runs unchanged). The
+simulation may start before or after the bridge; the bridge waits for it and reconnects if
+it restarts, as gz-transport's discovery would.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import yaml
+
+from robot_lab.sim.conversions import PAIRS, from_gz, to_gz
+from robot_lab.sim.server import identity
+from robot_lab.sim.transport import Connection, connect
+
+__all__ = ['BridgeSpec', 'main', 'parse_bridge_arg', 'parse_bridge_config']
+
+_ARG = re.compile(r'^(?P<topic>[^@\[\]]+)@(?P<ros>[^@\[\]]+)(?P<dir>[@\[\]])(?P<gz>[^@\[\]]+)$')
+_DIRECTIONS = {'@': 'BIDIRECTIONAL', '[': 'GZ_TO_ROS', ']': 'ROS_TO_GZ'}
+USAGE = ('Usage: parameter_bridge [<topic@ROS2_type@Gz_type> ..]  [<topic@ROS2_type[Gz_type> ..]'
+         '  [<topic@ROS2_type]Gz_type> ..] [--ros-args -p config_file:=<path_to_config_file>]')
+
+
+@dataclass(frozen=True)
+class BridgeSpec:
+    """One bridged topic: its ROS and gz names and types, and which way it goes."""
+
+    ros_topic: str
+    gz_topic: str
+    ros_type: str
+    gz_type: str
+    direction: str  # BIDIRECTIONAL | GZ_TO_ROS | ROS_TO_GZ
+
+    def check(self, where: str) -> None:
+        """Refuse a pair or direction the kit does not convert, naming what it does."""
+        directions = PAIRS.get((self.ros_type, self.gz_type))
+        wanted = {'GZ_TO_ROS': {'gz_to_ros'}, 'ROS_TO_GZ': {'ros_to_gz'},
+                  'BIDIRECTIONAL': {'gz_to_ros', 'ros_to_gz'}}[self.direction]
+        if directions is None or not wanted <= directions:
+            known = ', '.join(f'{r} {"<->" if len(d) == 2 else "<-"} {g}'
+                              for (r, g), d in PAIRS.items())
+            raise SystemExit(f"{where}: robot_lab's bridge does not convert {self.ros_type} "
+                             f'{self.direction} {self.gz_type}; it converts: {known}')
+
+
+def parse_bridge_arg(arg: str) -> BridgeSpec:
+    """`/cmd_vel@geometry_msgs/msg/Twist]gz.msgs.Twist` -> a BridgeSpec."""
+    match = _ARG.match(arg)
+    if match is None:
+        raise SystemExit(f'parameter_bridge: {arg!r} is not TOPIC@ROS_TYPE(@|[|])GZ_TYPE\n{USAGE}')
+    topic = match['topic']
+    return BridgeSpec(topic, topic, match['ros'], match['gz'], _DIRECTIONS[match['dir']])
+
+
+def parse_bridge_config(path: str) -> list[BridgeSpec]:
+    """A ros_gz_bridge YAML config file's entries."""
+    with open(path) as stream:
+        entries = yaml.safe_load(stream) or []
+    specs = []
+    for index, entry in enumerate(entries):
+        where = f'{path}: entry {index + 1}'
+        ros_topic = entry.get('ros_topic_name') or entry.get('topic_name')
+        gz_topic = entry.get('gz_topic_name') or entry.get('topic_name')
+        if not ros_topic or not gz_topic or 'ros_type_name' not in entry or \
+                'gz_type_name' not in entry:
+            raise SystemExit(f'{where}: needs topic_name (or ros_topic_name and gz_topic_name), '
+                             f'ros_type_name and gz_type_name')
+        direction = str(entry.get('direction', 'BIDIRECTIONAL')).upper()
+        if direction not in _DIRECTIONS.values():
+            raise SystemExit(f'{where}: direction {direction!r}: BIDIRECTIONAL, GZ_TO_ROS or '
+                             f'ROS_TO_GZ')
+        specs.append(BridgeSpec(str(ros_topic), str(gz_topic), str(entry['ros_type_name']),
+                                str(entry['gz_type_name']), direction))
+    return specs
+
+
+def _gz_name(topic: str) -> str:
+    return topic if topic.startswith('/') else '/' + topic
+
+
+class Bridge:
+    """The node's publishers and subscriptions, and the connection to the simulation."""
+
+    def __init__(self, node: Any, specs: list[BridgeSpec]) -> None:
+        from robot_lab.messages import message_class
+
+        self.node = node
+        self.connection: Connection | None = None
+        self.to_ros: dict[str, list[tuple[BridgeSpec, Any, Any]]] = {}
+        self.last_sent: dict[str, Any] = {}
+        for spec in specs:
+            cls = message_class(spec.ros_type)
+            arrow = {'GZ_TO_ROS': 'GZ->ROS', 'ROS_TO_GZ': 'ROS->GZ'}.get(spec.direction, 'GZ<->ROS')
+            ends = [f'{spec.gz_topic} ({spec.gz_type})', f'{spec.ros_topic} ({spec.ros_type})']
+            if spec.direction == 'ROS_TO_GZ':
+                ends.reverse()
+            node.get_logger().info(f'Creating {arrow} Bridge: [{ends[0]} -> {ends[1]}] (Lazy 0)')
+            if spec.direction in ('GZ_TO_ROS', 'BIDIRECTIONAL'):
+                qos = self._qos(spec.ros_topic)
+                publisher = node.create_publisher(cls, spec.ros_topic, qos)
+                self.to_ros.setdefault(_gz_name(spec.gz_topic), []).append((spec, cls, publisher))
+            if spec.direction in ('ROS_TO_GZ', 'BIDIRECTIONAL'):
+                node.create_subscription(cls, spec.ros_topic,
+                                         lambda msg, s=spec: self._to_gz(s, msg), 10)
+        threading.Thread(target=self._link, daemon=True).start()
+
+    @staticmethod
+    def _qos(topic: str) -> Any:
+        from rclpy.qos import DurabilityPolicy, QoSProfile
+
+        if topic.endswith('tf_static'):  # as upstream: latched for late listeners
+            return QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        return QoSProfile(depth=10)
+
+    def _to_gz(self, spec: BridgeSpec, msg: Any) -> None:
+        if self.last_sent.get(spec.ros_topic) is msg:
+            return
+        connection = self.connection
+        if connection is not None:
+            connection.send({'op': 'pub', 'topic': _gz_name(spec.gz_topic), 'type': spec.gz_type,
+                             'msg': to_gz(spec.gz_type, msg)})
+
+    def _link(self) -> None:
+        """Connect to the simulation (waiting for it), subscribe, relay; again if it ends."""
+        while True:
+            connection = connect()
+            if connection is None:
+                time.sleep(0.1)  # polling the socket: nothing announces a simulation's start
+                continue
+            for topic in self.to_ros:
+                connection.send({'op': 'sub', 'topic': topic})
+            self.connection = connection
+            while (frame := connection.receive()) is not None:
+                for spec, cls, publisher in self.to_ros.get(str(frame.get('topic')), []):
+                    msg = from_gz(spec.gz_type, cls, frame['msg'])
+                    if spec.direction == 'BIDIRECTIONAL':
+                        self.last_sent[spec.ros_topic] = msg
+                    publisher.publish(msg)
+            self.connection = None
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    if '--version' in args:
+        print(identity())
+        return 0
+    cut = args.index('--ros-args') if '--ros-args' in args else len(args)
+    specs = [parse_bridge_arg(a) for a in args[:cut]]
+    import rclpy
+    from rclpy.executors import ExternalShutdownException
+
+    rclpy.init(args=['parameter_bridge', *args[cut:]])
+    node = rclpy.create_node('ros_gz_bridge')
+    node.get_logger().info(identity())
+    config = node.declare_parameter('config_file', '').value
+    if config:
+        specs += parse_bridge_config(str(config))
+    if not specs:
+        print(USAGE, file=sys.stderr)
+        return 1
+    for index, spec in enumerate(specs):
+        spec.check(str(config) if index >= cut else 'parameter_bridge')
+    Bridge(node, specs)
+    with contextlib.suppress(KeyboardInterrupt, ExternalShutdownException):  # Ctrl-C, SIGINT
+        rclpy.spin(node)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

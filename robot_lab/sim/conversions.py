@@ -1,0 +1,118 @@
+"""ROS message <-> gz message, for the pairs ros_gz_bridge's README lists that the kit simulates.
+
+gz messages are the simulator's dicts (`systems`: field names of the gz.msgs .proto files);
+ROS messages are rclpy's. Each pair converts as ros_gz_bridge's convert functions do: a
+gz header's `frame_id` becomes the ROS header's, gz.msgs.Model's joints a JointState,
+gz.msgs.Pose_V a TFMessage (each pose's name is the child frame).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+__all__ = ['PAIRS', 'from_gz', 'to_gz']
+
+Gz = dict[str, Any]
+
+# (ROS type, gz type) -> the directions the kit converts: 'ros_to_gz', 'gz_to_ros'
+PAIRS: dict[tuple[str, str], set[str]] = {
+    ('geometry_msgs/msg/Twist', 'gz.msgs.Twist'): {'ros_to_gz', 'gz_to_ros'},
+    ('nav_msgs/msg/Odometry', 'gz.msgs.Odometry'): {'gz_to_ros'},
+    ('sensor_msgs/msg/LaserScan', 'gz.msgs.LaserScan'): {'gz_to_ros'},
+    ('rosgraph_msgs/msg/Clock', 'gz.msgs.Clock'): {'gz_to_ros'},
+    ('sensor_msgs/msg/JointState', 'gz.msgs.Model'): {'gz_to_ros'},
+    ('tf2_msgs/msg/TFMessage', 'gz.msgs.Pose_V'): {'gz_to_ros'},
+}
+
+
+def _header(msg: Any, gz: Gz) -> None:
+    header = gz.get('header', {})
+    msg.header.stamp.sec = int(header.get('stamp', {}).get('sec', 0))
+    msg.header.stamp.nanosec = int(header.get('stamp', {}).get('nsec', 0))
+    msg.header.frame_id = str(header.get('frame_id', ''))
+
+
+def _vector(target: Any, gz: Gz) -> None:
+    target.x, target.y, target.z = (float(gz.get(k, 0.0)) for k in 'xyz')
+
+
+def _pose(target: Any, gz: Gz) -> None:
+    _vector(target.position, gz.get('position', {}))
+    q = gz.get('orientation', {})
+    target.orientation.x, target.orientation.y, target.orientation.z = (
+        float(q.get(k, 0.0)) for k in 'xyz')
+    target.orientation.w = float(q.get('w', 1.0))
+
+
+def _twist(msg: Any, gz: Gz) -> None:
+    _vector(msg.linear, gz.get('linear', {}))
+    _vector(msg.angular, gz.get('angular', {}))
+
+
+def _odometry(msg: Any, gz: Gz) -> None:
+    _header(msg, gz)
+    msg.child_frame_id = str(gz.get('child_frame_id', ''))
+    _pose(msg.pose.pose, gz.get('pose', {}))
+    _twist(msg.twist.twist, gz.get('twist', {}))
+
+
+def _scan(msg: Any, gz: Gz) -> None:
+    _header(msg, gz)
+    msg.angle_min, msg.angle_max = float(gz['angle_min']), float(gz['angle_max'])
+    msg.angle_increment = float(gz['angle_step'])
+    msg.range_min, msg.range_max = float(gz['range_min']), float(gz['range_max'])
+    msg.time_increment = 0.0
+    msg.scan_time = 0.0
+    msg.ranges = [float(r) for r in gz['ranges']]
+    msg.intensities = [float(i) for i in gz.get('intensities', [])]
+
+
+def _clock(msg: Any, gz: Gz) -> None:
+    msg.clock.sec = int(gz['sim']['sec'])
+    msg.clock.nanosec = int(gz['sim']['nsec'])
+
+
+def _joint_state(msg: Any, gz: Gz) -> None:
+    _header(msg, gz)
+    joints = gz.get('joint', [])
+    msg.name = [str(j['name']) for j in joints]
+    msg.position = [float(j['axis1']['position']) for j in joints]
+    msg.velocity = [float(j['axis1']['velocity']) for j in joints]
+    msg.effort = [float(j['axis1']['force']) for j in joints]
+
+
+def _tf(msg: Any, gz: Gz) -> None:
+    from geometry_msgs.msg import TransformStamped
+
+    for pose in gz.get('pose', []):
+        transform = TransformStamped()
+        _header(transform, pose)
+        transform.child_frame_id = str(pose.get('name', ''))
+        _vector(transform.transform.translation, pose.get('position', {}))
+        q = pose.get('orientation', {})
+        rotation = transform.transform.rotation
+        rotation.x, rotation.y, rotation.z = (float(q.get(k, 0.0)) for k in 'xyz')
+        rotation.w = float(q.get('w', 1.0))
+        msg.transforms.append(transform)
+
+
+_FROM_GZ: dict[str, Callable[[Any, Gz], None]] = {
+    'gz.msgs.Twist': _twist, 'gz.msgs.Odometry': _odometry, 'gz.msgs.LaserScan': _scan,
+    'gz.msgs.Clock': _clock, 'gz.msgs.Model': _joint_state, 'gz.msgs.Pose_V': _tf,
+}
+
+
+def from_gz(gz_type: str, message_class: Any, gz: Gz) -> Any:
+    """A new ROS message of `message_class` from a gz message dict."""
+    msg = message_class()
+    _FROM_GZ[gz_type](msg, gz)
+    return msg
+
+
+def to_gz(gz_type: str, msg: Any) -> Gz:
+    """A gz message dict from a ROS message (the pairs that go ROS -> gz)."""
+    if gz_type == 'gz.msgs.Twist':
+        return {'linear': {k: float(getattr(msg.linear, k)) for k in 'xyz'},
+                'angular': {k: float(getattr(msg.angular, k)) for k in 'xyz'}}
+    raise KeyError(gz_type)

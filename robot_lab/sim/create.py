@@ -1,0 +1,141 @@
+"""`ros2 run ros_gz_sim create`: put a robot into the running simulation, as Jazzy's does.
+
+Its arguments are upstream's gflags-style ones: `-world`, `-file F`, `-string XML`, `-topic
+T` (a std_msgs/String, transient-local, as robot_state_publisher latches
+/robot_description), `-param P` (not supported: one line), `-name N`, `-allow_renaming`,
+`-x -y -z -R -P -Y`. The robot goes to the simulation of this partition (`transport`); the
+answer is upstream's log line, `Entity creation successful.`, or the simulator's refusal.
+"""
+
+from __future__ import annotations
+
+import itertools
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from robot_lab.sim.server import identity
+from robot_lab.sim.transport import Connection, connect, socket_path
+
+__all__ = ['main', 'parse_create_args']
+
+_NUMBERS = ('x', 'y', 'z', 'R', 'P', 'Y')
+_TEXTS = ('world', 'file', 'string', 'topic', 'name', 'param')
+WAIT_FOR_SIMULATION = 30.0  # seconds: the simulation may still be starting (a launch file)
+
+
+def parse_create_args(argv: Sequence[str]) -> tuple[dict[str, Any], list[str]]:
+    """Upstream's flags (`-x 1`, `-x=1`, `--x 1`) and the `--ros-args` that follow."""
+    options: dict[str, Any] = {k: 0.0 for k in _NUMBERS}
+    options['allow_renaming'] = False
+    rest = list(argv)
+    ros_args: list[str] = []
+    if '--ros-args' in rest:
+        ros_args = rest[rest.index('--ros-args'):]
+        rest = rest[:rest.index('--ros-args')]
+    items = iter(rest)
+    for item in items:
+        flag, _, value = item.lstrip('-').partition('=')
+        if flag == 'allow_renaming':
+            options['allow_renaming'] = value.lower() not in ('false', '0')
+            continue
+        if flag not in _NUMBERS and flag not in _TEXTS:
+            raise SystemExit(f'create: unknown flag {item!r}; flags: -world -file -string -topic '
+                             f'-param -name -allow_renaming -x -y -z -R -P -Y')
+        if not value:
+            value = next(items, '')
+        options[flag] = float(value) if flag in _NUMBERS else value
+    return options, ros_args
+
+
+def _from_topic(topic: str, ros_args: list[str]) -> str:
+    import rclpy
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+    from std_msgs.msg import String
+
+    rclpy.init(args=['create', *ros_args])
+    node = rclpy.create_node('ros_gz_sim')
+    received: list[str] = []
+    qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    def take(msg: Any) -> None:
+        received.append(str(msg.data))
+
+    node.create_subscription(String, topic, take, qos)
+    node.get_logger().info(f'Waiting messages on topic [{topic}].')
+    while not received:
+        rclpy.spin_once(node, timeout_sec=0.5)
+    node.destroy_node()
+    rclpy.shutdown()
+    return received[0] if received else ''
+
+
+def _wait_for_simulation() -> Connection | None:
+    deadline = time.monotonic() + WAIT_FOR_SIMULATION
+    while time.monotonic() < deadline:
+        connection = connect()
+        if connection is not None:
+            return connection
+        time.sleep(0.1)  # polling the socket: the simulator announces nothing before it binds
+    return None
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    if '--version' in args:
+        print(identity())
+        return 0
+    options, ros_args = parse_create_args(args)
+    print(f'[INFO] [ros_gz_sim]: {identity()}', flush=True)
+    if options.get('param'):
+        print('[ERROR] [ros_gz_sim]: -param is not supported by robot_lab yet: use -topic '
+              'robot_description (robot_state_publisher publishes it) or -file', flush=True)
+        return 1
+    source = 'robot_description'
+    if options.get('file'):
+        source = options['file']
+        text = Path(source).expanduser().read_text()
+    elif options.get('string'):
+        text = options['string']
+    elif options.get('topic'):
+        source = options['topic']
+        text = _from_topic(options['topic'], ros_args)
+    else:
+        print('[ERROR] [ros_gz_sim]: Must specify either -file, -param, -string or -topic',
+              flush=True)
+        return 1
+    if '<robot' not in text:
+        print(f'[ERROR] [ros_gz_sim]: {source}: not a URDF (<robot>); an SDF model is not '
+              f'supported by robot_lab yet', flush=True)
+        return 1
+    connection = _wait_for_simulation()
+    if connection is None:
+        print(f'[ERROR] [ros_gz_sim]: no simulation answers on {socket_path()} after '
+              f'{WAIT_FOR_SIMULATION:g} s: start one with `ros2 launch ros_gz_sim '
+              f'gz_sim.launch.py gz_args:="-r empty.sdf"` (same ROS_DOMAIN_ID / GZ_PARTITION)',
+              flush=True)
+        return 1
+    name = options.get('name') or 'robot'
+    ids = itertools.count(1)
+    for attempt in range(100 if options['allow_renaming'] else 1):
+        request = name if attempt == 0 else f'{name}_{attempt}'
+        connection.send({'op': 'create', 'id': next(ids), 'urdf': text, 'name': request,
+                         'source': source,
+                         'xyz': [options['x'], options['y'], options['z']],
+                         'rpy': [options['R'], options['P'], options['Y']]})
+        reply = connection.receive()
+        if reply is not None and reply.get('ok'):
+            print('[INFO] [ros_gz_sim]: Entity creation successful.', flush=True)
+            connection.close()
+            return 0
+        error = reply.get('error', '') if reply else 'the simulation closed the connection'
+        if 'already exists' not in str(error):
+            break
+    print(f'[ERROR] [ros_gz_sim]: Entity creation failed: {error}', flush=True)
+    connection.close()
+    return 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,207 @@
+"""The simulator process: `gz sim [-r] [-s] [-v N] world.sdf`, as robot_lab runs it.
+
+It loads the world, serves the partition's socket (`transport`), spawns what `create`
+asks for, and steps the physics at the world's real-time factor, publishing what the
+systems publish to whoever subscribed. It says what it is before anything else: its first
+line names robot_lab and the engine, never Gazebo. There is no GUI: without `-r` Gazebo
+would wait, paused, for its play button; the kit runs at once and says so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import queue
+import shlex
+import signal
+import socket
+import sys
+import threading
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+
+from robot_lab.errors import RobotLabError
+from robot_lab.sim.simulation import Simulation
+from robot_lab.sim.transport import Connection, connect, partition, socket_path
+
+__all__ = ['identity', 'main', 'split_gz_args']
+
+Frame = dict[str, Any]
+
+
+def identity() -> str:
+    """What every simulator command says it is (`--version`, the first log line)."""
+    from robot_lab import __version__
+
+    return (f"robot_lab's simulator {__version__} on MuJoCo {mujoco.__version__} "
+            f"(Gazebo Harmonic's commands, topics and systems; not Gazebo)")
+
+
+def split_gz_args(argv: Sequence[str]) -> list[str]:
+    """`gz_args:="-r room.sdf"` arrives as one argument (or none): split as a shell would."""
+    out: list[str] = []
+    for arg in argv:
+        if arg == '--ros-args':  # a launch file's Node adds its own: not gz sim's
+            break
+        out += shlex.split(arg)
+    return out
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog='gz sim', description="robot_lab's simulator, with gz sim's arguments.")
+    parser.add_argument('world', nargs='?', default='empty.sdf')
+    parser.add_argument('-r', dest='run', action='store_true', help='run on start')
+    parser.add_argument('-s', dest='server', action='store_true', help='server only (always)')
+    parser.add_argument('-g', dest='gui', action='store_true', help='GUI only: not available')
+    parser.add_argument('-v', '--verbose', type=int, nargs='?', const=1, default=1)
+    parser.add_argument('--iterations', type=int, default=0, help='stop after N steps')
+    parser.add_argument('-z', dest='rate', type=float, default=0.0,
+                        help="steps per wall-clock second (0: the world's real-time factor)")
+    parser.add_argument('--seed', type=int, default=0, help='the random seed (sensor noise)')
+    parser.add_argument('--version', action='store_true')
+    return parser
+
+
+class Server:
+    """The simulation, its socket, and its clients' subscriptions."""
+
+    def __init__(self, sim: Simulation, listener: socket.socket) -> None:
+        self.sim = sim
+        self.listener = listener
+        self.inbox: queue.Queue[tuple[Connection, Frame]] = queue.Queue()
+        self.subscribers: dict[str, set[Connection]] = {}
+        self.types: dict[str, str] = {}
+        self.lock = threading.Lock()
+        sim.on_publish = self.publish
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    def _accept(self) -> None:
+        while True:
+            try:
+                sock, _ = self.listener.accept()
+            except OSError:
+                return
+            connection = Connection(sock)
+            threading.Thread(target=self._read, args=(connection,), daemon=True).start()
+
+    def _read(self, connection: Connection) -> None:
+        while (frame := connection.receive()) is not None:
+            if frame.get('op') == 'sub':  # subscriptions take effect at once
+                with self.lock:
+                    self.subscribers.setdefault(str(frame['topic']), set()).add(connection)
+            else:
+                self.inbox.put((connection, frame))
+        with self.lock:
+            for clients in self.subscribers.values():
+                clients.discard(connection)
+
+    def publish(self, topic: str, kind: str, message: dict[str, Any]) -> None:
+        self.types[topic] = kind
+        with self.lock:
+            clients = list(self.subscribers.get(topic, ()))
+        frame = {'op': 'msg', 'topic': topic, 'type': kind, 'msg': message}
+        for client in clients:
+            client.send(frame)
+
+    def handle(self, connection: Connection, frame: Frame) -> None:
+        op = frame.get('op')
+        if op == 'pub':
+            self.types.setdefault(str(frame['topic']), str(frame.get('type', '')))
+            self.sim.command(str(frame['topic']), frame.get('msg') or {})
+        elif op == 'create':
+            reply: Frame = {'op': 'reply', 'id': frame.get('id'), 'ok': True}
+            try:
+                robot = self.sim.spawn(str(frame['urdf']), str(frame['name']),
+                                       tuple(frame.get('xyz', (0, 0, 0))),
+                                       tuple(frame.get('rpy', (0, 0, 0))),
+                                       str(frame.get('source', 'robot_description')))
+                print(f'[Msg] Spawned {robot.name!r} ({len(robot.bodies)} links) at '
+                      f'{frame.get("xyz")}', flush=True)
+            except RobotLabError as error:
+                reply.update(ok=False, error=str(error))
+                print(f'[Err] {error}', flush=True)
+            connection.send(reply)
+        elif op == 'topics':
+            topics = {**self.types, **{t: self.types.get(t, '') for t in self.sim.subscriptions}}
+            connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True, 'data': topics})
+
+    def run(self, rate: float, iterations: int) -> None:
+        """Step at `rate` steps per wall second, handling clients' frames between steps."""
+        start, done = time.monotonic(), 0
+        while not iterations or self.sim.steps < iterations:
+            due = int((time.monotonic() - start) * rate)
+            while done < due and (not iterations or self.sim.steps < iterations):
+                self._drain()
+                self.sim.step()
+                done += 1
+            wait = max(0.0, (done + 1) / rate - (time.monotonic() - start))
+            try:  # wake for a client's frame, or when the next step is due
+                connection, frame = self.inbox.get(timeout=min(wait, 0.05))
+                self.handle(connection, frame)
+            except queue.Empty:
+                pass
+
+    def _drain(self) -> None:
+        while True:
+            try:
+                connection, frame = self.inbox.get_nowait()
+            except queue.Empty:
+                return
+            self.handle(connection, frame)
+
+
+def _listen(path: Path) -> socket.socket:
+    running = connect(path)
+    if running is not None:
+        running.close()
+        raise RobotLabError(f'a simulation already runs in partition {partition()!r} ({path})',
+                            fix='stop it first, or set GZ_PARTITION (or ROS_DOMAIN_ID) to '
+                                'another value for this one')
+    path.unlink(missing_ok=True)  # a socket a killed simulation left
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind(str(path))
+    listener.listen(16)
+    return listener
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(split_gz_args(sys.argv[1:] if argv is None else argv))
+    if args.version:
+        print(identity())
+        return 0
+    print(f'[Msg] {identity()}', flush=True)
+    if args.gui:
+        print('[Err] gz sim -g (the GUI alone) is not available: robot_lab draws the world in '
+              'robot_lab.scene_view() instead', flush=True)
+        return 1
+    path = socket_path()
+    try:
+        sim = Simulation(args.world, seed=args.seed)
+        listener = _listen(path)
+    except RobotLabError as error:
+        print(f'[Err] {error}', flush=True)
+        return 1
+    info = sim.info
+    print(f'[Msg] Loaded world {info.name!r} from {sim.path}: step {info.step * 1000:g} ms, '
+          f'real-time factor {info.real_time_factor:g}', flush=True)
+    print(f'[Msg] Serving partition {partition()!r} on {path}', flush=True)
+    if not args.run:
+        print('[Msg] No GUI to press play in: running now, as with -r', flush=True)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    rate = args.rate or info.real_time_factor / info.step
+    try:
+        Server(sim, listener).run(rate, args.iterations)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        listener.close()
+        path.unlink(missing_ok=True)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
