@@ -19,7 +19,9 @@ Measured 2026-12-06 on this 2-core host while seven other sessions ran (load ave
 median of 3 runs of 10 s: session 0.1 %; view (40 Hz) 4.3 % of a core, 35.5 frames/s,
 model drawn 0.79 s after Shift+Enter; view30 3.4 %, 29.1 frames/s (2.8-3.2 % and
 29.4-30.0 in other runs); view60 5.2 %, 40.4 frames/s (SwiftShader, no GPU: the page's
-software WebGL is the limit there). Most of a tick's cost is the comm message itself, so
+software WebGL is the limit there). Again after the struct reader, at load average 15-20:
+view 3.5 %, 33.6 frames/s, drawn 0.95 s; view30 3.1 %, 28.9; view60 4.6 %, 34.6. Most of
+a tick's cost is the comm message itself, so
 the kernel's share grows with the display rate, not with /tf's. Before the view read /tf's
 bytes itself and took its messages in batches: 5.8 % at 30 Hz (rclpy built 0.68 ms of
 Python objects per message, and its executor woke per message); with multisampling on in
