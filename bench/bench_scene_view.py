@@ -21,11 +21,10 @@ model drawn 0.79 s after Shift+Enter; view30 3.4 %, 29.1 frames/s (2.8-3.2 % and
 29.4-30.0 in other runs); view60 5.2 %, 40.4 frames/s (SwiftShader, no GPU: the page's
 software WebGL is the limit there). Again after the struct reader, at load average 15-20:
 view 3.5 %, 33.6 frames/s, drawn 0.95 s; view30 3.1 %, 28.9; view60 4.6 %, 34.6. Most of
-a tick's cost is the comm message itself, so
-the kernel's share grows with the display rate, not with /tf's. Before the view read /tf's
-bytes itself and took its messages in batches: 5.8 % at 30 Hz (rclpy built 0.68 ms of
-Python objects per message, and its executor woke per message); with multisampling on in
-software WebGL, 27 frames/s at 60 Hz.
+a tick's cost is the comm message itself, so the kernel's share grows with the display
+rate, not with /tf's. Before the view read /tf's bytes itself and took its messages in
+batches: 5.8 % at 30 Hz (rclpy built 0.68 ms of Python objects per message, and its
+executor woke per message); with multisampling on in software WebGL, 27 frames/s at 60 Hz.
 
 Usage: python bench/bench_scene_view.py [--runs N] [--seconds S] [--domain-id D]
 (wrap it in `unshare --net --mount` as the tests are, on a shared host)
