@@ -151,10 +151,13 @@ def domain_at(offset: int) -> int:
 _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the course in Chromium
                'tests/test_mistake_path.py',        # ~360 s: ladders 01-06, then Run All again
                'tests/test_mistake_path_capstone.py',  # ~300 s: the same for 07-08
+               'tests/test_mistake_path_description.py',  # ~110 s: 12's ladders, Run All again
+               'tests/test_mistake_path_tf2.py',    # ~200 s: the same for 11
                'tests/test_grade_package.py',       # ~230 s: one class graded
                'tests/test_docs_console.py',        # ~180 s: the nbgrader loop as printed
                'tests/browser/test_browser_mistakes.py',  # ~160 s: 01-03 in Chromium
                'notebooks/01',                      # nbval: lessons 01-06, ~51 s
+               'notebooks/11',                      # ~75 s: tf2 on turtlesim
                'notebooks/10', 'notebooks/07',      # ~38 s and ~29 s
                'notebooks/12',                      # ~50 s: URDF, tf2 (12_robot_description)
                'notebooks/09', 'notebooks/08', 'notebooks/00',

@@ -7,8 +7,8 @@ check is a failing cell, so nbval fails with it. Checks return nothing: a check 
 output is only its ✓ lines, the same on every run (nbval compares it).
 
 One module per thing checked (`graph`, `parameters`, `package`, `output`, `description`,
-`unit_tests` with its pytest plugin `wrong_node`; `base` holds the error and the bounded
-wait);
+`tf2`, `unit_tests` with its pytest plugin `wrong_node`; `base` holds the error and the
+bounded wait);
 notebooks use them all as `check.<name>`. The grader loads this package afresh from the
 kit's files for each check cell (answer_key).
 """
@@ -62,6 +62,13 @@ from robot_lab.grading.check.parameters import (
     param_file_accepted,
     param_refused,
 )
+from robot_lab.grading.check.tf2 import (
+    echo_prints,
+    follows,
+    lookup_returns,
+    time_travel,
+    transform_is,
+)
 from robot_lab.grading.check.unit_tests import tests_catch, tests_pass
 
 __all__ = [
@@ -71,13 +78,16 @@ __all__ = [
     'bag_contains',
     'command_drives',
     'command_prints',
+    'echo_prints',
     'eventually',
     'files_exist',
     'first_time',
+    'follows',
     'full_marks',
     'graph_matches',
     'launch_file_nodes',
     'logs_contain',
+    'lookup_returns',
     'no_errors',
     'node_starts',
     'node_subscribes',
@@ -97,10 +107,12 @@ __all__ = [
     'stop_node',
     'tests_catch',
     'tests_pass',
+    'time_travel',
     'topic_publishes',
     'topic_rate',
     'topics_exist',
     'transform_broadcast',
+    'transform_is',
     'translation_is',
     'urdf_tree',
     'wiring_is',
