@@ -7,18 +7,17 @@ known walls (inner faces 2.0 m from the centre).
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any
 
 import pytest
 
-pytest.importorskip('mujoco')
-
-import itertools
-
 from robot_lab.sim.sample_robot import WHEEL_RADIUS, diffbot_urdf
 from robot_lab.sim.simulation import Simulation
 from robot_lab.sim.xml_tree import SimulationError
+
+pytestmark = pytest.mark.no_ros  # the simulator alone: no DDS, no domain
 
 Messages = dict[str, list[dict[str, Any]]]
 
