@@ -36,7 +36,8 @@ COURSE = ['00_welcome', '01_create_package', '02_write_nodes', '03_launch_files'
 CELL_TIMEOUT = 90
 
 # What the kernel still runs after the notebook's last cell. The lesson's graph daemon is
-# not counted: it serves the notebook's commands and ends with the kernel (_no_daemon_left).
+# not counted: it serves the notebook's commands and ends with the kernel (_no_daemon_left);
+# nor is robot_lab.tf_buffer()'s hidden listener, the session's own buffer, kept for its life.
 PROBE = """
 import json as _j, psutil as _p
 from robot_lab import rclpy_session as _c
@@ -44,7 +45,7 @@ _kids = [' '.join(k.cmdline()[:4]) for k in _p.Process().children(recursive=True
          if k.is_running() and k.status() != _p.STATUS_ZOMBIE
          and '--robot-lab-graph-daemon' not in k.cmdline()]
 _nodes = [n.get_name() for s in _c._SESSIONS.values() if s._nodes_executor is not None
-          for n in s._nodes_executor.get_nodes()]
+          for n in s._nodes_executor.get_nodes() if not n.get_name().startswith('_robot_lab_tf_')]
 print('PROBE ' + _j.dumps({'children': _kids, 'nodes': _nodes}))
 """
 

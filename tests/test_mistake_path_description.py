@@ -1,0 +1,29 @@
+"""The mistake path of 12 (the robot's body: URDF, xacro, tf2), as tests/test_mistake_path.py
+walks 01–06 (its docstring says what a walk promises), in a workspace of its own: 12 builds a
+package of its own (my_robot_description) and stands alone.
+
+Its wrong answers are Chapter 7's mistakes: a joint on the wrong parent link, a revolute
+joint without limits, the frames of tf2_echo read the other way round, a macro called once,
+a transform with no stamp (a stamp from the past), a quaternion that is not normalised or
+built from the whole angle, a lookup with target and source swapped, a point left in the
+sensor's frame. (A lookup before the transform exists is a race in a running node; its
+message is tests/test_description_checks.py's.)
+"""
+
+from __future__ import annotations
+
+import pytest
+from course_run import Course
+from mistake_walk import walk
+
+NAME = '12_robot_description'
+
+
+@pytest.fixture(scope='module')
+def course(tmp_path_factory: pytest.TempPathFactory, ros_domain: int) -> Course:
+    return Course(tmp_path_factory.mktemp('course') / 'ws', ros_domain)
+
+
+@pytest.mark.timeout(900)
+def test_every_answer_cell_walks_its_ladder_then_runs_again(course: Course) -> None:
+    walk(course, NAME)
