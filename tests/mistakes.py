@@ -1,10 +1,11 @@
-"""The course's table of mistakes and messages: for every answer cell of 01–08 and 12, what
-its check says to the released copy (unanswered) and to each plausible wrong answer.
+"""The course's table of mistakes and messages: for every answer cell of 01–08, 11 and 12,
+what its check says to the released copy (unanswered) and to each plausible wrong answer.
 
 Walked in real kernels by tests/test_mistake_path.py (01–06),
-tests/test_mistake_path_capstone.py (07–08) and tests/test_mistake_path_description.py (12),
-and, for 01–03, in a real browser by tests/browser/test_browser_mistakes.py. Each regex is
-matched against the failing check's two lines (and the details under them).
+tests/test_mistake_path_capstone.py (07–08), tests/test_mistake_path_tf2.py (11) and
+tests/test_mistake_path_description.py (12), and, for 01–03, in a real browser by
+tests/browser/test_browser_mistakes.py. Each regex is matched against the failing check's
+two lines (and the details under them).
 """
 
 from __future__ import annotations
@@ -300,6 +301,73 @@ LADDERS: dict[str, Ladder] = {
               r"robot_node\.py says '/robot/status' now, but the running /robot still "
               r'subscribes to /robot/stauts: it started before your fix.*Try: a node runs the '
               r'code it started with: run the cell that restarts the system', rerun=[]),
+    ]),
+    'nb11_echo': Ladder(r'observed the command is empty', [
+        Wrong('a frame name with a leading /', swap('world turtle2', 'world /turtle2'),
+              r'still running .*its last line was .*"/turtle2".*cannot start with.*Try: use the '
+              r'frame names as view_frames shows them'),
+    ]),
+    'nb11_static': Ladder(PLACEHOLDER, [
+        Wrong('parent and child swapped',
+              swap("t.header.frame_id = 'world'\n        t.child_frame_id = transformation[1]",
+                   "t.header.frame_id = transformation[1]\n        t.child_frame_id = 'world'"),
+              r"observed the transform goes mystaticturtle → world.*Try: header\.frame_id is "
+              r"the parent frame \('world'\)"),
+        Wrong('roll, pitch and yaw written into the quaternion',
+              swap('t.transform.rotation.x = quat[0]\n        t.transform.rotation.y = quat[1]\n'
+                   '        t.transform.rotation.z = quat[2]\n'
+                   '        t.transform.rotation.w = quat[3]',
+                   't.transform.rotation.x = float(transformation[5])\n'
+                   '        t.transform.rotation.y = float(transformation[6])\n'
+                   '        t.transform.rotation.z = float(transformation[7])'),
+              r'rotation \(0\.000, 0\.000, 1\.570, 1\.000\), of length 1\.86\d: tf2 ignores it '
+              r'\(TF_DENORMALIZED_QUATERNION\).*Try: a rotation is a unit quaternion'),
+    ]),
+    'nb11_broadcaster': Ladder(PLACEHOLDER, [
+        Wrong('no stamp', swap('        t.header.stamp = self.get_clock().now().to_msg()\n', ''),
+              r'at the current time; observed its stamp is 0\.000 s.*Try: stamp each transform '
+              r'with the time now'),
+        Wrong('the child named by a string, not the parameter',
+              swap('t.child_frame_id = self.turtlename', "t.child_frame_id = 'turtlename'"),
+              r"no frame 'turtle1' on /tf or /tf_static \(they carry world → turtlename.*Try: is "
+              r"'turtlename' meant to be 'turtle1'\?"),
+    ]),
+    'nb11_lookup': Ladder(r'it raised NotImplementedError.*Try: replace the placeholder', [
+        Wrong('no timeout', swap(',\n' + ' ' * 35 + 'timeout=Duration(seconds=1.0))', ')'),
+              r'called as the listener starts; observed it raised LookupException: .* does not '
+              r'exist.*Try: .*timeout='),
+        Wrong('target and source swapped', swap("('turtle2', 'turtle1',", "('turtle1', 'turtle2',"),
+              r'observed it returned turtle2 seen from turtle1.*Try: .*the first frame is the '
+              r'one you look from'),
+    ]),
+    'nb11_listener': Ladder(PLACEHOLDER, [
+        Wrong('the frames swapped in the lookup',
+              swap('lookup_transform(to_frame_rel, from_frame_rel,',
+                   'lookup_transform(from_frame_rel, to_frame_rel,'),
+              r'turtle2 to drive to within 1 m of turtle1; observed turtle2 (drove away|stayed|'
+              r'came).*Try: lookup_transform\(to_frame_rel, from_frame_rel'),
+    ]),
+    'nb11_carrot': Ladder(PLACEHOLDER, [
+        Wrong('w = 0.0 for no rotation', swap('t.transform.rotation.w = 1.0',
+                                                't.transform.rotation.w = 0.0'),
+              r'of length 0\.000: tf2 ignores it \(TF_DENORMALIZED_QUATERNION\)'),
+        Wrong('the carrot under world, not turtle1',
+              swap("t.header.frame_id = 'turtle1'", "t.header.frame_id = 'world'"),
+              r"observed 'carrot1' has the parent 'world', not 'turtle1'.*Try: "
+              r"header\.frame_id = 'turtle1'"),
+    ]),
+    'nb11_time_travel': Ladder(r'it raised NotImplementedError.*Try: replace the placeholder', [
+        Wrong('both frames in the past',
+              swap("return buffer.lookup_transform_full(\n"
+                   "        target_frame='turtle2', target_time=now,\n"
+                   "        source_frame='turtle1', source_time=when,\n"
+                   "        fixed_frame='world', timeout=Duration(seconds=1.0))",
+                   "return buffer.lookup_transform('turtle2', 'turtle1', when,\n"
+                   "                                   timeout=Duration(seconds=1.0))"),
+              r'observed it returned turtle1 seen from where turtle2 was 5 s ago'),
+        Wrong('5 s after 1970, not 5 s ago',
+              swap('when = now - Duration(seconds=5.0)', 'when = rclpy.time.Time(seconds=5.0)'),
+              r'observed it raised ExtrapolationException: .*past.*Try: '),
     ]),
     # 12: the robot's body (URDF, xacro, tf2 in a package)
     'nb12_urdf': Ladder(PLACEHOLDER, [
