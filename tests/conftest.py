@@ -152,7 +152,6 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'tests/test_mistake_path.py',        # ~360 s: ladders 01-06, then Run All again
                'tests/test_mistake_path_capstone.py',  # ~300 s: the same for 07-08
                'tests/test_mistake_path_description.py',  # ~110 s: 12's ladders, Run All again
-               'tests/test_mistake_path_description.py',  # ~110 s: 12's ladders, Run All again
                'tests/test_mistake_path_tf2.py',    # ~200 s: the same for 11
                'tests/test_grade_package.py',       # ~230 s: one class graded
                'tests/test_docs_console.py',        # ~180 s: the nbgrader loop as printed
