@@ -39,7 +39,8 @@ const PAD_CSS = `
 .rl-teleop button.rl-held { background: #1a73e8; color: white; border-color: #1a73e8; }
 .rl-teleop .rl-row { display: flex; gap: 4px; margin-top: 4px; align-items: center; }
 .rl-teleop .rl-row button { width: 3em; }
-.rl-teleop .rl-hint { color: #666; font-size: 12px; margin-top: 4px; max-width: 22em; }
+.rl-teleop .rl-hint { color: #666; font-size: 12px; margin-top: 4px; max-width: 24em; }
+.rl-teleop .rl-row .rl-hint { margin: 0 0 0 4px; }
 `;
 function render({ model, el }) {
   addStyle();
@@ -55,6 +56,7 @@ function render({ model, el }) {
   const root = document.createElement('div');
   root.className = 'rl-teleop';
   root.tabIndex = 0;
+  root.dataset.lmSuppressShortcuts = 'true';  // Lumino: JupyterLab's own keys stay out
   const grid = document.createElement('div');
   grid.className = 'rl-grid';
   const buttons = new Map();
@@ -80,9 +82,18 @@ function render({ model, el }) {
     parent.appendChild(b);
   };
   for (const row of keys.layout) for (const key of row) button(key, grid);
-  const extra = document.createElement('div');
-  extra.className = 'rl-row';
-  for (const key of ['t', 'b', 'q', 'z', 'w', 'x', 'e', 'c']) button(key, extra);
+  const row = (label, group) => {
+    const div = document.createElement('div');
+    div.className = 'rl-row';
+    for (const key of group) button(key, div);
+    const text = document.createElement('span');
+    text.className = 'rl-hint';
+    text.textContent = label;
+    div.appendChild(text);
+    return div;
+  };
+  const updown = row('up / down (+z / −z)', ['t', 'b']);
+  const faster = row('speeds ±10 %: both, linear, angular', ['q', 'z', 'w', 'x', 'e', 'c']);
   const shiftBox = document.createElement('label');
   const check = document.createElement('input');
   check.type = 'checkbox';
@@ -94,9 +105,8 @@ function render({ model, el }) {
   const hint = document.createElement('div');
   hint.className = 'rl-hint';
   hint.textContent = 'Hold a key (or click here and hold it on the keyboard): ' +
-    'u i o / j k l / m , . drive, shifted keys strafe, t/b up/down, ' +
-    'q/z w/x e/c change the speeds. Let go to stop.';
-  root.append(grid, extra, shiftRow, hint);
+    'u i o / j k l / m , . drive, shifted keys strafe. Let go to stop.';
+  root.append(grid, updown, faster, shiftRow, hint);
   el.appendChild(root);
   const relabel = () => {
     for (const [plain, b] of buttons) {
