@@ -37,6 +37,8 @@ _TF = 'tf2_msgs/msg/TFMessage'
 # How often the status line is recomputed while only poses move (a link that lost its
 # transform shows within this); a tree that changed updates it at once.
 _STATUS_PERIOD = 0.5
+# How often a view no page shows takes what arrived (nbval, a view scrolled away)
+_IDLE_PERIOD = 0.1
 _NAMES = {'robotmodel': 'RobotModel', 'laserscan': 'LaserScan', 'marker': 'Markers',
           'markerarray': 'Markers', 'markers': 'Markers', 'path': 'Path',
           'odometry': 'Odometry', 'pose': 'PoseStamped', 'posestamped': 'PoseStamped'}
@@ -82,6 +84,7 @@ class SceneView(LiveView):
         self._views_seen: set[str] = set()
         self._views_hidden: set[str] = set()
         self.ticks = 0
+        self._wake = threading.Event()  # the view's thread: tick now
         self._resend_poses = False
         self._sent_poses: dict[str, Pose | None] = {}
         self._sent_version = -1
@@ -345,6 +348,7 @@ class SceneView(LiveView):
             elif content.get('kind') == 'seen':
                 self._views_seen.discard(view)
                 self._views_hidden.add(view)
+        self._wake.set()
 
     def _out_of_sight(self) -> bool:
         """Every view of it that spoke is scrolled away (or gone): the kernel keeps taking
@@ -362,14 +366,19 @@ class SceneView(LiveView):
         return self
 
     def _loop(self) -> None:
-        period = 1.0 / self.rate
         due = time.monotonic()
         while True:
-            due += period
+            # At the display rate while a page shows it; else 10 Hz, enough to keep /tf's
+            # queue (100 deep) from overflowing and `frames()` current for checks.
+            drawn = self._scene_canvas is not None and not self._out_of_sight()
+            due += 1.0 / self.rate if drawn else _IDLE_PERIOD
             wait = due - time.monotonic()
             if wait < 0:  # fell behind (a busy host): skip, do not burst
                 due, wait = time.monotonic(), 0.0
-            if self._closed.wait(wait):
+            if self._wake.wait(wait):  # a page appeared or came into sight, or closing
+                self._wake.clear()
+                due = time.monotonic()
+            if self._closed.is_set():
                 return
             self.tick()
 
@@ -485,6 +494,7 @@ class SceneView(LiveView):
     def _release(self) -> None:
         if self._scene_canvas is not None:
             self._scene_canvas.status = [*self._status, 'closed: no longer updated']
+        self._wake.set()  # the thread sees `_closed` at once, not after its period
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2.0)
         with self._take_lock:
