@@ -17,7 +17,7 @@ from rosutil import Listener
 
 from robot_lab.sim.sample_robot import diffbot_urdf
 
-LAUNCH = '''\
+LAUNCH = """\
 import os
 
 from ament_index_python.packages import get_package_share_directory
@@ -63,9 +63,9 @@ def generate_launch_description():
         output='screen'
     )
     return LaunchDescription([gz_sim, bridge, robot_state_publisher, spawn])
-'''
+"""
 
-BRIDGE_YAML = '''\
+BRIDGE_YAML = """\
 - ros_topic_name: "clock"
   gz_topic_name: "clock"
   ros_type_name: "rosgraph_msgs/msg/Clock"
@@ -76,7 +76,7 @@ BRIDGE_YAML = '''\
   ros_type_name: "sensor_msgs/msg/JointState"
   gz_type_name: "gz.msgs.Model"
   direction: GZ_TO_ROS
-'''
+"""
 
 
 @pytest.fixture(scope='module')
