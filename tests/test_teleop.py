@@ -64,6 +64,9 @@ class Inbox:
             lambda: self.session.node.destroy_subscription(self.subscription))
 
 
+ZERO = (0.0,) * 6
+
+
 def parts(twist: Any) -> tuple[float, float, float, float, float, float]:
     return (twist.linear.x, twist.linear.y, twist.linear.z,
             twist.angular.x, twist.angular.y, twist.angular.z)
@@ -201,6 +204,35 @@ def test_terminal_keys_publish_upstreams_twists(cmd_vel: Inbox) -> None:
         assert len(got) == count + 1  # CTRL-C itself published nothing but the zero
     finally:
         term.close()
+
+
+def test_terminal_stamped_with_frame_and_speed_parameters(ros_domain: int) -> None:
+    from geometry_msgs.msg import TwistStamped
+
+    program = [str(BIN / 'ros2'), 'run', 'teleop_twist_keyboard', 'teleop_twist_keyboard',
+               '--ros-args']
+    inbox = Inbox('/cmd_vel', TwistStamped)
+    # both at once: the refusal costs the test no start of its own
+    refused = Terminal([*program, '-p', 'frame_id:=base_link'])
+    term = Terminal([*program, '-p', 'stamped:=true', '-p', 'frame_id:=base_link',
+                     '-p', 'speed:=1.0', '-p', 'turn:=2.0'])
+    try:
+        assert refused.proc.wait(timeout=30) == 1
+        refused.read_until(b"'frame_id' can only be set when 'stamped' is True")
+        term.read_until(b'currently:\tspeed 1.0\tturn 2.0 \r\n')
+        got = inbox.wait(lambda m: bool(m) and parts(m[-1].twist) == (1.0, 0, 0, 0, 0, 2.0),
+                         "u: forward and left at the parameters' speeds",
+                         poke=lambda: term.type(b'u'))
+        assert got[-1].header.frame_id == 'base_link' and got[-1].header.stamp.sec > 0
+        count = len(inbox.messages)
+        term.type(b'\x03')
+        got = inbox.wait(lambda m: len(m) > count, 'a last message on CTRL-C')
+        assert parts(got[-1].twist) == ZERO and got[-1].header.frame_id == 'base_link'
+        assert term.proc.wait(timeout=15) == 0
+    finally:
+        refused.close()
+        term.close()
+        inbox.close()
 
 
 # -- the notebook pad -------------------------------------------------------------------
