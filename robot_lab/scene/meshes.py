@@ -130,5 +130,6 @@ class MeshFiles:
             buffers.append(image)
             found[name] = found[relative.rsplit('/', 1)[-1]] = len(buffers) - 1
         if missing:
-            self.errors[uri] = f'textures not found beside it: {", ".join(missing)}'
+            self.errors[uri] = (f'names textures its folder lacks ({", ".join(missing)}): '
+                                'drawn without them')
         return found
