@@ -117,8 +117,10 @@ class RobotModel extends Display {
 
   update(data) {
     if (data.urdf === undefined) return;
-    for (const link of this.links.values()) this.group.remove(link);
-    disposeTree(this.group);
+    for (const link of this.links.values()) {  // a new description: free the old robot
+      this.group.remove(link);
+      disposeTree(link);
+    }
     this.links.clear();
     this.ctx.notes.delete(this.spec.id);
     const notes = [];
