@@ -25,6 +25,7 @@ from sensor_msgs.msg import LaserScan
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
+import robot_lab
 from robot_lab.scene import displays
 from robot_lab.scene.canvas import BUNDLE
 from robot_lab.scene.view import SceneView
@@ -234,6 +235,20 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path
                               if abs(a - b) > 40)
                 assert changed > 2000, f'{gesture}: {changed} channel values changed'
                 drawn = moved
+            # a robot description, then another: the second replaces the first
+            urdf_dir = robot_lab.package_share('urdf_tutorial') / 'urdf'
+            for number, name in enumerate(('01-myfirst.urdf', '03-origins.urdf')):
+                robot = displays.RobotModel()
+                robot.set_urdf((urdf_dir / name).read_text())
+                robot._dirty = True
+                sent = {'kind': 'update', 'data': {robot.id: robot.data(displays.Outbox(),
+                                                                       full=False)}}
+                if not number:
+                    sent['add'] = [robot.spec()]
+                page.evaluate(_SEND, [sent, []])
+                assert browser_lab.wait_in_page(
+                    page, "n => document.querySelector('.rl-scene').dataset.links == n",
+                    str(len(robot.links)), 10), name
             menu = page.locator('.rl-scene select')
             assert menu.locator('option').all_text_contents() == ['base_link', 'laser', 'odom']
             menu.select_option('laser')
