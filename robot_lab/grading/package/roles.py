@@ -3,9 +3,14 @@
 Students name packages, nodes, topics and types as they like, so roles come from
 behaviour seen by an observer session in the job's domain, never from names:
 
-- sensor: publishes a topic periodically and takes no input from the other nodes;
+- sensor: publishes a topic periodically, the measurement a controller subscribes to.
+  It may take no input, or close the loop: a sensor that simulates the plant reads the
+  commands (or what the actuator reports) and publishes the measurement they lead to.
+  Either is the assignment's "a sensor node publishes simulated data"; a node whose input
+  comes from outside the loop is not a sensor but a relay;
 - controller: subscribes to the sensor's topic and publishes another topic (its commands)
-  (whether they follow the readings, robot_lab.grading.package.perturb tests);
+  (whether they follow the readings, robot_lab.grading.package.perturb tests, with the
+  sensor paused, so a closed loop's sensor never answers the grader's drive);
 - actuator: subscribes to the commands and writes a log line for each one received.
 
 `observe()` watches the graph (every topic with a subscription of its own, `/rosout` for
@@ -331,11 +336,47 @@ def observe(sess: Session, expected_nodes: int, startup: float, duration: float,
         watcher.close()
 
 
+def _closed_loop_sensor(obs: Observation, min_rate: float) -> tuple[str, str] | None:
+    """(topic, node) of a sensor that closes the loop: it publishes a periodic topic that a
+    controller subscribes to, and everything it reads from other nodes comes from that
+    controller or from a node that subscribes to the controller's output (an actuator).
+    Preferred: a loop with an actuator that is neither node, then one whose actuator logs
+    (in a ring of three that each publish, which node senses is told by who logs), then
+    the busiest topic."""
+    publishers = {t: s.publishers for t, s in obs.topics.items()}
+    found: list[tuple[bool, int, float, str, str]] = []
+    for topic, seen in obs.topics.items():
+        if seen.count < 2 or seen.rate < min_rate:
+            continue
+        for pub in seen.publishers:
+            inputs = {t for t in obs.nodes[pub].subscribes
+                      if any(p != pub for p in publishers.get(t, []))}
+            for name in seen.subscribers:
+                controller = obs.nodes.get(name)
+                if name == pub or controller is None:
+                    continue
+                for out in controller.publishes:
+                    if out == topic:
+                        continue
+                    downstream = {name} | {n for n, s in obs.nodes.items() if out in s.subscribes}
+                    if not all(set(publishers.get(t, [])) - {pub} <= downstream
+                               for t in inputs):
+                        continue
+                    actuators = downstream - {name, pub}
+                    logs = max((obs.nodes[n].log_count for n in actuators), default=0)
+                    found.append((bool(actuators), logs, seen.rate, topic, pub))
+    if not found:
+        return None
+    _a, _l, _r, topic, pub = max(found)
+    return topic, pub
+
+
 def infer_roles(obs: Observation, min_rate: float) -> Roles:
     """Sensor, controller and actuator from what the observer saw (see the module doc)."""
     roles = Roles()
     student_pubs = {t: s.publishers for t, s in obs.topics.items() if s.publishers}
-    # The sensor: a periodic topic whose publisher takes no input from other student nodes.
+    # The sensor: a periodic topic whose publisher takes no input from other student nodes,
+    # else one whose only input comes back from its controller's loop.
     candidates = []
     for topic, seen in obs.topics.items():
         if seen.count < 2 or seen.rate < min_rate:
@@ -344,9 +385,17 @@ def infer_roles(obs: Observation, min_rate: float) -> Roles:
             inputs = [t for t in obs.nodes[pub].subscribes
                       if any(p != pub for p in student_pubs.get(t, []))]
             if not inputs:
-                candidates.append((len(seen.subscribers), seen.rate, topic, pub))
-    if candidates:
-        _subs, _rate, roles.sensor_topic, roles.sensor = max(candidates)
+                controlled = any(set(obs.nodes[n].publishes) - {topic}
+                                 for n in seen.subscribers if n != pub and n in obs.nodes)
+                candidates.append((controlled, len(seen.subscribers), seen.rate, topic, pub))
+    # A loop's sensor comes before an open one that no controller reads (a status topic
+    # or a heartbeat beside a closed loop), not before one a controller reads.
+    best_open = max(candidates) if candidates else None
+    loop = None if best_open and best_open[0] else _closed_loop_sensor(obs, min_rate)
+    if loop is not None:
+        roles.sensor_topic, roles.sensor = loop
+    elif best_open is not None:
+        _controlled, _subs, _rate, roles.sensor_topic, roles.sensor = best_open
     else:
         return roles
     # The controller: subscribes to the sensor topic, publishes something else.

@@ -1,4 +1,5 @@
-"""`sensor_publishes`: a node publishes simulated readings periodically, without input."""
+"""`sensor_publishes`: a node publishes simulated readings periodically: with no input, or
+closing the loop by reading the commands it simulates the plant from (roles.py says which)."""
 
 from __future__ import annotations
 
@@ -18,8 +19,8 @@ def sensor_publishes(state: JobState, check: RubricCheck) -> Verdict:
         return live.not_run_verdict('the running system')
     obs, roles = watched
     if roles.sensor is None:
-        return Verdict(False, f'a node that publishes a topic periodically (≥ {min_rate:g} Hz) '
-                       'without input', live.seen(),
+        return Verdict(False, f'a node that publishes a topic periodically (≥ {min_rate:g} Hz), '
+                       'with no input or only the commands of its loop', live.seen(),
                        live.crash_fix() or 'create a timer (`create_timer(1.0 / rate, '
                        'callback)`) that publishes a message with a simulated reading')
     topic = obs.topics[roles.sensor_topic or '']
@@ -27,8 +28,9 @@ def sensor_publishes(state: JobState, check: RubricCheck) -> Verdict:
     flood = max(obs.log_rate(roles.sensor), live.line_rates.get(roles.sensor, 0.0))
     ok = flood <= max_logs
     return Verdict(
-        ok, f'a node that publishes a topic periodically without input, logging at most '
-        f'{max_logs:g} lines/s', f'sensor `{roles.sensor}` publishes `{topic.name}` '
+        ok, 'a node that publishes a topic periodically (its input, if any, the commands of '
+        f'its loop), logging at most {max_logs:g} lines/s',
+        f'sensor `{roles.sensor}` publishes `{topic.name}` '
         f'[{", ".join(topic.types)}] at {topic.rate:.1f} Hz; sample: `{sample}`'
         + ('' if ok else f'\n\nbut it logs {flood:.0f} lines/s; last lines:'
            + code(list(obs.nodes[roles.sensor].logs), 4)),
