@@ -55,9 +55,9 @@ def _number(notebook: str) -> int:
     return int(found.group(1)) if found else 0
 
 
-# Lessons 01-06 build one package (my_robot_system), each on the one before; 00 and 07-10
+# Lessons 01-06 build one package (my_robot_system), each on the one before; 00 and 07-12
 # start from nothing of the student's (07 and 08 create packages of their own, 09 its
-# interfaces, 10 runs turtlesim's tutorials).
+# interfaces, 10 runs turtlesim's tutorials, 11 and 12 make tf2 and description packages).
 _CONTINUED = range(2, 7)
 
 
