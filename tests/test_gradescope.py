@@ -75,6 +75,8 @@ def test_run_autograder_writes_gradescope_results(autograder: dict[str, object])
     assert data['tests'][0]['name'] == 'The package builds with colcon'
     assert data['output_format'] == 'md' and data['visibility'] == 'visible'
     assert '/distance' in data['tests'][2]['output']  # the same feedback as the class run
+    # Before the job, the instructor's log (run_autograder's output) says how it is fenced.
+    assert 'containment: each job in its own namespaces' in run.stdout, run.stdout[-2000:]
 
 
 def test_a_broken_submission_gets_its_points_not_a_crash(tmp_path: Path,
@@ -86,11 +88,35 @@ def test_a_broken_submission_gets_its_points_not_a_crash(tmp_path: Path,
     shutil.copytree(root / 'source', other / 'source')
     (other / 'submission').mkdir(parents=True)
     (other / 'submission' / 'answer.py').write_text('print("hello")\n')
+    # In a container that refuses namespaces (Docker's seccomp profile), as the layer's
+    # switch makes this machine: the job still runs, and the log says the container is
+    # the sandbox and why, never silently.
     env = dict(os.environ, AUTOGRADER_ROOT=str(other),
-               ROBOT_LAB_AUTOGRADER_PYTHON=sys.executable)
+               ROBOT_LAB_AUTOGRADER_PYTHON=sys.executable, ROBOT_LAB_DISABLE='namespaces')
     run = subprocess.run([str(other / 'source' / 'run_autograder')], capture_output=True,
                          text=True, env=env, timeout=300, check=False)
     assert run.returncode == 0, run.stderr[-2000:]
     data = json.loads((other / 'results' / 'results.json').read_text())
     assert data['score'] == 0
     assert 'package' in json.dumps(data).lower()
+    assert ('containment: the container is the sandbox: namespaces are unavailable in it '
+            '(namespaces switched off (ROBOT_LAB_DISABLE=namespaces))') in run.stdout
+
+
+def test_the_autograder_names_its_containment_without_namespaces(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from robot_lab.grading.package.containment import NO_SANDBOX_VAR, namespaces_available
+    from robot_lab.grading.package.gradescope import autograder_containment
+    from robot_lab.grading.package.rubric import Limits
+
+    monkeypatch.setenv('ROBOT_LAB_DISABLE', 'namespaces')
+    monkeypatch.setenv(NO_SANDBOX_VAR, '')  # restored by monkeypatch: the call sets it
+    namespaces_available.cache_clear()
+    try:
+        line = autograder_containment(Limits(processes=64))
+    finally:
+        namespaces_available.cache_clear()
+    assert line.startswith('containment: the container is the sandbox: namespaces are '
+                           'unavailable in it (namespaces switched off'), line
+    assert '64 processes' in line and 'runs as ' in line
+    assert os.environ[NO_SANDBOX_VAR] == '1'  # the job does not try unshare

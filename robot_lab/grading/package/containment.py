@@ -19,11 +19,11 @@ import functools
 import os
 import shutil
 import subprocess
-from pathlib import Path
 
 from robot_lab.grading.package.rubric import Limits
 
-__all__ = ['NO_NAMESPACES_VAR', 'NO_SANDBOX_VAR', 'containment_line', 'namespace_problem',
+__all__ = ['NO_NAMESPACES_VAR', 'NO_SANDBOX_VAR', 'container_line', 'containment_line',
+           'namespace_problem',
            'namespaces_available', 'refusal', 'unshare_args']
 
 NO_SANDBOX_VAR = 'ROBOT_LAB_GRADE_NO_SANDBOX'
@@ -71,18 +71,19 @@ def namespaces_available() -> bool:
 
 
 def _sysctl(name: str) -> str | None:
-    try:
-        return Path('/proc/sys', *name.split('.')).read_text().strip()
-    except OSError:
-        return None
+    from robot_lab.linux import procfs
+
+    return procfs.sysctl(name)
 
 
 def _seccomp_filtered() -> bool:
+    """Whether a seccomp filter is on this process (mode 2), as Docker's profile is."""
+    from robot_lab.linux import procfs
+
     try:
-        status = Path('/proc/self/status').read_text()
+        return procfs.status().get('Seccomp') == '2'
     except OSError:
         return False
-    return any(line.split() == ['Seccomp:', '2'] for line in status.splitlines())
 
 
 def _advice() -> list[str]:
@@ -124,10 +125,23 @@ def refusal() -> tuple[str, str] | None:
     return message, fix
 
 
+def _cap(limits: Limits) -> str:
+    return (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB, {limits.processes} '
+            f'processes, {limits.wall_seconds:g} s wall')
+
+
+def container_line(limits: Limits, problem: str) -> str:
+    """The line for a grader inside a throwaway container with no namespaces (Gradescope's:
+    one per submission, discarded after it): the container is the sandbox, said so."""
+    who = 'root' if os.geteuid() == 0 else f'uid {os.geteuid()}'
+    return (f"containment: the container is the sandbox: namespaces are unavailable in it "
+            f"({problem}), so the student's code runs as {who} in this container, with its "
+            f'files and network; {_cap(limits)} and a sweep of its processes')
+
+
 def containment_line(limits: Limits, no_sandbox: bool) -> str:
     """One line saying how each job will be contained (printed before the first job)."""
-    cap = (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB, {limits.processes} '
-           f'processes, {limits.wall_seconds:g} s wall')
+    cap = _cap(limits)
     if no_sandbox:
         who = 'root' if os.geteuid() == 0 else f'uid {os.geteuid()}'
         return (f"containment: NONE (--no-sandbox): students' code runs as {who}, with your "

@@ -17,15 +17,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import stat
 import sys
 import zipfile
 from pathlib import Path
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.package.rubric import Rubric
+from robot_lab.grading.package.rubric import Limits, Rubric
 
-__all__ = ['grade_in_autograder', 'write_autograder']
+__all__ = ['autograder_containment', 'grade_in_autograder', 'write_autograder']
 
 # The kit's files `pip install ./kit` needs (its setup.py's packages and data files).
 _KIT_FILES = ('setup.py', 'setup.cfg', 'pyproject.toml', 'package.xml', 'README.md')
@@ -96,6 +97,27 @@ def write_autograder(target: str | Path, rubric: Rubric) -> Path:
     return out
 
 
+def autograder_containment(limits: Limits) -> str:
+    """The containment line of a job in Gradescope's container, printed before it runs.
+
+    With namespaces, the job is fenced in as on an instructor's machine. Without them
+    (Docker's seccomp profile refuses `unshare`), refusing would leave the student with no
+    grade: the container, one per submission and thrown away after it, is the sandbox
+    then, and the line says so and why, never silently."""
+    from robot_lab.grading.package.containment import (
+        NO_SANDBOX_VAR,
+        container_line,
+        namespace_problem,
+        namespaces_available,
+    )
+    from robot_lab.grading.package.sandbox import check_can_contain
+
+    if namespaces_available():
+        return check_can_contain(limits=limits)
+    os.environ[NO_SANDBOX_VAR] = '1'  # for the job run_job starts: no unshare to try
+    return container_line(limits, namespace_problem() or 'namespaces were refused')
+
+
 def grade_in_autograder(root: Path, rubric_file: Path) -> dict[str, object]:
     """Grade `root/submission`; write `root/results/results.json`; return what was written."""
     from robot_lab.grading.package.grade import grade_package
@@ -106,6 +128,8 @@ def grade_in_autograder(root: Path, rubric_file: Path) -> dict[str, object]:
     results.parent.mkdir(parents=True, exist_ok=True)
     try:
         rubric = load_rubric(rubric_file)
+        # Gradescope shows run_autograder's output to the instructor, not the student.
+        print(autograder_containment(rubric.limits), flush=True)
         report = grade_package(Submission('submission', root / 'submission'), rubric)
         data = report.results_json()
         data['visibility'] = 'visible'
