@@ -3,8 +3,9 @@
 The grader's sandbox (grading/package/sandbox.py, confinement.py) makes a job's own
 mount, PID, network and IPC namespaces, in a user namespace when it is not root. Ubuntu
 24.04 (AppArmor's restriction of unprivileged user namespaces) and Docker's default
-seccomp profile refuse that: `probe` says so, and the grader then refuses to run as root
-or grades without a sandbox.
+seccomp profile refuse that: `probe` says so, and the grader then refuses to run
+students' code, root or not, saying why and how to allow namespaces, unless it is given
+`--no-sandbox` (or runs in Gradescope's container, which it names as the sandbox).
 """
 
 from __future__ import annotations
