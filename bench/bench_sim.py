@@ -25,8 +25,24 @@ own loader refuses (inertia, package://, .dae, the free base) with a warning nam
 link. Its wheels' velocity servos need the implicit-in-velocity integrator (implicitfast):
 with Euler a stiff servo on a light wheel diverges in 4 ms.
 
-Usage: python bench/bench_sim.py [--runs N]  (PyBullet from PYBULLET_PATH, a
-`pip install --target` folder, when the venv lacks it)
+Then the kit's simulator itself (`--system`; issue 50's bench lines), the room world with the
+sample robot and its 360-beam 10 Hz lidar:
+- headless maximum speed: `Simulation.step()` as fast as it goes, in simulated seconds per
+  wall second (goal >= 20x);
+- the real-time factor of the simulator process (`gz_sim -r room.sdf`, real time) while
+  `--busy` busy loops stand in for students' kernels (goal >= 1.0), and the process's CPU
+  (goal <= 25 % of a core per simulated student);
+- start to first /scan: from starting `gz_sim`, `create` and `parameter_bridge` to a ROS
+  subscriber's first LaserScan (goal <= 3 s). Needs a domain: run it in `unshare --net`.
+
+Measured 2026-12-06, same host and load, `--system --runs 3 --seconds 5 --busy 1`:
+headless 10.4-24.4x real time (16.9x median; the host's load moves it: bare mj_step ran
+14-48 us a step, the systems' Python adds about as much again); real-time factor 0.999
+beside a busy loop; the simulator's process 6.2 % of a core; start to first /scan 3.2-6.4 s
+(the three programs each import rclpy or MuJoCo on a loaded host: not yet at the goal).
+
+Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
+(PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
 """
 
 from __future__ import annotations
@@ -191,10 +207,104 @@ def _quiet_output() -> Iterator[None]:
             os.close(copy)
 
 
+def _headless_speed() -> float:
+    from robot_lab.sim.sample_robot import WHEEL_RADIUS
+    from robot_lab.sim.simulation import Simulation
+
+    sim = Simulation('room.sdf', warn=print)
+    sim.spawn(diffbot_urdf(), 'diffbot', (0.0, 0.0, WHEEL_RADIUS + 0.001))
+    sim.command('/cmd_vel', {'linear': {'x': 0.2}, 'angular': {'z': 0.3}})
+    start, steps = time.perf_counter(), 5000
+    sim.step(steps)
+    return steps * sim.info.step / (time.perf_counter() - start)
+
+
+def _program(package: str, name: str) -> list[str]:
+    return [str(Path(sys.prefix) / 'lib' / package / name)]
+
+
+def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
+    """(real-time factor, % of a core, s to first /scan) of the processes a lab starts."""
+    import subprocess
+
+    import psutil
+    import rclpy
+    from rclpy.qos import qos_profile_sensor_data
+    from sensor_msgs.msg import LaserScan
+
+    from robot_lab.sim.transport import connect
+
+    begin = time.monotonic()
+    sim = subprocess.Popen([*_program('ros_gz_sim', 'gz_sim'), '-r', 'room.sdf'],
+                           stdout=subprocess.DEVNULL)
+    bridge = subprocess.Popen([*_program('ros_gz_bridge', 'parameter_bridge'),
+                               '/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan'],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        subprocess.run([*_program('ros_gz_sim', 'create'), '-file', str(urdf), '-name', 'bot',
+                        '-z', '0.051'], check=True, stdout=subprocess.DEVNULL)
+        rclpy.init()
+        node = rclpy.create_node('bench_sim')
+        first: list[float] = []
+        node.create_subscription(LaserScan, '/scan', lambda _: first.append(time.monotonic()),
+                                 qos_profile_sensor_data)
+        while not first:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        to_scan = first[0] - begin
+        node.destroy_node()
+        rclpy.shutdown()
+        connection = connect()
+        assert connection is not None
+        connection.send({'op': 'sub', 'topic': '/clock'})
+
+        def sim_seconds() -> float:
+            frame = connection.receive()
+            assert frame is not None
+            return float(frame['msg']['sim']['sec']) + frame['msg']['sim']['nsec'] * 1e-9
+
+        process = psutil.Process(sim.pid)
+        wall0, sim0, cpu0 = time.monotonic(), sim_seconds(), process.cpu_times()
+        while time.monotonic() - wall0 < seconds:
+            sim1 = sim_seconds()
+        wall, cpu1 = time.monotonic() - wall0, process.cpu_times()
+        connection.close()
+        cpu = (cpu1.user + cpu1.system - cpu0.user - cpu0.system) / wall * 100
+        return (sim1 - sim0) / wall, cpu, to_scan
+    finally:
+        for proc in (bridge, sim):
+            proc.terminate()
+            proc.wait()
+
+
+def system(runs: int, busy: int, seconds: float) -> None:
+    sys.path.insert(0, str(REPO / 'bench'))
+    from busy import busy_loops
+
+    speeds = [_headless_speed() for _ in range(runs)]
+    print(f'headless maximum speed: {statistics.median(speeds):.1f}x real time '
+          f'(goal >= 20x), median of {runs}')
+    with tempfile.TemporaryDirectory() as folder, busy_loops(busy):
+        urdf = Path(folder) / 'diffbot.urdf'
+        urdf.write_text(diffbot_urdf(samples=BEAMS))
+        results = [_real_time(seconds, urdf) for _ in range(runs)]
+    factor = statistics.median(r[0] for r in results)
+    cpu = statistics.median(r[1] for r in results)
+    to_scan = statistics.median(r[2] for r in results)
+    print(f'beside {busy} busy loops: real-time factor {factor:.3f} (goal >= 1.0), simulator '
+          f'CPU {cpu:.1f} % of a core (goal <= 25 %), start to first /scan {to_scan:.2f} s '
+          f'(goal <= 3 s), median of {runs} runs of {seconds:g} s')
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--runs', type=int, default=5)
+    parser.add_argument('--system', action='store_true', help="the kit's simulator itself")
+    parser.add_argument('--busy', type=int, default=1, help='busy loops beside it (a kernel)')
+    parser.add_argument('--seconds', type=float, default=5.0)
     args = parser.parse_args()
+    if args.system:
+        system(args.runs, args.busy, args.seconds)
+        return
     with tempfile.TemporaryDirectory() as folder:
         urdf = Path(folder) / 'diffbot.urdf'
         urdf.write_text(diffbot_urdf(samples=BEAMS))

@@ -86,6 +86,8 @@ class DiffDrive(System):
         self.period_ns = _period(settings.odom_publish_frequency)
         self.command = (0.0, 0.0)
         self.applied = (0.0, 0.0)
+        self.written: tuple[float, float] | None = None
+        self._distance = self._turn = 0.0  # since the last odometry message
         self.left = [robot.joints[j] for j in settings.left_joints]
         self.right = [robot.joints[j] for j in settings.right_joints]
         self.pose = [0.0, 0.0, 0.0]  # x, y, heading in the odometry frame
@@ -110,33 +112,39 @@ class DiffDrive(System):
         subscribe(self.cmd_topic, self.on_twist)
 
     def on_twist(self, message: Message) -> None:
-        self.command = (float(message.get('linear', {}).get('x', 0.0)),
-                        float(message.get('angular', {}).get('z', 0.0)))
+        s = self.s
+        linear = float(message.get('linear', {}).get('x', 0.0))
+        angular = float(message.get('angular', {}).get('z', 0.0))
+        # the velocity limits at once; the acceleration limits step by step (pre_update)
+        self.command = (min(max(linear, s.min_linear_velocity), s.max_linear_velocity),
+                        min(max(angular, s.min_angular_velocity), s.max_angular_velocity))
 
     def bind(self, model: mujoco.MjModel) -> None:
         self.actuators = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f'{j}::velocity')
                           for j in self.left + self.right]
         self.qpos = [model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j)]
                      for j in self.left + self.right]
+        self.written = None  # a new model: write the wheels again
 
-    def _limit(self, value: float, previous: float, kind: str, dt: float) -> float:
-        s = self.s
-        low, high = getattr(s, f'min_{kind}_velocity'), getattr(s, f'max_{kind}_velocity')
-        value = min(max(value, low), high)
-        low_a = getattr(s, f'min_{kind}_acceleration')
-        high_a = getattr(s, f'max_{kind}_acceleration')
-        return float(min(max(value, previous + low_a * dt), previous + high_a * dt))
+    @staticmethod
+    def _toward(value: float, previous: float, low: float, high: float, dt: float) -> float:
+        return min(max(value, previous + low * dt), previous + high * dt)
 
     def pre_update(self, model: mujoco.MjModel, data: mujoco.MjData, time_ns: int) -> None:
-        dt = model.opt.timestep
-        linear = self._limit(self.command[0], self.applied[0], 'linear', dt)
-        angular = self._limit(self.command[1], self.applied[1], 'angular', dt)
+        if self.written == self.command:  # the wheels already turn as commanded
+            return
+        s, dt = self.s, float(model.opt.timestep)
+        linear = self._toward(self.command[0], self.applied[0], s.min_linear_acceleration,
+                              s.max_linear_acceleration, dt)
+        angular = self._toward(self.command[1], self.applied[1], s.min_angular_acceleration,
+                               s.max_angular_acceleration, dt)
         self.applied = (linear, angular)
-        half = angular * self.s.wheel_separation / 2
-        left, right = (linear - half) / self.s.wheel_radius, (linear + half) / self.s.wheel_radius
+        half = angular * s.wheel_separation / 2
+        left, right = (linear - half) / s.wheel_radius, (linear + half) / s.wheel_radius
         count = len(self.left)
         for index, actuator in enumerate(self.actuators):
             data.ctrl[actuator] = left if index < count else right
+        self.written = self.applied
 
     def _wheel_positions(self, data: mujoco.MjData) -> tuple[float, float]:
         count = len(self.left)
@@ -162,8 +170,8 @@ class DiffDrive(System):
             x += radius * (math.sin(heading + turn) - math.sin(heading))
             y -= radius * (math.cos(heading + turn) - math.cos(heading))
         self.pose = [x, y, heading + turn]
-        self._distance = getattr(self, '_distance', 0.0) + distance
-        self._turn = getattr(self, '_turn', 0.0) + turn
+        self._distance += distance
+        self._turn += turn
         if not self.due(time_ns):
             return
         dt = (time_ns - self.last_ns) / 1e9
