@@ -270,6 +270,16 @@ class SceneView(LiveView):
         if self._scene_canvas is not None:
             self.canvas.fixed_frame = self._fixed
 
+    def hide_frames(self, frames: Iterable[str] = ()) -> None:
+        """Hide these TF frames' axes and names (RViz's TF display, its frames unticked);
+        `hide_frames()` shows them all again."""
+        self.canvas.hidden_frames = sorted({f.lstrip('/') for f in frames})
+
+    @property
+    def hidden_frames(self) -> list[str]:
+        """The TF frames hidden in the view (ticked off there, or by `hide_frames`)."""
+        return [] if self._scene_canvas is None else list(self._scene_canvas.hidden_frames)
+
     def frames(self) -> dict[str, Pose | None]:
         """Every TF frame's newest pose in the fixed frame (None: no transform to it)."""
         with self._lock:

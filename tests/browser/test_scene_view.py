@@ -37,8 +37,10 @@ def _notebook(root: Path) -> None:
     (root / 'view.ipynb').write_text(json.dumps({
         'cells': [{'cell_type': 'code', 'execution_count': None, 'id': cell, 'metadata': {},
                    'outputs': [], 'source': source} for cell, source in (
-                       ('view', "import robot_lab\nrobot_lab.scene_view('base_link')"),
-                       ('sliders', 'robot_lab.joint_sliders()'))],
+                       ('view', "import robot_lab\nview = robot_lab.scene_view('base_link')\n"
+                                'view'),
+                       ('sliders', 'robot_lab.joint_sliders()'),
+                       ('hide', "print(view.hidden_frames)\nview.hide_frames(['head', 'box'])"))],
         'metadata': {'kernelspec': {'name': 'robot_lab', 'display_name': 'robot_lab',
                                     'language': 'python'}},
         'nbformat': 4, 'nbformat_minor': 5}))
@@ -149,7 +151,12 @@ def test_r2d2_is_drawn_and_moves_with_its_joints(ros_domain: int, tmp_path: Path
             view.locator('details label', has_text='head').first.locator('input').uncheck()
             assert wait_in_page(page, '([el, n]) => +el.dataset.tfShown === n - 1',
                                 [handle, shown], 10)
+            book.run(2)  # the kernel heard the click; Python hides one more
+            assert "['head']" in book.text(2), book.text(2)
+            assert wait_in_page(page, '([el, n]) => +el.dataset.tfShown === n - 2',
+                                [handle, shown], 10)
             # another fixed frame, picked in the view's menu: the kernel re-resolves every pose
+            view.scroll_into_view_if_needed()  # running cell 2 scrolled it away
             view.locator('select').select_option('right_leg')
             assert wait_in_page(page, "el => el.dataset.fixed === 'right_leg'", handle, 10)
             assert not book.errors(), book.errors()

@@ -177,6 +177,7 @@ function render({ model, el: host }) {
     fixedSelect.value = ctx.fixed;
     const boxes = names.map((name) => {
       const box = el('input', { type: 'checkbox', checked: !ctx.hidden.has(name) });
+      box.dataset.frame = name;
       box.addEventListener('change', () => {
         if (box.checked) ctx.hidden.delete(name); else ctx.hidden.add(name);
         model.set('hidden_frames', [...ctx.hidden].sort());
@@ -233,6 +234,15 @@ function render({ model, el: host }) {
   model.on('msg:custom', take);
   const changed = () => { showStatus(); wake(); };
   model.on('change:status', changed);
+  const hiddenChanged = () => {  // set from Python: view.hide_frames([...])
+    ctx.hidden = new Set(model.get('hidden_frames') || []);
+    for (const box of framesBox.querySelectorAll('input')) {
+      box.checked = !ctx.hidden.has(box.dataset.frame);
+    }
+    for (const d of displays.values()) d.frames?.();
+    wake();
+  };
+  model.on('change:hidden_frames', hiddenChanged);
   model.send({ kind: 'ready', view: viewId });
   wake();
   return () => {
@@ -243,6 +253,7 @@ function render({ model, el: host }) {
     watch.disconnect();
     model.off('msg:custom', take);
     model.off('change:status', changed);
+    model.off('change:hidden_frames', hiddenChanged);
     for (const d of displays.values()) d.dispose();
     controls.dispose();
     renderer.dispose();
