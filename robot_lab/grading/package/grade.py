@@ -120,18 +120,27 @@ def not_graded(student: str, rubric: Rubric, err: RobotLabError) -> StudentRepor
 
 
 def _read_report(job_dir: Path, student: str, rubric: Rubric) -> StudentReport:
+    """The job's last report (sandbox._keep_report wrote it from the job's pipe), or a row
+    that says why there is none.
+
+    A report that does not load though the job ended well (code 0) has one known cause: a
+    job runs the kit's code as it is on disk when it starts, so a kit changed while a
+    class is graded (an upgrade, or an edit of the checkout) can hand back a report this
+    grader's older code cannot read (a field it does not know: TypeError)."""
     path = job_dir / 'report.json'
+    why = 'the grading job left no report'
     if path.is_file():
         try:
             report = StudentReport.from_dict(json.loads(path.read_text()))
             report.student = student
             return report
-        except (ValueError, TypeError, KeyError):
-            pass
+        except (ValueError, TypeError, KeyError) as err:
+            why = (f'the grading job left a report this grader cannot read ({type(err).__name__}'
+                   f': {str(err)[:200]}): was the kit changed while grading? Regrade it')
     return StudentReport(student, [CheckOutcome(c.id, c.name, 0.0, c.points,
                                                 'Not reached: the grading job ended early.')
                                    for c in rubric.checks], title=rubric.lab, status='error',
-                         error='the grading job left no readable report')
+                         error=why)
 
 
 def _progress(total: int, enabled: bool) -> Any:

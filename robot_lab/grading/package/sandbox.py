@@ -327,9 +327,12 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
             _kill(proc, isolated)
             with _RUNNING_LOCK:
                 _RUNNING.discard(proc)
+    # Kill what is left first: without namespaces a student process that left the job's
+    # process group can hold the pipe's write end (a node forked without exec), so the
+    # reader would wait for an end of file that never comes, and could write report.json.
+    sweep(token)
     reader.join(timeout=10)
     _keep_report(job_dir, reports)
-    sweep(token)
     if group is not None:
         _remove_cgroup(group)
     code = None if timed_out else proc.returncode
