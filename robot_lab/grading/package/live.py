@@ -31,6 +31,7 @@ from robot_lab.grading.package.roles import infer_roles, observe
 from robot_lab.grading.package.state import JobState, ParamReading, code
 
 if TYPE_CHECKING:
+    from robot_lab.grading.package.tf_watch import TfWatch
     from robot_lab.launch.api import LaunchHandle, ProcessStatus
     from robot_lab.launch.plan import LaunchPlan
     from robot_lab.rclpy_session import Session
@@ -248,6 +249,7 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         return
     output: dict[str, list[str]] = {}
     bridge = Bridge()  # for the student's own message types: read by a helper process
+    tf = _watch_tf(state, sess)
     # One process may spin several nodes: wait for as many nodes as the lab asks for.
     wanted = max(len(plan.processes()), int(state.option('launch_file', 'min_nodes', 3)))
     try:
@@ -261,6 +263,8 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
             live.not_run = f'the grader could not watch the running system ({live.grader_fault})'
             return
         live.obs = obs
+        if tf is not None:
+            live.tf_edges = tf.edges()
         if obs.faults:  # what the watch could not see may have decided these checks
             state.check_faults.update(dict.fromkeys(_WATCHED, '; '.join(obs.faults)))
         with contextlib.suppress(Exception):
@@ -284,10 +288,26 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
                 live.response = Response(False, why='the grader failed while driving it',
                                          fault=f'{type(err).__name__}: {err}')
     finally:
+        if tf is not None:
+            tf.close()
         bridge.close()
         handle.shutdown(timeout=10)
     if not live.grader_fault:
         _after_the_run(state, job_dir, output)
+
+
+def _watch_tf(state: JobState, sess: Session) -> TfWatch | None:
+    """A tf2 listener for the `tf_tree` check, when the rubric has it (its failure is the
+    grader's: the check keeps its points)."""
+    if state.rubric.check('tf_tree') is None:
+        return None
+    from robot_lab.grading.package.tf_watch import TfWatch
+
+    try:
+        return TfWatch(sess)
+    except Exception as err:  # the grader's subscription, not the student's system
+        state.check_faults['tf_tree'] = f'listening on /tf failed: {type(err).__name__}: {err}'
+        return None
 
 
 def _process_of(statuses: list[ProcessStatus], node: str, other: str | None) -> int | None:

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from robot_lab.grading.package.crash import Crash
     from robot_lab.grading.package.perturb import Response
     from robot_lab.grading.package.roles import Observation, Roles
+    from robot_lab.grading.package.tf_watch import TfEdge
     from robot_lab.launch.api import ProcessStatus
 
 __all__ = ['LINES', 'JobState', 'LiveRun', 'ParamReading', 'Verdict', 'code', 'section']
@@ -106,6 +107,7 @@ class LiveRun:
     crashes: dict[str, Crash] = field(default_factory=dict)  # label -> why it died
     response: Response | None = None  # the controller driven by the grader (perturb)
     grader_fault: str = ''  # the grader's own failure that kept the system from being watched
+    tf_edges: set[TfEdge] | None = None  # heard by a tf2 listener (the `tf_tree` check)
 
     def not_run_verdict(self, expected: str) -> Verdict:
         return Verdict(False, expected, self.not_run, self.fix, grader_error=self.grader_fault)
