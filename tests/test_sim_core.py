@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -111,3 +112,31 @@ def test_what_the_kit_does_not_simulate_is_one_line_naming_it() -> None:
         sim.spawn(urdf, 'bot')
     with pytest.raises(SimulationError, match='unable to find'):
         Simulation('no_such_world.sdf')
+
+
+TUTORIAL = Path(__file__).resolve().parents[1] / 'robot_lab/data/ament_packages/urdf_tutorial/urdf'
+
+
+def test_urdf_tutorials_r2d2_with_package_meshes_stands_on_its_legs() -> None:
+    """07-physics.urdf: package:// COLLADA meshes MuJoCo's own loader refuses, converted
+    (each a warning naming its link); its collisions hold it on the ground."""
+    source = TUTORIAL / '07-physics.urdf'
+    warnings: list[str] = []
+    sim = Simulation('empty.sdf', warn=warnings.append)
+    sim.spawn(source.read_text(), 'r2d2', (0.0, 0.0, 0.7), source=str(source))
+    sim.step(1500)
+    base = sim.data.xpos[sim.model.body('r2d2::base_link').id]
+    assert 0.4 < base[2] < 0.55
+    assert any(w.startswith(f'{source}:') and "link 'left_gripper' converted from COLLADA" in w
+               for w in warnings)
+
+
+def test_a_robot_with_no_collision_falls_and_is_told_why() -> None:
+    source = TUTORIAL / '01-myfirst.urdf'
+    warnings: list[str] = []
+    sim = Simulation('empty.sdf', warn=warnings.append)
+    sim.spawn(source.read_text(), 'first', (0.0, 0.0, 0.5), source=str(source))
+    sim.step(500)
+    assert sim.data.xpos[sim.model.body('first::base_link').id][2] < 0
+    assert f"{source}:2: robot 'myfirst' has no <collision> in any link" in '\n'.join(warnings)
+    assert any("link 'base_link' has no <inertial>" in w for w in warnings)

@@ -13,6 +13,7 @@ the link, as Gazebo's sdformat warns when it converts a URDF:
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -83,7 +84,15 @@ def _mesh(spec: mujoco.MjSpec, geometry: Node, link: str, warn: Warn) -> str:
     try:
         import trimesh
 
-        loaded = trimesh.load(str(path), force='mesh')
+        # the tutorials' COLLADA files name textures they do not ship: trimesh logs a
+        # traceback for each, and textures do not collide
+        quiet = logging.getLogger('trimesh')
+        level = quiet.level
+        quiet.setLevel(logging.CRITICAL)
+        try:
+            loaded = trimesh.load(str(path), force='mesh')
+        finally:
+            quiet.setLevel(level)
         mesh_data: Any = loaded  # a Trimesh: force='mesh'
         vertices = mesh_data.vertices.flatten().tolist()
         faces = mesh_data.faces.flatten().tolist()
@@ -162,6 +171,10 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         raise SimulationError(f'an entity named {name!r} already exists in the world',
                               fix='give the robot another -name')
     tags = read_gazebo_tags(root, warn)
+    for element in root.children:
+        if element.tag not in ('link', 'joint', 'gazebo', 'material'):
+            warn(f"{element.where}: <{element.tag}> is not simulated by robot_lab's simulator "
+                 f'(DiffDrive and the other <gazebo> systems drive joints); ignored')
     links = {n.attrib.get('name', ''): n for n in root.findall('link')}
     bodies: dict[str, str] = {}
     joints: dict[str, str] = {}
@@ -204,4 +217,7 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
     else:
         base.add_freejoint().name = f'{name}::free'
         build(tree.root, base, True)
+    if not any(n.findall('collision') for n in links.values()):
+        warn(f'{source}:{root.line}: robot {tree.name!r} has no <collision> in any link: '
+             f'nothing holds it up, it falls through the ground (as in Gazebo)')
     return SpawnedRobot(name, tree, tags, bodies, joints)
