@@ -14,6 +14,7 @@ from typing import Any
 
 import pytest
 
+from robot_lab.sim.markers import world_markers
 from robot_lab.sim.sample_robot import WHEEL_RADIUS, diffbot_urdf
 from robot_lab.sim.simulation import Simulation
 from robot_lab.sim.xml_tree import SimulationError
@@ -140,3 +141,15 @@ def test_a_robot_with_no_collision_falls_and_is_told_why() -> None:
     assert sim.data.xpos[sim.model.body('first::base_link').id][2] < 0
     assert f"{source}:2: robot 'myfirst' has no <collision> in any link" in '\n'.join(warnings)
     assert any("link 'base_link' has no <inertial>" in w for w in warnings)
+
+
+def test_the_worlds_walls_as_markers_in_the_robots_odometry_frame() -> None:
+    sim = Simulation('room.sdf', warn=print)
+    sim.spawn(diffbot_urdf(), 'diffbot', (1.0, 0.0, WHEEL_RADIUS), (0.0, 0.0, math.pi / 2))
+    markers = world_markers(sim, 'odom', origin=(1.0, 0.0, math.pi / 2))
+    assert len(markers) == 4 and {m.type for m in markers} == {1}  # four boxes, no robot
+    # the north wall (x = 2.05 in the world) is 1.05 m to the robot's right in its frame
+    north = next(m for m in markers if m.scale.x == pytest.approx(0.1)
+                 and m.pose.position.y == pytest.approx(-1.05))
+    assert north.pose.position.x == pytest.approx(0.0, abs=1e-9)
+    assert north.header.frame_id == 'odom' and north.scale.z == pytest.approx(0.5)
