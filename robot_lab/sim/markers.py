@@ -26,7 +26,9 @@ def world_markers(sim: Simulation, frame_id: str = 'odom',
                   origin: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> list[Any]:
     """A Marker per box, sphere and cylinder of the world (not the robots', not the ground),
     posed in `frame_id`, whose pose in the world is x, y, yaw = `origin`."""
-    from visualization_msgs.msg import Marker
+    from robot_lab.messages import message_class
+
+    Marker = message_class('visualization_msgs/msg/Marker')  # noqa: N806 - a class
 
     robots = tuple(f'{name}::' for name in sim.robots)
     x0, y0, yaw0 = origin
