@@ -25,6 +25,7 @@ import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
 from robot_lab.errors import RobotLabError
 from robot_lab.sim.simulation import Simulation
+from robot_lab.sim.systems import header, stamp
 from robot_lab.sim.transport import Connection, connect, partition, socket_path
 
 __all__ = ['identity', 'main', 'split_gz_args']
@@ -76,6 +77,10 @@ class Server:
         self.subscribers: dict[str, set[Connection]] = {}
         self.types: dict[str, str] = {}
         self.lock = threading.Lock()
+        self.paused = False
+        self.started = time.monotonic()
+        self.anchor = (self.started, 0)
+        self.last_stats = (self.started, 0)
         sim.on_publish = self.publish
         threading.Thread(target=self._accept, daemon=True).start()
 
@@ -125,20 +130,63 @@ class Server:
                 reply.update(ok=False, error=str(error))
                 print(f'[Err] {error}', flush=True)
             connection.send(reply)
+        elif op == 'control':
+            self.control(frame)
+            connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True,
+                             'data': {'paused': self.paused, 'iterations': self.sim.steps}})
         elif op == 'topics':
             topics = {**self.types, **{t: self.types.get(t, '') for t in self.sim.subscriptions}}
             connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True, 'data': topics})
 
+    def control(self, request: Frame) -> None:
+        """gz.msgs.WorldControl, as `/world/<name>/control` takes it: pause, (multi_)step,
+        reset; steps asked for while paused run at once."""
+        if 'pause' in request:
+            self.paused = bool(request['pause'])
+        if request.get('reset'):
+            self.sim.reset()
+            print('[Msg] World reset: time 0, models at their spawn poses', flush=True)
+        steps = int(request.get('multi_step') or 0) or (1 if request.get('step') else 0)
+        self.sim.step(steps)
+        self._anchor()
+
+    def _anchor(self) -> None:
+        """Real time counts again from now (after a pause, a reset, or steps on request)."""
+        self.anchor = (time.monotonic(), self.sim.steps)
+
+    def _stats(self, now: float) -> None:
+        """gz.msgs.WorldStatistics on /world/<name>/stats, 5 times a wall second."""
+        last_wall, last_ns = self.last_stats
+        if now - last_wall < 0.2:
+            return
+        time_ns = self.sim.time_ns
+        factor = (time_ns - last_ns) / 1e9 / (now - last_wall)
+        self.last_stats = (now, time_ns)
+        real = now - self.started
+        self.publish(f'/world/{self.sim.info.name}/stats', 'gz.msgs.WorldStatistics', {
+            'header': header(time_ns), 'sim_time': stamp(time_ns),
+            'real_time': stamp(int(real * 1e9)), 'iterations': self.sim.steps,
+            'paused': self.paused, 'real_time_factor': factor,
+            'step_size': stamp(self.sim.step_ns), 'model_count': len(self.sim.info.models)
+            + len(self.sim.robots)})
+
     def run(self, rate: float, iterations: int) -> None:
         """Step at `rate` steps per wall second, handling clients' frames between steps."""
-        start, done = time.monotonic(), 0
+        self.started = time.monotonic()
+        self.last_stats = (self.started, 0)
+        self._anchor()
         while not iterations or self.sim.steps < iterations:
-            due = int((time.monotonic() - start) * rate)
-            while done < due and (not iterations or self.sim.steps < iterations):
+            now = time.monotonic()
+            wall0, steps0 = self.anchor
+            due = steps0 + int((now - wall0) * rate)
+            while not self.paused and self.sim.steps < due and (
+                    not iterations or self.sim.steps < iterations):
                 self._drain()
                 self.sim.step()
-                done += 1
-            wait = max(0.0, (done + 1) / rate - (time.monotonic() - start))
+            if self.paused:
+                self._anchor()
+            self._stats(now)
+            wait = max(0.0, (self.sim.steps + 1 - steps0) / rate - (time.monotonic() - wall0))
             try:  # wake for a client's frame, or when the next step is due
                 connection, frame = self.inbox.get(timeout=min(wait, 0.05))
                 self.handle(connection, frame)

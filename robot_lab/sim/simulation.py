@@ -9,6 +9,7 @@ subscription, the way a gz topic would. Time is an integer count of nanoseconds
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Callable
 from pathlib import Path
@@ -118,12 +119,18 @@ class Simulation:
                 self.on_publish('/clock', 'gz.msgs.Clock', clock)
                 self.on_publish(f'/world/{self.info.name}/clock', 'gz.msgs.Clock', clock)
 
+    def reset(self) -> None:
+        """Gazebo's world reset: time 0, every body back at its spawn pose, systems afresh."""
+        mujoco.mj_resetData(self.model, self.data)
+        mujoco.mj_forward(self.model, self.data)
+        self.steps = 0
+        for system in self.systems:
+            system.reset()
+
     def body_pose(self, robot: str) -> tuple[float, float, float]:
         """x, y and heading of a robot's root link in the world (for tests and views)."""
         body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY,
                                  self.robots[robot].body(self.robots[robot].urdf.root))
         x, y = float(self.data.xpos[body][0]), float(self.data.xpos[body][1])
         matrix = self.data.xmat[body]
-        import math
-
         return x, y, math.atan2(float(matrix[3]), float(matrix[0]))

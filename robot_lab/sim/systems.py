@@ -54,6 +54,10 @@ class System:
     def bind(self, model: mujoco.MjModel) -> None:
         """Look up ids again: spawning a robot recompiles the model."""
 
+    def reset(self) -> None:
+        """The world went back to time 0 (Gazebo's world reset): start over."""
+        self.next_ns = 0
+
     def pre_update(self, model: mujoco.MjModel, data: mujoco.MjData, time_ns: int) -> None:
         """Before the step."""
 
@@ -110,6 +114,16 @@ class DiffDrive(System):
         self.frame_id = settings.frame_id or f'{name}/odom'
         self.child_frame_id = settings.child_frame_id or f'{name}/{robot.urdf.root}'
         subscribe(self.cmd_topic, self.on_twist)
+
+    def reset(self) -> None:
+        super().reset()
+        self.command = self.applied = (0.0, 0.0)
+        self.written = None
+        self.pose = [0.0, 0.0, 0.0]
+        self.wheels = None
+        self.last_ns = 0
+        self.velocity = (0.0, 0.0)
+        self._distance = self._turn = 0.0
 
     def on_twist(self, message: Message) -> None:
         s = self.s

@@ -1,0 +1,48 @@
+"""Pause, step and reset the running simulation: the kit's `/world/<name>/control`.
+
+Gazebo takes gz.msgs.WorldControl on its world-control service (`gz service -s
+/world/<name>/control --reqtype gz.msgs.WorldControl ... --req 'pause: true'`); the kit
+takes the same fields over its socket (`transport`), from Python or a notebook:
+`world_control(pause=True)`, `world_control(step=100)`, `world_control(reset=True)`.
+`gz_topics()` lists what the simulation publishes and takes (`gz topic -l`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robot_lab.sim.transport import connect, socket_path
+from robot_lab.sim.xml_tree import SimulationError
+
+__all__ = ['gz_topics', 'world_control']
+
+
+def _request(frame: dict[str, Any]) -> dict[str, Any]:
+    connection = connect()
+    if connection is None:
+        raise SimulationError(f'no simulation runs in this partition ({socket_path()})',
+                              fix='start one: ros2 launch ros_gz_sim gz_sim.launch.py '
+                                  'gz_args:="-r empty.sdf"')
+    try:
+        connection.send({**frame, 'id': 1})
+        while (reply := connection.receive()) is not None:
+            if reply.get('op') == 'reply':
+                data: dict[str, Any] = reply.get('data') or {}
+                return data
+    finally:
+        connection.close()
+    raise SimulationError('the simulation closed the connection before it answered')
+
+
+def world_control(pause: bool | None = None, step: int = 0, reset: bool = False) -> dict[str, Any]:
+    """Pause or run, advance `step` steps (also while paused), reset to time 0; returns
+    `{'paused': ..., 'iterations': ...}` after the request."""
+    request: dict[str, Any] = {'op': 'control', 'multi_step': step, 'reset': reset}
+    if pause is not None:
+        request['pause'] = pause
+    return _request(request)
+
+
+def gz_topics() -> dict[str, str]:
+    """Topic -> gz message type, of what the simulation publishes or subscribes to."""
+    return {str(k): str(v) for k, v in _request({'op': 'topics'}).items()}

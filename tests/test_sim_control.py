@@ -1,0 +1,58 @@
+"""The simulator process's world control and statistics, over its own socket (no ROS)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+
+import pytest
+from conftest import BIN, Proc
+
+from robot_lab.sim.control import gz_topics, world_control
+from robot_lab.sim.transport import connect
+
+pytestmark = pytest.mark.no_ros  # the simulator's own transport only
+
+
+@pytest.fixture(scope='module')
+def simulation() -> Iterator[Proc]:
+    # a partition of this module's own, whichever domain others use
+    os.environ['GZ_PARTITION'] = f'test_sim_control_{os.getpid()}'
+    process = Proc([str(BIN.parent / 'lib' / 'ros_gz_sim' / 'gz_sim'), '-r', 'room.sdf'])
+    try:
+        process.wait_for(r'Serving partition', timeout=30)
+        yield process
+    finally:
+        process.stop()
+        del os.environ['GZ_PARTITION']
+
+
+def _stats() -> dict[str, object]:
+    connection = connect()
+    assert connection is not None
+    connection.send({'op': 'sub', 'topic': '/world/room/stats'})
+    frame = connection.receive()
+    connection.close()
+    assert frame is not None
+    return dict(frame['msg'])
+
+
+def test_pause_step_and_reset(simulation: Proc) -> None:
+    paused = world_control(pause=True)
+    assert paused['paused'] is True
+    assert world_control()['iterations'] == paused['iterations']  # nothing ran meanwhile
+    stepped = world_control(step=250)
+    assert stepped['iterations'] == paused['iterations'] + 250
+    assert world_control(reset=True)['iterations'] == 0
+    assert _stats()['paused'] is True
+    running = world_control(pause=False)
+    assert running['paused'] is False
+
+
+def test_the_real_time_factor_is_reported(simulation: Proc) -> None:
+    world_control(pause=False)
+    stats = _stats()
+    stats = _stats()  # the second has a whole interval of running behind it
+    assert stats['paused'] is False
+    assert 0.5 < float(str(stats['real_time_factor'])) < 1.5
+    assert '/world/room/stats' in gz_topics() and '/clock' in gz_topics()
