@@ -105,6 +105,11 @@ _API: dict[str, str] = {
     # the 3D view (RViz's job)
     'scene_view': 'robot_lab.scene.view',
     'SceneView': 'robot_lab.scene.view',
+    # the simulator (Gazebo's job): worlds, robots, world control, its shapes for scene_view
+    'Simulation': 'robot_lab.sim.simulation',
+    'world_control': 'robot_lab.sim.control',
+    'gz_topics': 'robot_lab.sim.control',
+    'world_markers': 'robot_lab.sim.markers',
 }
 
 __all__ = sorted(_API)
@@ -137,5 +142,8 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     )
     from robot_lab.pkg.index import find_executable, package_prefix, package_share
     from robot_lab.rclpy_session import Session, session
+    from robot_lab.sim.control import gz_topics, world_control
+    from robot_lab.sim.markers import world_markers
+    from robot_lab.sim.simulation import Simulation
     from robot_lab.tf2.listener import tf_buffer
     from robot_lab.tf2.view_frames import frames_figure, view_frames
