@@ -117,6 +117,7 @@ setup(
             'ros2 = robot_lab.cli:ros2_entry',
             'xacro = robot_lab.urdf.xacro_command:main',  # over PyPI xacro's own
             'check_urdf = robot_lab.urdf.check:entry',
+            'gz = robot_lab.sim.gz_command:main',  # robot_lab's simulator, as `gz sim/topic`
             'ament_copyright = ament_copyright.main:main',
         ],
         'pytest11': ['ament_copyright = ament_copyright.pytest_marker'],

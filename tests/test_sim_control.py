@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import subprocess
 from collections.abc import Iterator
 
 import pytest
@@ -56,3 +57,21 @@ def test_the_real_time_factor_is_reported(simulation: Proc) -> None:
     assert stats['paused'] is False
     assert 0.5 < float(str(stats['real_time_factor'])) < 1.5
     assert '/world/room/stats' in gz_topics() and '/clock' in gz_topics()
+
+
+def test_gz_commands_as_the_tutorials_type_them(simulation: Proc) -> None:
+    def gz(*args: str) -> str:
+        done = subprocess.run([str(BIN / 'gz'), *args], capture_output=True, text=True,
+                              timeout=30, check=False)
+        assert done.returncode == 0, done.stderr
+        return done.stdout
+
+    assert "robot_lab's simulator" in gz('--version') and 'not Gazebo' in gz('--version')
+    assert '/clock' in gz('topic', '-l').split()
+    clock = gz('topic', '-e', '-t', '/clock', '-n', '1')
+    assert clock.startswith('header {') and 'sim {' in clock
+    gz('service', '-s', '/world/room/control', '--reqtype', 'gz.msgs.WorldControl',
+       '--reptype', 'gz.msgs.Boolean', '--timeout', '3000', '--req', 'pause: true')
+    assert world_control()['paused'] is True
+    gz('service', '-s', '/world/room/control', '--req', 'pause: false')
+    assert world_control()['paused'] is False

@@ -23,8 +23,8 @@ from typing import Any
 
 import yaml
 
+from robot_lab.sim.about import identity
 from robot_lab.sim.conversions import PAIRS, from_gz, to_gz
-from robot_lab.sim.server import identity
 from robot_lab.sim.transport import Connection, connect
 
 __all__ = ['BridgeSpec', 'main', 'parse_bridge_arg', 'parse_bridge_config']

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from robot_lab.sim.server import identity
+from robot_lab.sim.about import identity
 from robot_lab.sim.transport import Connection, connect, socket_path
 
 __all__ = ['main', 'parse_create_args']

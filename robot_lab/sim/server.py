@@ -21,24 +21,15 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
-
 from robot_lab.errors import RobotLabError
+from robot_lab.sim.about import identity
 from robot_lab.sim.simulation import Simulation
 from robot_lab.sim.systems import header, stamp
 from robot_lab.sim.transport import Connection, connect, partition, socket_path
 
-__all__ = ['identity', 'main', 'split_gz_args']
+__all__ = ['identity', 'main', 'split_gz_args']  # identity: from about, re-exported
 
 Frame = dict[str, Any]
-
-
-def identity() -> str:
-    """What every simulator command says it is (`--version`, the first log line)."""
-    from robot_lab import __version__
-
-    return (f"robot_lab's simulator {__version__} on MuJoCo {mujoco.__version__} "
-            f"(Gazebo Harmonic's commands, topics and systems; not Gazebo)")
 
 
 def split_gz_args(argv: Sequence[str]) -> list[str]:

@@ -1,0 +1,182 @@
+"""`gz`, the venv's stand-in for Gazebo's command line: `sim`, `topic`, `service`.
+
+The Jazzy tutorials type `gz sim -v 4 -r visualize_lidar.sdf`, `gz topic -l`,
+`gz topic -e -t /scan`, `gz topic -t /cmd_vel -m gz.msgs.Twist -p 'linear: {x: 0.5}'` and
+`gz service -s /world/<name>/control --reqtype gz.msgs.WorldControl ... --req 'pause: true'`.
+Each does the same against robot_lab's simulator of this partition; messages print as
+protobuf text format (`key: value`, nested `key { ... }`), as gz does.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from robot_lab.errors import RobotLabError
+
+__all__ = ['main', 'parse_text_format', 'text_format']
+
+_TOKEN = re.compile(r'\s*(?:([A-Za-z_][\w.]*)|(-?[\d.]+(?:[eE][-+]?\d+)?)|("(?:[^"\\]|\\.)*")'
+                    r'|([:{},;]))')
+
+
+def parse_text_format(text: str) -> dict[str, Any]:
+    """Protobuf text format (`linear: {x: 0.5} angular {z: 0.2}`) -> a dict."""
+    tokens: list[str] = []
+    position = 0
+    text = text.strip()
+    while position < len(text):
+        match = _TOKEN.match(text, position)
+        if match is None or match.end() == position:
+            raise RobotLabError(f'cannot read {text[position:]!r} as protobuf text format',
+                                fix="write it as 'linear: {x: 0.5}, angular: {z: 0.2}'")
+        tokens.append(match.group(0).strip())
+        position = match.end()
+    stream = iter([*tokens, '}'])
+
+    def value(token: str) -> Any:
+        if token == '{':
+            return fields()
+        if token.startswith('"'):
+            return token[1:-1]
+        if token in ('true', 'false'):
+            return token == 'true'
+        try:
+            return float(token) if any(c in token for c in '.eE') else int(token)
+        except ValueError:
+            return token  # an enum's name
+
+    def fields() -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for token in stream:
+            if token in (',', ';'):
+                continue
+            if token == '}':
+                return out
+            following = next(stream)
+            if following == ':':
+                following = next(stream)
+            out[token] = value(following)
+        return out
+
+    return fields()
+
+
+def text_format(message: dict[str, Any], indent: str = '') -> str:
+    """A message dict as gz prints it."""
+    lines = []
+    for key, item in message.items():
+        for one in item if isinstance(item, list) else [item]:
+            if isinstance(one, dict):
+                lines.append(f'{indent}{key} {{\n{text_format(one, indent + "  ")}{indent}}}')
+            elif isinstance(one, str):
+                lines.append(f'{indent}{key}: "{one}"')
+            elif isinstance(one, bool):
+                lines.append(f'{indent}{key}: {str(one).lower()}')
+            else:
+                lines.append(f'{indent}{key}: {one}')
+    return ''.join(line + '\n' for line in lines)
+
+
+def _topic(argv: Sequence[str]) -> int:
+    from robot_lab.sim.control import gz_topics
+    from robot_lab.sim.transport import connect
+
+    parser = argparse.ArgumentParser(prog='gz topic')
+    parser.add_argument('-l', '--list', action='store_true')
+    parser.add_argument('-e', '--echo', action='store_true')
+    parser.add_argument('-i', '--info', action='store_true')
+    parser.add_argument('-t', '--topic', default='')
+    parser.add_argument('-m', '--msgtype', default='')
+    parser.add_argument('-p', '--pub', default=None)
+    parser.add_argument('-n', '--num', type=int, default=0)
+    args = parser.parse_args(argv)
+    if args.list:
+        print('\n'.join(sorted(gz_topics())))
+        return 0
+    if args.info:
+        kind = gz_topics().get(args.topic)
+        print(f'Publishers [Address, Message Type]:\n  robot_lab, {kind}' if kind else
+              'No publishers on topic ' + args.topic)
+        return 0
+    connection = connect()
+    if connection is None:
+        print('no simulation runs in this partition', file=sys.stderr)
+        return 1
+    if args.pub is not None:
+        connection.send({'op': 'pub', 'topic': args.topic, 'type': args.msgtype,
+                         'msg': parse_text_format(args.pub)})
+        connection.close()
+        return 0
+    if args.echo:
+        connection.send({'op': 'sub', 'topic': args.topic})
+        count = 0
+        try:
+            while (frame := connection.receive()) is not None:
+                print(text_format(frame['msg']), flush=True)
+                count += 1
+                if args.num and count >= args.num:
+                    break
+        except KeyboardInterrupt:
+            pass
+        connection.close()
+        return 0
+    parser.print_usage()
+    return 1
+
+
+def _service(argv: Sequence[str]) -> int:
+    from robot_lab.sim.control import world_control
+
+    parser = argparse.ArgumentParser(prog='gz service')
+    parser.add_argument('-s', '--service', required=True)
+    parser.add_argument('--reqtype', default='gz.msgs.WorldControl')
+    parser.add_argument('--reptype', default='gz.msgs.Boolean')
+    parser.add_argument('--timeout', type=int, default=1000)
+    parser.add_argument('-r', '--req', default='')
+    args = parser.parse_args(argv)
+    if not re.fullmatch(r'/world/[^/]+/control', args.service):
+        print(f"robot_lab's simulator offers /world/<name>/control only, not {args.service}",
+              file=sys.stderr)
+        return 1
+    request = parse_text_format(args.req)
+    reset = request.get('reset', {})
+    world_control(pause=request.get('pause'),
+                  step=int(request.get('multi_step', 0)) or (1 if request.get('step') else 0),
+                  reset=bool(reset.get('all') if isinstance(reset, dict) else reset))
+    print('data: true\n')
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    from robot_lab.sim.about import identity
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    if not args or args[0] in ('--version', '-v', 'help', '--help', '-h'):
+        print(identity())
+        print('commands: gz sim [-r] [-s] [-v N] WORLD.sdf | gz topic -l|-e|-i|-p | '
+              'gz service -s /world/<name>/control --req ...')
+        return 0
+    command, rest = args[0], args[1:]
+    try:
+        if command == 'sim':
+            from robot_lab.sim.server import main as sim_main
+
+            return sim_main(rest)
+        if command == 'topic':
+            return _topic(rest)
+        if command == 'service':
+            return _service(rest)
+    except RobotLabError as error:
+        print(error, file=sys.stderr)
+        return 1
+    print(f'gz {command}: not available in robot_lab (sim, topic and service are)',
+          file=sys.stderr)
+    return 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())
