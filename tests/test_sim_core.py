@@ -17,6 +17,7 @@ import pytest
 from robot_lab.sim.markers import world_markers
 from robot_lab.sim.sample_robot import WHEEL_RADIUS, diffbot_urdf
 from robot_lab.sim.simulation import Simulation
+from robot_lab.sim.systems import Lidar
 from robot_lab.sim.xml_tree import SimulationError
 
 pytestmark = pytest.mark.no_ros  # the simulator alone: no DDS, no domain
@@ -153,3 +154,16 @@ def test_the_worlds_walls_as_markers_in_the_robots_odometry_frame() -> None:
                  and m.pose.position.y == pytest.approx(-1.05))
     assert north.pose.position.x == pytest.approx(0.0, abs=1e-9)
     assert north.header.frame_id == 'odom' and north.scale.z == pytest.approx(0.5)
+
+
+def test_the_maze_is_built_from_included_kit_models_at_their_poses() -> None:
+    warnings: list[str] = []
+    sim = Simulation('maze.sdf', warn=warnings.append)
+    assert warnings == [] and sim.info.name == 'maze'
+    assert {'wall_0', 'wall_15', 'obstacle'} <= set(sim.info.models)
+    sim.spawn(diffbot_urdf(), 'diffbot', (0.5, 0.0, WHEEL_RADIUS + 0.001), (0.0, 0.0, math.pi / 2))
+    lidar = next(s for s in sim.systems if isinstance(s, Lidar))
+    sim.step(10)
+    ranges = lidar.ranges(sim.model, sim.data)
+    ahead = ranges[len(ranges) // 2]  # facing +y from x = 0.5: the outer wall's face at 2.95
+    assert ahead == pytest.approx(2.95, abs=0.01)
