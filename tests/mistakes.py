@@ -409,6 +409,13 @@ LADDERS: dict[str, Ladder] = {
               r'observed base_link faces \d+° away from the way it moves.*Try: .*half the angle'),
     ]),
     'nb12_listener': Ladder(PLACEHOLDER, [
+        Wrong('a lookup in __init__, before the transform exists',
+              swap('self.on_temperature, 10)\n',
+                   "self.on_temperature, 10)\n        self.mount = self.tf_buffer.lookup_transform("
+                   "'base_link', 'temp_sensor_link', Time())\n"),
+              r'observed LookupException: "base_link" passed to lookupTransform argument '
+              r'target_frame does not exist\.\s+at sensor_in_odom\.py line \d+.*Try: nothing has '
+              r'arrived while your node is being built .*timeout= cannot help here'),
         Wrong('target and source swapped',
               swap("lookup_transform('odom', 'temp_sensor_link', Time())",
                    "lookup_transform('temp_sensor_link', 'odom', Time())"),

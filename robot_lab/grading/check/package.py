@@ -151,6 +151,10 @@ def node_starts(module: str, cls: str, package: str = 'my_robot_system',
             text += ' (the placeholder is still there)'
         elif isinstance(err, ModuleNotFoundError) and err.name in (package, name):
             text += f' (is {package} built, and this kernel told: robot_lab.use_workspace(ws))'
+        elif hasattr(err, 'try_hint'):  # tf2's errors: a lookup while the node is built
+            hint = ('nothing has arrived while your node is being built (it spins only '
+                    'afterwards, so timeout= cannot help here): look the transform up where '
+                    'data comes, in a callback or a timer, catching tf2_ros.TransformException')
         raise CheckError(what, f'{text} at {where}', hint, student_frames(
             err, lambda f: f.endswith(f'{module}.py'))) from None
     session().callback_errors.clear()  # what failed before belongs to nodes now gone
