@@ -5,9 +5,9 @@ package of its own (my_robot_description) and stands alone.
 Its wrong answers are Chapter 7's mistakes: a joint on the wrong parent link, a revolute
 joint without limits, the frames of tf2_echo read the other way round, a macro called once,
 a transform with no stamp (a stamp from the past), a quaternion that is not normalised or
-built from the whole angle, a lookup with target and source swapped, a point left in the
-sensor's frame. (A lookup before the transform exists is a race in a running node; its
-message is tests/test_description_checks.py's.)
+built from the whole angle, a lookup before the transform exists (in __init__: in a callback
+it is a race, whose message tests/test_description_checks.py checks), a lookup with target
+and source swapped, a point left in the sensor's frame.
 """
 
 from __future__ import annotations
