@@ -279,7 +279,9 @@ def _observe(job_dir: Path, state: JobState, plan: LaunchPlan) -> None:
         live.alive_nodes = set(full_node_names(sess, include_hidden=False))
         live.roles = infer_roles(obs, float(state.option('sensor_publishes', 'min_rate_hz',
                                                          0.5)))
-        if live.roles.sensor and live.roles.controller:
+        # Only controller_commands reads the drive (~15 s: the sensor paused, the topic driven).
+        if (live.roles.sensor and live.roles.controller
+                and rubric.check('controller_commands') is not None):
             try:
                 live.response = drive_controller(
                     sess, obs, live.roles, lambda: _pause_sensor(state, plan, handle, sess),

@@ -157,7 +157,7 @@ class _Watcher:
 
     def refresh(self) -> list[str]:
         """Re-read the graph: nodes, their endpoints, new topics subscribed; the nodes."""
-        from rclpy.qos import QoSProfile, QoSReliabilityPolicy
+        from rclpy.qos import QoSDurabilityPolicy, QoSProfile, QoSReliabilityPolicy
 
         from robot_lab.graph.discovery import full_node_names
         from robot_lab.messages import message_class
@@ -206,6 +206,9 @@ class _Watcher:
                                           functools.partial(self._on_data, topic))
                 continue
             qos = QoSProfile(depth=50, reliability=QoSReliabilityPolicy.BEST_EFFORT)
+            if _latched(node, topic):  # as `ros2 topic echo` adapts: else never a sample
+                qos = QoSProfile(depth=50, reliability=QoSReliabilityPolicy.RELIABLE,
+                                 durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
             self.subs[topic] = node.create_subscription(
                 cls, topic, functools.partial(self._on_message, topic), qos)
         return names
@@ -224,6 +227,22 @@ class _Watcher:
                 continue
             with contextlib.suppress(Exception):
                 self.sess.node.destroy_subscription(sub)
+
+
+def _latched(node: Any, topic: str) -> bool:
+    """Whether every publisher of `topic` is reliable and transient-local (a "latched"
+    topic: /robot_description, /tf_static, sent once at start-up). A volatile watch never
+    gets that one message, and waited _UNMATCHED s for it (measured: 10 s of every
+    description package's job)."""
+    from rclpy.qos import QoSDurabilityPolicy, QoSReliabilityPolicy
+
+    try:
+        infos = node.get_publishers_info_by_topic(topic)
+    except Exception:  # a failed query: the usual best-effort, volatile watch
+        return False
+    return bool(infos) and all(
+        i.qos_profile.durability == QoSDurabilityPolicy.TRANSIENT_LOCAL
+        and i.qos_profile.reliability == QoSReliabilityPolicy.RELIABLE for i in infos)
 
 
 # How long the observer waits for each published topic's first sample before it counts.
