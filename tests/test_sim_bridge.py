@@ -68,6 +68,7 @@ def bridge(simulation: Path) -> Iterator[Proc]:
     process = Proc([str(BIN / 'ros2'), 'run', 'ros_gz_bridge', 'parameter_bridge',
                     '/cmd_vel@geometry_msgs/msg/Twist]gz.msgs.Twist',
                     '/clock@rosgraph_msgs/msg/Clock[gz.msgs.Clock',
+                    '/imu@sensor_msgs/msg/Imu[gz.msgs.IMU',
                     '--ros-args', '-p', f'config_file:={config}'])
     try:
         process.wait_for(r'Creating GZ->ROS Bridge: \[scan \(gz.msgs.LaserScan\)', timeout=30)
@@ -156,3 +157,15 @@ def test_clock_is_monotonic(bridge: Proc) -> None:
     finally:
         clock.close()
     assert all(b > a for a, b in itertools.pairwise(times))
+
+
+def test_the_imu_arrives_as_sensor_msgs_imu(bridge: Proc) -> None:
+    imu = Listener('/imu', 'sensor_msgs/msg/Imu')
+    try:
+        message = imu.wait_count(1, timeout=10)[-1][1]
+    finally:
+        imu.close()
+    assert message.header.frame_id == 'base_link'
+    acceleration = message.linear_acceleration
+    assert math.sqrt(acceleration.x ** 2 + acceleration.y ** 2 + acceleration.z ** 2) == \
+        pytest.approx(9.8, abs=1.0)  # gravity, felt by the accelerometer on the ground

@@ -167,3 +167,21 @@ def test_the_maze_is_built_from_included_kit_models_at_their_poses() -> None:
     ranges = lidar.ranges(sim.model, sim.data)
     ahead = ranges[len(ranges) // 2]  # facing +y from x = 0.5: the outer wall's face at 2.95
     assert ahead == pytest.approx(2.95, abs=0.01)
+
+
+def test_the_imu_feels_gravity_at_rest_and_the_turn_while_turning() -> None:
+    sim, messages, _ = _world()
+    sim.step(100)
+    rest = messages['/imu'][-1]
+    assert rest['linear_acceleration']['z'] == pytest.approx(9.8, abs=0.05)  # the world's g
+    assert rest['orientation']['w'] == pytest.approx(1.0, abs=1e-3)
+    assert rest['header']['frame_id'] == 'base_link'
+    sim.command('/cmd_vel', {'linear': {'x': 0.0}, 'angular': {'z': math.pi / 4}})
+    sim.step(1000)  # a whole number of IMU periods: the last message is of this very state
+    turning = messages['/imu'][-1]
+    # the free joint's angular velocity, in base_link's own frame: the IMU's, at its origin
+    free = sim.model.joint('diffbot::free').dofadr[0]
+    assert turning['angular_velocity']['z'] == pytest.approx(sim.data.qvel[free + 5], abs=1e-9)
+    assert turning['angular_velocity']['z'] > 0.6  # turning the commanded way (wheels slip)
+    stamps = [m['header']['stamp']['nsec'] for m in messages['/imu'][-3:]]
+    assert stamps[1] - stamps[0] == 10_000_000  # 100 Hz in simulated time

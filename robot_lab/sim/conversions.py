@@ -23,6 +23,7 @@ PAIRS: dict[tuple[str, str], set[str]] = {
     ('rosgraph_msgs/msg/Clock', 'gz.msgs.Clock'): {'gz_to_ros'},
     ('sensor_msgs/msg/JointState', 'gz.msgs.Model'): {'gz_to_ros'},
     ('tf2_msgs/msg/TFMessage', 'gz.msgs.Pose_V'): {'gz_to_ros'},
+    ('sensor_msgs/msg/Imu', 'gz.msgs.IMU'): {'gz_to_ros'},
 }
 
 
@@ -97,9 +98,19 @@ def _tf(msg: Any, gz: Gz) -> None:
         msg.transforms.append(transform)
 
 
+def _imu(msg: Any, gz: Gz) -> None:
+    _header(msg, gz)
+    q = gz.get('orientation', {})
+    msg.orientation.x, msg.orientation.y, msg.orientation.z = (float(q.get(k, 0.0)) for k in 'xyz')
+    msg.orientation.w = float(q.get('w', 1.0))
+    _vector(msg.angular_velocity, gz.get('angular_velocity', {}))
+    _vector(msg.linear_acceleration, gz.get('linear_acceleration', {}))
+
+
 _FROM_GZ: dict[str, Callable[[Any, Gz], None]] = {
     'gz.msgs.Twist': _twist, 'gz.msgs.Odometry': _odometry, 'gz.msgs.LaserScan': _scan,
     'gz.msgs.Clock': _clock, 'gz.msgs.Model': _joint_state, 'gz.msgs.Pose_V': _tf,
+    'gz.msgs.IMU': _imu,
 }
 
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 from robot_lab.sim.xml_tree import Node, Warn
 
-__all__ = ['DiffDriveSettings', 'GazeboTags', 'JointStateSettings', 'LidarSettings',
-           'read_gazebo_tags']
+__all__ = ['DiffDriveSettings', 'GazeboTags', 'ImuSettings', 'JointStateSettings',
+           'LidarSettings', 'read_gazebo_tags']
 
 
 @dataclass
@@ -70,12 +70,28 @@ class LidarSettings:
 
 
 @dataclass
+class ImuSettings:
+    """An `imu` sensor on a link: rate (0: every step, SDF's default), topic, frame, noise."""
+
+    name: str
+    link: str
+    update_rate: float = 0.0
+    topic: str = ''
+    frame_id: str = ''
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    # (mean, stddev) of gaussian noise per axis, for angular_velocity and linear_acceleration
+    noise: dict[str, tuple[float, float]] = field(default_factory=dict)
+
+
+@dataclass
 class GazeboTags:
     """Everything the `<gazebo>` blocks asked for."""
 
     diff_drives: list[DiffDriveSettings] = field(default_factory=list)
     joint_states: list[JointStateSettings] = field(default_factory=list)
     lidars: list[LidarSettings] = field(default_factory=list)
+    imus: list[ImuSettings] = field(default_factory=list)
     friction: dict[str, float] = field(default_factory=dict)  # link -> min(mu1, mu2)
 
 
@@ -159,6 +175,37 @@ def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
     return settings
 
 
+def _imu(sensor: Node, link: str, warn: Warn) -> ImuSettings:
+    settings = ImuSettings(sensor.attrib.get('name', 'imu'), link)
+    settings.update_rate = sensor.number('update_rate', 0.0)
+    settings.topic = sensor.value('topic')
+    settings.frame_id = (sensor.value('gz_frame_id') or sensor.value('frame_id')
+                         or sensor.value('ignition_frame_id'))
+    pose = sensor.find('pose')
+    if pose is not None and pose.text:
+        values = [float(v) for v in pose.text.split()] + [0.0] * 6
+        settings.xyz = (values[0], values[1], values[2])
+        settings.rpy = (values[3], values[4], values[5])
+    imu = sensor.find('imu')
+    for quantity in (imu.children if imu is not None else []):
+        if quantity.tag not in ('angular_velocity', 'linear_acceleration'):
+            warn(f'{quantity.where}: <{quantity.tag}> in imu {settings.name!r} is not '
+                 f"supported by robot_lab's simulator; ignored")
+            continue
+        for axis in quantity.children:
+            noise = axis.find('noise')
+            if noise is not None:
+                settings.noise[f'{quantity.tag}.{axis.tag}'] = (noise.number('mean', 0.0),
+                                                                noise.number('stddev', 0.0))
+    for child in sensor.children:
+        if child.tag not in ('imu', 'update_rate', 'topic', 'gz_frame_id', 'frame_id',
+                             'ignition_frame_id', 'pose', 'always_on', 'visualize',
+                             'enable_metrics'):
+            warn(f'{child.where}: <{child.tag}> in sensor {settings.name!r} is not supported '
+                 f"by robot_lab's simulator; ignored")
+    return settings
+
+
 def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
     """The `<gazebo>` blocks of a URDF root element, read as sdformat and gz-sim do."""
     tags = GazeboTags()
@@ -182,6 +229,8 @@ def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
                 kind = child.attrib.get('type', '')
                 if kind in ('gpu_lidar', 'lidar', 'gpu_ray', 'ray'):
                     tags.lidars.append(_lidar(child, link, warn))
+                elif kind == 'imu':
+                    tags.imus.append(_imu(child, link, warn))
                 else:
                     warn(f'{child.where}: sensor type {kind!r} is not supported by '
                          f"robot_lab's simulator yet; ignored")

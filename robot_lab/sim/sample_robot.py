@@ -4,7 +4,7 @@ The tests, the bench and the lesson need one robot whose numbers are known (whee
 separation, the lidar's height and beams), described the way the Articulated Robotics and
 ros_gz_project_template tutorials describe theirs: URDF links with inertia, continuous wheel
 joints, a frictionless caster, and `<gazebo>` tags for the DiffDrive and JointStatePublisher
-systems and a `gpu_lidar` sensor.
+systems, a `gpu_lidar` and an `imu` sensor.
 """
 
 from __future__ import annotations
@@ -89,6 +89,14 @@ def diffbot_urdf(samples: int = 360, update_rate: float = 10.0, name: str = 'dif
             name="gz::sim::systems::JointStatePublisher">
       <topic>joint_states</topic>
     </plugin>
+  </gazebo>
+  <gazebo reference="base_link">
+    <sensor name="imu" type="imu">
+      <always_on>1</always_on>
+      <update_rate>100</update_rate>
+      <topic>imu</topic>
+      <gz_frame_id>base_link</gz_frame_id>
+    </sensor>
   </gazebo>
   <gazebo reference="laser_frame">
     <sensor name="laser" type="gpu_lidar">

@@ -17,6 +17,7 @@ from typing import Any
 
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
+from robot_lab.sim.imu import Imu
 from robot_lab.sim.robot import SpawnedRobot, add_robot
 from robot_lab.sim.systems import (
     DiffDrive,
@@ -94,6 +95,7 @@ class Simulation:
         systems += [JointStatePublisher(j, robot, self.info.name)
                     for j in robot.tags.joint_states]
         systems += [Lidar(lidar, robot, self.info.name, self.rng) for lidar in robot.tags.lidars]
+        systems += [Imu(imu, robot, self.info.name, self.spec, self.rng) for imu in robot.tags.imus]
         self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
         self.systems += systems
@@ -111,6 +113,8 @@ class Simulation:
             mujoco.mj_step(self.model, self.data)
             self.steps += 1
             time_ns = self.time_ns
+            if any(system.senses(time_ns) for system in self.systems):
+                mujoco.mj_forward(self.model, self.data)  # what sensors see: the new state
             for system in self.systems:
                 system.post_update(self.model, self.data, time_ns, self.on_publish)
             if time_ns % self.clock_period == 0:

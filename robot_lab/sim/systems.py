@@ -65,6 +65,11 @@ class System:
                     publish: Publish) -> None:
         """After the step, only when its period has come round (see `due`)."""
 
+    def senses(self, time_ns: int) -> bool:
+        """Whether this step's post_update reads the state a sensor sees (positions of every
+        body, MuJoCo's sensors): mj_step leaves those as they were before its integration."""
+        return False
+
     def due(self, time_ns: int) -> bool:
         """Whether a period has come round: at whole multiples of it in simulated time."""
         if self.next_ns == 0:
@@ -263,6 +268,9 @@ class Lidar(System):
 
     def bind(self, model: mujoco.MjModel) -> None:
         self.body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.body_name)
+
+    def senses(self, time_ns: int) -> bool:
+        return time_ns >= (self.next_ns or self.period_ns)
 
     def ranges(self, model: mujoco.MjModel, data: mujoco.MjData) -> list[float]:
         rotation = data.xmat[self.body].reshape(3, 3)
