@@ -117,6 +117,25 @@ def test_the_model_is_found_in_urdf_before_a_macro_file(tmp_path: Path) -> None:
     assert found == [MODEL, 'urdf/wheel.xacro', 'test/old.urdf']
 
 
+@pytest.mark.no_ros
+def test_a_grader_that_cannot_run_xacro_keeps_the_points(tmp_path: Path,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    import subprocess
+
+    from robot_lab.grading.package import job
+
+    def no_xacro(*args: Any, **kwargs: Any) -> None:
+        raise FileNotFoundError(2, 'No such file or directory', 'xacro')
+
+    state = _state(_package(tmp_path))
+    monkeypatch.setattr(subprocess, 'run', no_xacro)
+    job.score_stage(state, 'files')
+    outcome = state.outcomes['urdf_describes']
+    assert (outcome.score, outcome.max_score) == (2, 2), outcome.output
+    assert outcome.grader_error == "FileNotFoundError: [Errno 2] No such file or directory: 'xacro'"
+    assert 'Grader error' in outcome.output and 'How to fix' not in outcome.output
+
+
 def _run_state(tmp_path: Path, edges: set[tuple[str, str, bool]]) -> Any:
     """The run stage as the watch and the tf2 listener leave it, with these TF edges."""
     from robot_lab.grading.package.roles import Observation, Roles, TopicSeen

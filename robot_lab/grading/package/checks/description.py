@@ -28,11 +28,16 @@ from robot_lab.grading.package.rubric import RubricCheck
 from robot_lab.grading.package.state import JobState, Verdict
 from robot_lab.grading.package.tf_watch import TfEdge
 
-__all__ = ['description_files', 'read_description', 'tf_tree', 'urdf_describes']
+__all__ = ['NoDescriptionError', 'description_files', 'read_description', 'tf_tree',
+           'urdf_describes']
 
 _SKIP = {'build', 'install', 'log', '.git', '__pycache__'}
 _FOLDERS = ('urdf', 'description')  # where a description package keeps its model
 _KINDS = ('.urdf', '.urdf.xacro', '.xacro')  # plain URDF first; a bare .xacro is often a macro
+
+
+class NoDescriptionError(LookupError):
+    """The package holds no .urdf or .xacro file (the student's omission, not an OSError)."""
 
 
 def description_files(package: Path, wanted: str | None = None) -> list[Path]:
@@ -94,13 +99,14 @@ def _xacro(path: Path, state: JobState) -> str:
 
 def read_description(state: JobState, wanted: str | None) -> tuple[Any, str]:
     """(the parsed robot, its path in the package); UrdfError when there is none or it is
-    refused, FileNotFoundError when the package has no description at all."""
+    refused, NoDescriptionError when the package has none; OSError and TimeoutExpired are the
+    grader's (its copy unreadable, its xacro missing or starved)."""
     from robot_lab.urdf.model import parse_urdf
 
     assert state.package is not None
     files = description_files(state.package, wanted)
     if not files:
-        raise FileNotFoundError(wanted or 'urdf/*.urdf')
+        raise NoDescriptionError(wanted or 'urdf/*.urdf')
     path = files[0]
     rel = str(path.relative_to(state.package))
     if not path.name.endswith('.xacro'):
@@ -174,7 +180,7 @@ def urdf_describes(state: JobState, check: RubricCheck) -> Verdict:
         f', rooted at `{root}`' if root else '')
     try:
         robot, rel = read_description(state, check.option('file', None))
-    except FileNotFoundError:
+    except NoDescriptionError:
         return Verdict(False, expected, f'no .urdf or .xacro file in `{state.package_name}/`',
                        'put the model in urdf/ (e.g. urdf/my_robot.urdf) and install it with '
                        "setup.py's data_files: ('share/' + package_name + '/urdf', "
@@ -182,9 +188,9 @@ def urdf_describes(state: JobState, check: RubricCheck) -> Verdict:
     except UrdfError as err:
         return Verdict(False, expected, f'check_urdf refuses it: {err}', err.fix or
                        'run `check_urdf` on the file and fix the line it names')
-    except (OSError, subprocess.TimeoutExpired) as err:
-        return Verdict(False, expected, f'the description could not be read: {err}',
-                       'make it a readable text file that xacro expands in seconds')
+    except (OSError, subprocess.TimeoutExpired) as err:  # the grader's own calls
+        return Verdict(False, expected, 'the grader could not read or expand the description',
+                       grader_error=f'{type(err).__name__}: {err}')
     wrong = _differences(robot, links, parents, joints, root,
                          lambda joint: _where(joint, rel, state.package or Path()))
     summary = (f'`{rel}`: robot `{robot.name}`, root `{robot.root}`, {len(robot.links)} links, '
@@ -256,9 +262,12 @@ def tf_tree(state: JobState, check: RubricCheck) -> Verdict:
     obs, _roles = watched
     try:
         robot, rel = read_description(state, check.option('file', None))
-    except (FileNotFoundError, UrdfError, OSError, subprocess.TimeoutExpired):
+    except (NoDescriptionError, UrdfError):
         return Verdict(False, expected, 'no robot description the grader can read (see the '
                        'URDF check)', 'fix the URDF first')
+    except (OSError, subprocess.TimeoutExpired) as err:  # the grader's own calls
+        return Verdict(False, expected, 'the grader could not read or expand the description',
+                       grader_error=f'{type(err).__name__}: {err}')
     prefix = str(check.option('frame_prefix', ''))
     missing: list[str] = []
     description = obs.topics.get('/robot_description')
