@@ -210,10 +210,12 @@ def _shape(robot: Any, edges: set[TfEdge], prefix: str, root: str) -> list[str]:
         parents.setdefault(edge.child, set()).add(edge.parent)
     wrong: list[str] = []
     for joint in robot.joints.values():
+        if joint.type == 'floating':  # robot_state_publisher skips them, as KDL does
+            continue
         child, parent = prefix + joint.child, prefix + joint.parent
         heard = parents.get(child, set())
         if not heard:
-            why = ('' if joint.type == 'fixed' else ' (a moving joint is published only when '
+            why = ('' if not joint.moves else ' (a moving joint is published only when '
                    '/joint_states gives its position: is joint_state_publisher running?)')
             wrong.append(f'no transform {parent} → {child} (joint `{joint.name}`){why}')
         elif heard != {parent}:
