@@ -186,8 +186,8 @@ class Odometry(Node):
         t.header.frame_id, t.child_frame_id = 'odom', 'base_link'
         t.transform.translation.x, t.transform.translation.y = self.x, self.y
         now = self.get_clock().now()
-        t.header.stamp = (now if self.mistake != 'old_stamp' else
-                          now - rclpy.duration.Duration(seconds=30)).to_msg()
+        t.header.stamp = (now - rclpy.duration.Duration(seconds=30) if self.mistake == 'old_stamp'
+                          else self.start if self.mistake == 'fixed_stamp' else now).to_msg()
         half = self.yaw if self.mistake == 'whole_angle' else self.yaw / 2
         if self.mistake == 'only_z':  # w keeps its default, 1
             t.transform.rotation.z = math.sin(half)
@@ -201,6 +201,8 @@ class Odometry(Node):
                r'\(TF_DENORMALIZED_QUATERNION\)\. Try: .*z = sin\(yaw / 2\).*set w too'),
     ('whole_angle', r'base_link faces \d+° away from the way it moves\. Try: .*half the angle'),
     ('no_rotation', r'base_link faces \d+° away from the way it moves\. Try: .*no turn'),
+    ('fixed_stamp', r'observed every transform carries the same stamp \(\d+\.\d+ s\).*'
+                    r'TF_OLD_DATA.*Try: stamp each transform as you send it'),
     ('old_stamp', r'a stamp 30\.\d s old .*TF_OLD_DATA.*Try: stamp each transform as you send '
                   r'it: t\.header\.stamp = self\.get_clock\(\)\.now\(\)\.to_msg\(\)'),
     ('none', None),
