@@ -185,3 +185,39 @@ def test_the_imu_feels_gravity_at_rest_and_the_turn_while_turning() -> None:
     assert turning['angular_velocity']['z'] > 0.6  # turning the commanded way (wheels slip)
     stamps = [m['header']['stamp']['nsec'] for m in messages['/imu'][-3:]]
     assert stamps[1] - stamps[0] == 10_000_000  # 100 Hz in simulated time
+
+
+ARM = """<robot name="arm">
+  <link name="world"/>
+  <link name="base"><inertial><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="fix" type="fixed"><parent link="world"/><child link="base"/></joint>
+  <link name="arm">
+    <collision><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></collision>
+    <inertial><origin xyz="0.2 0 0"/><mass value="0.5"/>
+      <inertia ixx="0.0002" ixy="0" ixz="0" iyy="0.007" iyz="0" izz="0.007"/></inertial>
+  </link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0.5"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <gazebo>
+    <plugin filename="gz-sim-joint-position-controller-system"
+            name="gz::sim::systems::JointPositionController">
+      <joint_name>shoulder</joint_name><p_gain>2</p_gain><d_gain>0.3</d_gain>
+      <i_gain>0.5</i_gain><i_max>1</i_max><i_min>-1</i_min>
+    </plugin>
+  </gazebo>
+</robot>
+"""
+
+
+def test_joint_position_controller_holds_the_commanded_angle() -> None:
+    warnings: list[str] = []
+    sim = Simulation('empty.sdf', warn=warnings.append)
+    sim.spawn(ARM, 'arm')
+    assert warnings == []
+    assert sim.command('/model/arm/joint/shoulder/0/cmd_pos', {'data': 0.5})
+    sim.step(3000)
+    shoulder = sim.model.joint('arm::shoulder')
+    assert sim.data.qpos[shoulder.qposadr[0]] == pytest.approx(0.5, abs=0.01)
+    assert abs(sim.data.qvel[shoulder.dofadr[0]]) < 0.01  # settled there

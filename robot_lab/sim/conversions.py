@@ -24,6 +24,7 @@ PAIRS: dict[tuple[str, str], set[str]] = {
     ('sensor_msgs/msg/JointState', 'gz.msgs.Model'): {'gz_to_ros'},
     ('tf2_msgs/msg/TFMessage', 'gz.msgs.Pose_V'): {'gz_to_ros'},
     ('sensor_msgs/msg/Imu', 'gz.msgs.IMU'): {'gz_to_ros'},
+    ('std_msgs/msg/Float64', 'gz.msgs.Double'): {'ros_to_gz', 'gz_to_ros'},
 }
 
 
@@ -111,6 +112,7 @@ _FROM_GZ: dict[str, Callable[[Any, Gz], None]] = {
     'gz.msgs.Twist': _twist, 'gz.msgs.Odometry': _odometry, 'gz.msgs.LaserScan': _scan,
     'gz.msgs.Clock': _clock, 'gz.msgs.Model': _joint_state, 'gz.msgs.Pose_V': _tf,
     'gz.msgs.IMU': _imu,
+    'gz.msgs.Double': lambda msg, gz: setattr(msg, 'data', float(gz.get('data', 0.0))),
 }
 
 
@@ -123,6 +125,8 @@ def from_gz(gz_type: str, message_class: Any, gz: Gz) -> Any:
 
 def to_gz(gz_type: str, msg: Any) -> Gz:
     """A gz message dict from a ROS message (the pairs that go ROS -> gz)."""
+    if gz_type == 'gz.msgs.Double':
+        return {'data': float(msg.data)}
     if gz_type == 'gz.msgs.Twist':
         return {'linear': {k: float(getattr(msg.linear, k)) for k in 'xyz'},
                 'angular': {k: float(getattr(msg.angular, k)) for k in 'xyz'}}

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 from robot_lab.sim.xml_tree import Node, Warn
 
-__all__ = ['DiffDriveSettings', 'GazeboTags', 'ImuSettings', 'JointStateSettings',
-           'LidarSettings', 'read_gazebo_tags']
+__all__ = ['DiffDriveSettings', 'GazeboTags', 'ImuSettings', 'JointPositionSettings',
+           'JointStateSettings', 'LidarSettings', 'read_gazebo_tags']
 
 
 @dataclass
@@ -39,6 +39,24 @@ class DiffDriveSettings:
     min_linear_acceleration: float = -math.inf
     max_angular_acceleration: float = math.inf
     min_angular_acceleration: float = -math.inf
+
+
+@dataclass
+class JointPositionSettings:
+    """gz::sim::systems::JointPositionController: a PID on the joint's force, its target from
+    gz.msgs.Double on `topic` (empty: /model/<model>/joint/<joint>/0/cmd_pos)."""
+
+    joint: str
+    topic: str = ''
+    p_gain: float = 1.0
+    i_gain: float = 0.0
+    d_gain: float = 0.0
+    i_max: float = 1.0
+    i_min: float = -1.0
+    cmd_max: float = 1000.0
+    cmd_min: float = -1000.0
+    cmd_offset: float = 0.0
+    initial_position: float = 0.0
 
 
 @dataclass
@@ -92,6 +110,7 @@ class GazeboTags:
     joint_states: list[JointStateSettings] = field(default_factory=list)
     lidars: list[LidarSettings] = field(default_factory=list)
     imus: list[ImuSettings] = field(default_factory=list)
+    joint_positions: list[JointPositionSettings] = field(default_factory=list)
     friction: dict[str, float] = field(default_factory=dict)  # link -> min(mu1, mu2)
 
 
@@ -131,6 +150,25 @@ def _diff_drive(plugin: Node, warn: Warn) -> DiffDriveSettings:
             warn(f'{child.where}: DiffDrive parameter <{child.tag}> is not supported by '
                  f"robot_lab's simulator; ignored")
     return settings
+
+
+_PID_NUMBERS = ('p_gain', 'i_gain', 'd_gain', 'i_max', 'i_min', 'cmd_max', 'cmd_min',
+                'cmd_offset', 'initial_position')
+
+
+def _joint_position(plugin: Node, warn: Warn) -> list[JointPositionSettings]:
+    topic = plugin.value('topic') or plugin.value('sub_topic')
+    controllers = []
+    for name in plugin.findall('joint_name'):
+        settings = JointPositionSettings(name.text, topic)
+        for tag in _PID_NUMBERS:
+            setattr(settings, tag, plugin.number(tag, getattr(settings, tag)))
+        controllers.append(settings)
+    for child in plugin.children:
+        if child.tag not in {*_PID_NUMBERS, 'joint_name', 'topic', 'sub_topic'}:
+            warn(f'{child.where}: JointPositionController parameter <{child.tag}> is not '
+                 f"supported by robot_lab's simulator; ignored")
+    return controllers
 
 
 def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
@@ -219,6 +257,9 @@ def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
                 system = _system_name(child)
                 if system in ('DiffDrive', 'gz-sim-diff-drive-system'):
                     tags.diff_drives.append(_diff_drive(child, warn))
+                elif system in ('JointPositionController',
+                                'gz-sim-joint-position-controller-system'):
+                    tags.joint_positions += _joint_position(child, warn)
                 elif system in ('JointStatePublisher', 'gz-sim-joint-state-publisher-system'):
                     tags.joint_states.append(JointStateSettings(
                         [c.text for c in child.findall('joint_name')], child.value('topic')))

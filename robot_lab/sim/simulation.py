@@ -18,6 +18,7 @@ from typing import Any
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
 from robot_lab.sim.imu import Imu
+from robot_lab.sim.joint_controller import JointPositionController
 from robot_lab.sim.robot import SpawnedRobot, add_robot
 from robot_lab.sim.systems import (
     DiffDrive,
@@ -94,6 +95,13 @@ class Simulation:
             systems.append(DiffDrive(drive, robot, self.spec, self.subscribe))
         systems += [JointStatePublisher(j, robot, self.info.name)
                     for j in robot.tags.joint_states]
+        for controller in robot.tags.joint_positions:
+            if controller.joint not in robot.joints:
+                self.warn(f'{source}: JointPositionController names joint '
+                          f'{controller.joint!r}, which the robot has not (or which does not '
+                          f'move); the system is not loaded')
+                continue
+            systems.append(JointPositionController(controller, robot, self.subscribe))
         systems += [Lidar(lidar, robot, self.info.name, self.rng) for lidar in robot.tags.lidars]
         systems += [Imu(imu, robot, self.info.name, self.spec, self.rng) for imu in robot.tags.imus]
         self.model, self.data = self.spec.recompile(self.model, self.data)

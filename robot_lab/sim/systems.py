@@ -21,8 +21,8 @@ from robot_lab.sim.gazebo_tags import DiffDriveSettings, JointStateSettings, Lid
 from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.shapes import quat_from_rpy
 
-__all__ = ['DiffDrive', 'JointStatePublisher', 'Lidar', 'Publish', 'System', 'stamp',
-           'topic_name']
+__all__ = ['DiffDrive', 'JointStatePublisher', 'Lidar', 'Publish', 'Subscribe', 'System',
+           'stamp', 'topic_name']
 
 Message = dict[str, Any]
 Publish = Callable[[str, str, Message], None]

@@ -224,6 +224,7 @@ def load_world(path: Path, warn: Warn) -> tuple[mujoco.MjSpec, WorldInfo]:
     info = WorldInfo()
     _Builder(spec, info, warn).world(world)
     spec.modelname = info.name
+    spec.compiler.degree = False  # URDF joint limits are radians (MuJoCo's default: degrees)
     spec.option.timestep = info.step
     spec.option.gravity = list(info.gravity)
     # the wheels' velocity servos are stiff for a light wheel: implicit in velocity
