@@ -151,7 +151,12 @@ def _frame_names(tree: _Tree, parent: str, child: str, waited: float,
         return (f'{child!r} has the parent {mine.parent!r}, not {parent!r}',
                 f"header.frame_id = '{parent}': the frame {child} is attached to")
     norm2 = sum(c * c for c in mine.rotation)
-    if math.isnan(norm2) or abs(norm2 - 1.0) > _NORMALISED:
+    if math.isnan(norm2):  # a zero quaternion normalised (static_transform_publisher's)
+        return (f'{parent} → {child} has the rotation {_vec(mine.rotation)}: tf2 ignores it '
+                '(TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION)',
+                'a rotation is a unit quaternion: x=y=z=0.0, w=1.0 for none; (0, 0, 0, 0) '
+                'has no direction to normalise to')
+    if abs(norm2 - 1.0) > _NORMALISED:
         return (f'{parent} → {child} has the rotation {_vec(mine.rotation)}, of length '
                 f'{math.sqrt(norm2):.3f}: tf2 ignores it (TF_DENORMALIZED_QUATERNION)',
                 'a rotation is a unit quaternion: x=y=z=0.0, w=1.0 for none; turn roll, '
