@@ -9,7 +9,9 @@ from collections.abc import Iterator
 import pytest
 from conftest import BIN, Proc
 
-from robot_lab.sim.control import gz_topics, world_control
+from robot_lab.sim.control import bridge_hint, gz_topics, world_control
+from robot_lab.sim.create import main as create_main
+from robot_lab.sim.sample_robot import diffbot_urdf
 from robot_lab.sim.transport import connect
 
 pytestmark = pytest.mark.no_ros  # the simulator's own transport only
@@ -75,3 +77,19 @@ def test_gz_commands_as_the_tutorials_type_them(simulation: Proc) -> None:
     assert world_control()['paused'] is True
     gz('service', '-s', '/world/room/control', '--req', 'pause: false')
     assert world_control()['paused'] is False
+
+
+def test_an_unbridged_topic_gets_the_bridge_argument_that_would_bridge_it(
+        simulation: Proc) -> None:
+    world_control(pause=False)
+    assert create_main(['-string', diffbot_urdf(), '-name', 'hinted', '-z', '0.051']) == 0
+    connection = connect()
+    assert connection is not None
+    connection.send({'op': 'sub', 'topic': '/scan'})
+    assert connection.receive() is not None  # the simulation publishes its gz /scan now
+    connection.close()
+    hint = bridge_hint('/scan')
+    assert hint == ('nothing publishes /scan: the simulator publishes gz topic /scan; bridge it '
+                    'with: ros2 run ros_gz_bridge parameter_bridge '
+                    '/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan')
+    assert bridge_hint('/no_such_topic') is None

@@ -221,3 +221,38 @@ def test_joint_position_controller_holds_the_commanded_angle() -> None:
     shoulder = sim.model.joint('arm::shoulder')
     assert sim.data.qpos[shoulder.qposadr[0]] == pytest.approx(0.5, abs=0.01)
     assert abs(sim.data.qvel[shoulder.dofadr[0]]) < 0.01  # settled there
+
+
+def test_an_sdf_world_with_a_mesh_and_elements_the_kit_does_not_simulate(
+        tmp_path: Path) -> None:
+    """A mesh model (an STL beside the world file) collides; an <actor> and a <road> are one
+    warning line each, naming the file and line."""
+    trimesh = pytest.importorskip('trimesh')
+    trimesh.creation.box(extents=(1.0, 1.0, 1.0)).export(tmp_path / 'block.stl')
+    world = tmp_path / 'mesh_world.sdf'
+    world.write_text("""<?xml version="1.0"?>
+<sdf version="1.8">
+  <world name="mesh_world">
+    <include><uri>model://ground_plane</uri></include>
+    <model name="block">
+      <static>true</static>
+      <pose>2 0 0.5 0 0 0</pose>
+      <link name="link">
+        <collision name="c"><geometry><mesh><uri>block.stl</uri></mesh></geometry></collision>
+      </link>
+    </model>
+    <actor name="walker"/>
+    <road name="street"/>
+  </world>
+</sdf>
+""")
+    warnings: list[str] = []
+    sim = Simulation(world, warn=warnings.append)
+    assert warnings == [f"{world}:12: <actor> in <world> is not supported by robot_lab's "
+                        f'simulator; ignored',
+                        f"{world}:13: <road> in <world> is not supported by robot_lab's "
+                        f'simulator; ignored']
+    sim.spawn(diffbot_urdf(), 'diffbot', (0.0, 0.0, WHEEL_RADIUS + 0.001))
+    lidar = next(s for s in sim.systems if isinstance(s, Lidar))
+    sim.step(10)
+    assert lidar.ranges(sim.model, sim.data)[180] == pytest.approx(1.5, abs=0.01)  # its face

@@ -14,7 +14,7 @@ from typing import Any
 from robot_lab.sim.transport import connect, socket_path
 from robot_lab.sim.xml_tree import SimulationError
 
-__all__ = ['gz_topics', 'world_control']
+__all__ = ['bridge_hint', 'gz_topics', 'world_control']
 
 
 def _request(frame: dict[str, Any]) -> dict[str, Any]:
@@ -46,3 +46,21 @@ def world_control(pause: bool | None = None, step: int = 0, reset: bool = False)
 def gz_topics() -> dict[str, str]:
     """Topic -> gz message type, of what the simulation publishes or subscribes to."""
     return {str(k): str(v) for k, v in _request({'op': 'topics'}).items()}
+
+
+def bridge_hint(ros_topic: str) -> str | None:
+    """When a ROS topic has no publisher but the simulation publishes a gz topic of that
+    name: the parameter_bridge argument that would bridge it (None if it publishes none)."""
+    from robot_lab.sim.conversions import PAIRS
+
+    name = ros_topic if ros_topic.startswith('/') else '/' + ros_topic
+    kind = gz_topics().get(name)
+    if not kind:
+        return None
+    ros_type = next((r for (r, g), ways in PAIRS.items() if g == kind and 'gz_to_ros' in ways),
+                    None)
+    if ros_type is None:
+        return (f"the simulator publishes gz topic {name} ({kind}), which robot_lab's bridge "
+                f'does not convert')
+    return (f'nothing publishes {ros_topic}: the simulator publishes gz topic {name}; bridge it '
+            f'with: ros2 run ros_gz_bridge parameter_bridge {name}@{ros_type}[{kind}')

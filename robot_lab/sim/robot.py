@@ -13,14 +13,13 @@ the link, as Gazebo's sdformat warns when it converts a URDF:
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
 from robot_lab.sim.gazebo_tags import GazeboTags, read_gazebo_tags
+from robot_lab.sim.meshes import add_mesh, resolve_mesh
 from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
 from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
 from robot_lab.urdf.model import Robot, parse_urdf
@@ -59,59 +58,19 @@ def _origin(node: Node) -> tuple[tuple[float, float, float], tuple[float, float,
     return (xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2])
 
 
-def _resolve_mesh(filename: str, node: Node, warn: Warn) -> Path | None:
-    if filename.startswith('package://'):
-        from robot_lab.pkg.index import package_share  # the index imports kit_packages
-
-        package, _, rest = filename.removeprefix('package://').partition('/')
-        try:
-            path = package_share(package) / rest
-        except Exception:  # PackageNotFoundError: said as this mesh's warning
-            warn(f'{node.where}: mesh {filename!r}: package {package!r} is not in the ament '
-                 f'index; this collision is left out')
-            return None
-        warn(f'{node.where}: mesh {filename!r} read from {path} (package:// resolved by the kit)')
-        return path
-    return Path(filename.removeprefix('file://')).expanduser()
-
-
-def _mesh(spec: mujoco.MjSpec, geometry: Node, link: str, warn: Warn) -> str:
+def _mesh(spec: mujoco.MjSpec, geometry: Node, link: str, warn: Warn,
+          base: Path | None) -> str:
     mesh = geometry.find('mesh')
     assert mesh is not None
-    path = _resolve_mesh(mesh.attrib.get('filename', ''), mesh, warn)
+    path = resolve_mesh(mesh.attrib.get('filename', ''), mesh, warn, base=base)
     if path is None:
         return ''
-    try:
-        import trimesh
-
-        # the tutorials' COLLADA files name textures they do not ship: trimesh logs a
-        # traceback for each, and textures do not collide
-        quiet = logging.getLogger('trimesh')
-        level = quiet.level
-        quiet.setLevel(logging.CRITICAL)
-        try:
-            loaded = trimesh.load(str(path), force='mesh')
-        finally:
-            quiet.setLevel(level)
-        mesh_data: Any = loaded  # a Trimesh: force='mesh'
-        vertices = mesh_data.vertices.flatten().tolist()
-        faces = mesh_data.faces.flatten().tolist()
-    except Exception as error:  # trimesh raises many kinds; the warning names the cause
-        warn(f'{mesh.where}: mesh {path.name} of link {link!r} could not be read '
-             f'({type(error).__name__}: {error}); this collision is left out')
-        return ''
     scale = _attribute_vector(mesh, 'scale', 3) if 'scale' in mesh.attrib else [1.0] * 3
-    asset = spec.add_mesh()
-    asset.name = f'{link}::mesh{len(spec.meshes)}'
-    asset.uservert = vertices
-    asset.userface = faces
-    asset.scale = scale
-    if path.suffix.lower() == '.dae':
-        warn(f'{mesh.where}: {path.name} of link {link!r} converted from COLLADA with trimesh')
-    return str(asset.name)
+    return add_mesh(spec, path, scale, f'link {link!r}', mesh, warn)
 
 
-def _collision_shape(spec: mujoco.MjSpec, collision: Node, link: str, warn: Warn) -> Shape | None:
+def _collision_shape(spec: mujoco.MjSpec, collision: Node, link: str, warn: Warn,
+                     base: Path | None) -> Shape | None:
     xyz, rpy = _origin(collision)
     geometry = collision.find('geometry')
     if geometry is None or not geometry.children:
@@ -126,7 +85,7 @@ def _collision_shape(spec: mujoco.MjSpec, collision: Node, link: str, warn: Warn
     if shape.tag == 'sphere':
         return Shape('sphere', (float(shape.attrib.get('radius', '0')),), xyz, rpy)
     if shape.tag == 'mesh':
-        name = _mesh(spec, geometry, link, warn)
+        name = _mesh(spec, geometry, link, warn, base)
         return Shape('mesh', (), xyz, rpy, mesh=name) if name else None
     warn(f'{shape.where}: <{shape.tag}> geometry is not a URDF shape; this collision is left out')
     return None
@@ -171,6 +130,7 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         raise SimulationError(f'an entity named {name!r} already exists in the world',
                               fix='give the robot another -name')
     tags = read_gazebo_tags(root, warn)
+    base = Path(source).parent if Path(source).is_file() else None  # relative mesh paths
     for element in root.children:
         if element.tag not in ('link', 'joint', 'gazebo', 'material'):
             warn(f"{element.where}: <{element.tag}> is not simulated by robot_lab's simulator "
@@ -186,7 +146,7 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         _inertial(body, node, moves, warn)
         friction = tags.friction.get(link)
         for index, collision in enumerate(node.findall('collision')):
-            shape = _collision_shape(spec, collision, link, warn)
+            shape = _collision_shape(spec, collision, link, warn, base)
             if shape is not None:
                 add_shape(body, shape, f'{body.name}::collision{index}', friction)
         for joint in tree.child_joints.get(link, []):

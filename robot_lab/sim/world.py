@@ -1,7 +1,7 @@
 """SDF worlds (1.6-1.11) as Gazebo Harmonic loads them, built into a MuJoCo model spec.
 
 What a lab's world holds is read: `<physics>` (max_step_size, real_time_factor), static and
-dynamic `<model>`s of `<link>`s with box, cylinder, sphere and plane collisions, poses, and
+dynamic `<model>`s of `<link>`s with box, cylinder, sphere, plane and mesh collisions, poses, and
 `<include>` of models found on GZ_SIM_RESOURCE_PATH or among the kit's own (ground_plane,
 sun, walls). What only a renderer or GUI uses (lights, visuals, materials, the GUI's
 plugins) has no effect on the simulation and passes quietly; any other element is one
@@ -16,6 +16,7 @@ from pathlib import Path
 
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
+from robot_lab.sim.meshes import add_mesh, resolve_mesh
 from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
 from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
 
@@ -68,7 +69,7 @@ def _pose(node: Node) -> tuple[tuple[float, float, float], tuple[float, float, f
     return (values[0], values[1], values[2]), (values[3], values[4], values[5])
 
 
-def _geometry(collision: Node, warn: Warn) -> Shape | None:
+def _geometry(collision: Node, warn: Warn, spec: mujoco.MjSpec, owner: str) -> Shape | None:
     geometry = collision.find('geometry')
     xyz, rpy = _pose(collision)
     shapes = geometry.children if geometry is not None else []
@@ -86,6 +87,12 @@ def _geometry(collision: Node, warn: Warn) -> Shape | None:
                 warn(f'{shape.where}: <plane> with normal {normal}: only an upward normal is '
                      f'supported; collides as 0 0 1')
             return Shape('plane', (), xyz, rpy)
+        if shape.tag == 'mesh':
+            path = resolve_mesh(shape.value('uri'), shape, warn, models=resource_path(),
+                                base=Path(shape.source).parent)
+            name = add_mesh(spec, path, vector(shape.find('scale'), 3, 1.0), owner, shape,
+                            warn) if path is not None else ''
+            return Shape('mesh', (), xyz, rpy, mesh=name) if name else None
         warn(f"{shape.where}: <{shape.tag}> geometry is not supported by robot_lab's "
              f'simulator; this collision is left out')
     return None
@@ -206,7 +213,7 @@ class _Builder:
             body.explicitinertial = True
         for index, child in enumerate(link.children):
             if child.tag == 'collision':
-                shape = _geometry(child, self.warn)
+                shape = _geometry(child, self.warn, self.spec, f'model {model!r}')
                 if shape is not None:
                     add_shape(body, shape, f'{body.name}::{child.attrib.get("name", index)}')
             elif child.tag not in RENDERING | {'pose', 'inertial', 'kinematic', 'gravity'}:
