@@ -109,6 +109,7 @@ _API: dict[str, str] = {
     'Simulation': 'robot_lab.sim.simulation',
     'world_control': 'robot_lab.sim.control',
     'gz_topics': 'robot_lab.sim.control',
+    'bridge_hint': 'robot_lab.sim.control',
     'world_markers': 'robot_lab.sim.markers',
 }
 
@@ -142,7 +143,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     )
     from robot_lab.pkg.index import find_executable, package_prefix, package_share
     from robot_lab.rclpy_session import Session, session
-    from robot_lab.sim.control import gz_topics, world_control
+    from robot_lab.sim.control import bridge_hint, gz_topics, world_control
     from robot_lab.sim.markers import world_markers
     from robot_lab.sim.simulation import Simulation
     from robot_lab.tf2.listener import tf_buffer
