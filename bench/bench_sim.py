@@ -35,11 +35,12 @@ sample robot and its 360-beam 10 Hz lidar:
 - start to first /scan: from starting `gz_sim`, `create` and `parameter_bridge` to a ROS
   subscriber's first LaserScan (goal <= 3 s). Needs a domain: run it in `unshare --net`.
 
-Measured 2026-12-06, same host and load, `--system --runs 3 --seconds 5 --busy 1`:
-headless 10.4-24.4x real time (16.9x median; the host's load moves it: bare mj_step ran
-14-48 us a step, the systems' Python adds about as much again); real-time factor 0.999
-beside a busy loop; the simulator's process 6.2 % of a core; start to first /scan 3.2-6.4 s
-(the three programs each import rclpy or MuJoCo on a loaded host: not yet at the goal).
+Measured 2026-12-06, same host and load, `--system --runs 3 --seconds 5 --busy 1`, after
+the imu joined the sample robot: headless 31.4x real time (16.9x in an earlier run: the
+host's load moves it; bare mj_step ran 14-48 us a step, the systems' Python adds about as
+much again); real-time factor 0.999 beside a busy loop; the simulator's process 5.4 % of a
+core; start to first /scan 4.95 s (3.2-6.4 s over runs: the three programs each import
+rclpy or MuJoCo on a loaded host; not yet at the goal).
 
 Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
 (PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
