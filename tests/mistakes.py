@@ -320,8 +320,8 @@ LADDERS: dict[str, Ladder] = {
                    't.transform.rotation.x = float(transformation[5])\n'
                    '        t.transform.rotation.y = float(transformation[6])\n'
                    '        t.transform.rotation.z = float(transformation[7])'),
-              r'rotation \(0\.000, 0\.000, 1\.570, 1\.000\), of length 1\.86\d: tf2 ignores it '
-              r'\(TF_DENORMALIZED_QUATERNION\).*Try: a rotation is a unit quaternion'),
+              r'rotation \(0\.000, 0\.000, 1\.570, 1\.000\), of length 1\.86\d, not 1: tf2 '
+              r'normalises it.*Try: write a unit quaternion: .*quaternion_from_euler'),
     ]),
     'nb11_broadcaster': Ladder(PLACEHOLDER, [
         Wrong('no stamp', swap('        t.header.stamp = self.get_clock().now().to_msg()\n', ''),
@@ -350,7 +350,8 @@ LADDERS: dict[str, Ladder] = {
     'nb11_carrot': Ladder(PLACEHOLDER, [
         Wrong('w = 0.0 for no rotation', swap('t.transform.rotation.w = 1.0',
                                                 't.transform.rotation.w = 0.0'),
-              r'of length 0\.000: tf2 ignores it \(TF_DENORMALIZED_QUATERNION\)'),
+              r'rotation \(0\.000, 0\.000, 0\.000, 0\.000\): tf2 ignores it \(TF_NAN_INPUT, '
+              r'TF_DENORMALIZED_QUATERNION\)'),
         Wrong('the carrot under world, not turtle1',
               swap("t.header.frame_id = 'turtle1'", "t.header.frame_id = 'world'"),
               r"observed 'carrot1' has the parent 'world', not 'turtle1'.*Try: "

@@ -108,6 +108,11 @@ def _yaw(q: tuple[float, float, float, float]) -> float:
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
 
 
+def _unit(q: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    n = math.sqrt(sum(c * c for c in q))
+    return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
+
+
 def _vec(v: tuple[float, ...]) -> str:
     return '(' + ', '.join(f'{c:.3f}' for c in v) + ')'
 
@@ -151,16 +156,16 @@ def _frame_names(tree: _Tree, parent: str, child: str, waited: float,
         return (f'{child!r} has the parent {mine.parent!r}, not {parent!r}',
                 f"header.frame_id = '{parent}': the frame {child} is attached to")
     norm2 = sum(c * c for c in mine.rotation)
-    if math.isnan(norm2):  # a zero quaternion normalised (static_transform_publisher's)
+    if math.isnan(norm2) or norm2 < 1e-12:  # nothing to normalise: every listener drops it
         return (f'{parent} → {child} has the rotation {_vec(mine.rotation)}: tf2 ignores it '
                 '(TF_NAN_INPUT, TF_DENORMALIZED_QUATERNION)',
-                'a rotation is a unit quaternion: x=y=z=0.0, w=1.0 for none; (0, 0, 0, 0) '
-                'has no direction to normalise to')
-    if abs(norm2 - 1.0) > _NORMALISED:
+                'a rotation is a unit quaternion: x=y=z=0.0, w=1.0 for none')
+    if abs(norm2 - 1.0) > _NORMALISED:  # tf2::Transform normalises it: another rotation
         return (f'{parent} → {child} has the rotation {_vec(mine.rotation)}, of length '
-                f'{math.sqrt(norm2):.3f}: tf2 ignores it (TF_DENORMALIZED_QUATERNION)',
-                'a rotation is a unit quaternion: x=y=z=0.0, w=1.0 for none; turn roll, '
-                'pitch and yaw into one with quaternion_from_euler')
+                f'{math.sqrt(norm2):.3f}, not 1: tf2 normalises it, and the frame turns by '
+                f'yaw {_yaw(_unit(mine.rotation)):.3f}',
+                'write a unit quaternion: turn roll, pitch and yaw into one with '
+                'quaternion_from_euler (x=y=z=0.0, w=1.0 for no rotation)')
     return None
 
 
@@ -225,7 +230,9 @@ def transform_is(parent: str, child: str, translation: tuple[float, float, float
             return False
         failures.clear()
         got[:] = [t]
-        return _matches(t)
+        # a lookup also succeeds through the inverse, or with a quaternion tf2 normalised:
+        # the transform as sent must be right too
+        return _matches(t) and _frame_names(tree, parent, child, timeout) is None
 
     def _probe() -> bool:
         if _looked_up():
