@@ -39,8 +39,10 @@ Measured 2026-12-06, same host and load, `--system --runs 3 --seconds 5 --busy 1
 the imu joined the sample robot: headless 31.4x real time (16.9x in an earlier run: the
 host's load moves it; bare mj_step ran 14-48 us a step, the systems' Python adds about as
 much again); real-time factor 0.999 beside a busy loop; the simulator's process 5.4 % of a
-core; start to first /scan 4.95 s (3.2-6.4 s over runs: the three programs each import
-rclpy or MuJoCo on a loaded host; not yet at the goal).
+core; start to first /scan 4.95 s (3.2-6.4 s over runs; not yet at the goal). Of that,
+the simulator serves its socket 0.97 s after its start (0.42 s importing MuJoCo) and
+`create` has spawned the robot at 1.31 s: the rest is the bridge's and this process's ROS
+start and discovery, still to be taken apart.
 
 Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
 (PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
@@ -251,6 +253,8 @@ def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
                                  qos_profile_sensor_data)
         while not first:
             rclpy.spin_once(node, timeout_sec=0.1)
+            if time.monotonic() - begin > 60:
+                raise RuntimeError('no /scan within 60 s of starting the simulator')
         to_scan = first[0] - begin
         node.destroy_node()
         rclpy.shutdown()
@@ -280,6 +284,10 @@ def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
 def system(runs: int, busy: int, seconds: float) -> None:
     sys.path.insert(0, str(REPO / 'bench'))
     from busy import busy_loops
+
+    from robot_lab.env import apply_ros_defaults
+
+    apply_ros_defaults()  # the environment `ros2 run` gives: the kit's Fast DDS profile
 
     speeds = [_headless_speed() for _ in range(runs)]
     print(f'headless maximum speed: {statistics.median(speeds):.1f}x real time '
