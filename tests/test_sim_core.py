@@ -256,3 +256,22 @@ def test_an_sdf_world_with_a_mesh_and_elements_the_kit_does_not_simulate(
     lidar = next(s for s in sim.systems if isinstance(s, Lidar))
     sim.step(10)
     assert lidar.ranges(sim.model, sim.data)[180] == pytest.approx(1.5, abs=0.01)  # its face
+
+
+def test_lidar_noise_repeats_with_the_seed_and_differs_without_it() -> None:
+    noisy = diffbot_urdf().replace(
+        '<range><min>0.1</min><max>12.0</max></range>',
+        '<range><min>0.1</min><max>12.0</max></range>'
+        '<noise><type>gaussian</type><mean>0.0</mean><stddev>0.01</stddev></noise>')
+
+    def scan(seed: int) -> list[float]:
+        messages: Messages = {}
+        sim = Simulation('room.sdf', seed=seed, warn=print,
+                         on_publish=lambda t, k, m: messages.setdefault(t, []).append(m))
+        sim.spawn(noisy, 'diffbot', (0.0, 0.0, WHEEL_RADIUS + 0.001))
+        sim.step(100)
+        return list(messages['/scan'][-1]['ranges'])
+
+    first, again, other = scan(1), scan(1), scan(2)
+    assert first == again and first != other
+    assert max(abs(a - b) for a, b in zip(first, other, strict=True)) < 0.1  # noise, not walls
