@@ -186,6 +186,30 @@ def _write_if_changed(path: Path, text: str, mode: int) -> None:
     tmp.replace(path)
 
 
+# A kit program ends as quietly as upstream's C++ one: Ctrl-C at any moment, even while
+# it is still importing, exits 130 with no traceback (the code `robot-lab`'s verbs give a
+# KeyboardInterrupt); a reader gone away (`tf2_echo a b | head -n 3`) ends it with the
+# shell's code for SIGPIPE (141), stdout pointed at /dev/null so the last flush cannot
+# fail again. A program that handles SIGINT itself (the nodes' clean exit 0) is unchanged.
+_SCRIPT = """\
+#!{python}
+\"\"\"{package} {executable}: robot_lab's {module}.{func}.\"\"\"
+import os
+import sys
+os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')
+try:
+    from {module} import {func} as main
+    if __name__ == '__main__':
+        main()
+        sys.stdout.flush()
+except KeyboardInterrupt:
+    sys.exit(130)
+except BrokenPipeError:
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    sys.exit(141)
+"""
+
+
 def install_executables(prefix: Path | None = None) -> list[Path]:
     """Write every `KIT_EXECUTABLES` entry as a script under <prefix>/lib/<package>/."""
     root = Path(sys.prefix) if prefix is None else prefix
@@ -193,15 +217,9 @@ def install_executables(prefix: Path | None = None) -> list[Path]:
     for package, programs in KIT_EXECUTABLES.items():
         for executable, target in sorted(programs.items()):
             module, _, func = target.partition(':')
-            script = (
-                f'#!{sys.executable}\n'
-                f'"""{package} {executable}: robot_lab\'s {module}.{func or "main"}."""\n'
-                'import os\n'
-                "os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')\n"
-                f'from {module} import {func or "main"} as main\n'
-                "if __name__ == '__main__':\n"
-                '    main()\n'
-            )
+            script = _SCRIPT.format(python=sys.executable, package=package,
+                                    executable=executable, module=module,
+                                    func=func or 'main')
             path = root / 'lib' / package / executable
             _write_if_changed(path, script, 0o755)
             written.append(path)
