@@ -111,6 +111,7 @@ _API: dict[str, str] = {
     'gz_topics': 'robot_lab.sim.control',
     'bridge_hint': 'robot_lab.sim.control',
     'world_markers': 'robot_lab.sim.markers',
+    'sim_view': 'robot_lab.sim.sim_view',
 }
 
 __all__ = sorted(_API)
@@ -145,6 +146,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from robot_lab.rclpy_session import Session, session
     from robot_lab.sim.control import bridge_hint, gz_topics, world_control
     from robot_lab.sim.markers import world_markers
+    from robot_lab.sim.sim_view import sim_view
     from robot_lab.sim.simulation import Simulation
     from robot_lab.tf2.listener import tf_buffer
     from robot_lab.tf2.view_frames import frames_figure, view_frames

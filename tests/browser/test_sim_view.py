@@ -1,0 +1,278 @@
+"""A running simulation in the 3D view, to pixels: `robot_lab.sim_view('room.sdf')`.
+
+The simulator runs the room with the sample diff-drive robot, spawned, bridged and described
+as a Gazebo Harmonic lab does it (gz_sim.launch.py, robot_state_publisher, `create`,
+parameter_bridge for /scan, the model's tf as /tf, /joint_states). A real `SceneView` takes
+what ROS carries; what it would send the widget is recorded, then replayed into the committed
+bundle in headless Chromium (as test_scene_view_displays does, without JupyterLab). The
+screenshot is saved; the walls, the robot and the scan points on the walls must be where
+the camera's projection puts them.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import browser_lab
+import pytest
+from conftest import BIN, Proc
+
+import robot_lab
+from robot_lab.scene.canvas import BUNDLE
+from robot_lab.sim.sample_robot import diffbot_urdf
+
+pytestmark = pytest.mark.browser
+CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
+Image = pytest.importorskip('PIL.Image')
+
+LAUNCH = """\
+import os
+
+from ament_index_python.packages import get_package_share_directory
+from launch import LaunchDescription
+from launch.actions import IncludeLaunchDescription
+from launch.launch_description_sources import PythonLaunchDescriptionSource
+from launch_ros.actions import Node
+
+
+def generate_launch_description():
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, 'diffbot.urdf')) as infp:
+        robot_desc = infp.read()
+    gz_sim = IncludeLaunchDescription(
+        PythonLaunchDescriptionSource(os.path.join(
+            get_package_share_directory('ros_gz_sim'), 'launch', 'gz_sim.launch.py')),
+        launch_arguments={'gz_args': '-r room.sdf'}.items())
+    return LaunchDescription([
+        gz_sim,
+        Node(package='ros_gz_bridge', executable='parameter_bridge',
+             parameters=[{'config_file': os.path.join(here, 'bridge.yaml')}]),
+        Node(package='robot_state_publisher', executable='robot_state_publisher',
+             parameters=[{'use_sim_time': True}, {'robot_description': robot_desc}]),
+        Node(package='ros_gz_sim', executable='create',
+             arguments=['-topic', 'robot_description', '-name', 'diffbot', '-z', '0.051']),
+    ])
+"""
+BRIDGE_YAML = """\
+- ros_topic_name: "clock"
+  gz_topic_name: "clock"
+  ros_type_name: "rosgraph_msgs/msg/Clock"
+  gz_type_name: "gz.msgs.Clock"
+  direction: GZ_TO_ROS
+- ros_topic_name: "scan"
+  gz_topic_name: "scan"
+  ros_type_name: "sensor_msgs/msg/LaserScan"
+  gz_type_name: "gz.msgs.LaserScan"
+  direction: GZ_TO_ROS
+- ros_topic_name: "/tf"
+  gz_topic_name: "/model/diffbot/tf"
+  ros_type_name: "tf2_msgs/msg/TFMessage"
+  gz_type_name: "gz.msgs.Pose_V"
+  direction: GZ_TO_ROS
+- ros_topic_name: "joint_states"
+  gz_topic_name: "joint_states"
+  ros_type_name: "sensor_msgs/msg/JointState"
+  gz_type_name: "gz.msgs.Model"
+  direction: GZ_TO_ROS
+"""
+_PAGE = """<html><body style="margin:0"><div id="view" style="width: 800px"></div><script>
+window.makeModel = (state) => {
+  const handlers = {};
+  const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
+  window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
+  return {
+    get: (key) => state[key], set: (key, value) => { state[key] = value; },
+    save_changes: () => {}, send: () => {},
+    on: (event, f) => { (handlers[event] = handlers[event] || []).push(f); },
+    off: (event, f) => { handlers[event] = (handlers[event] || []).filter(g => g !== f); },
+  };
+};
+</script></body></html>"""
+_RENDER = """async (source) => {
+  const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
+  const widget = (await import(url)).default;
+  widget.render({model: window.makeModel({height: 400, fixed_frame: 'odom',
+                                          hidden_frames: [], status: []}),
+                 el: document.getElementById('view')});
+}"""
+_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
+  const bytes = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
+  return new DataView(bytes.buffer);
+}))"""
+WIDTH, HEIGHT = 800, 400
+# the bundle's first camera (js/scene_view/src/scene.js): eye, target, vertical field of view
+EYE, TARGET, FOV = (1.8, 1.4, 1.2), (0.0, 0.0, 0.3), 50.0
+INNER = 2.0  # the room's walls' inner faces, from its centre (room.sdf)
+
+
+def _is_scan(r: int, g: int, b: int) -> bool:  # the LaserScan display's red points
+    return r > 180 and g < 80 and b < 80
+
+
+def _is_wall(r: int, g: int, b: int) -> bool:  # world_markers' light grey, lit
+    return min(r, g, b) > 110 and max(r, g, b) - min(r, g, b) < 40
+
+
+def _pixels(picture: Any) -> Iterator[tuple[int, int, int]]:
+    data = picture.tobytes()
+    return ((data[i], data[i + 1], data[i + 2]) for i in range(0, len(data), 3))
+
+
+def _is_robot(r: int, g: int, b: int) -> bool:  # a URDF without materials: white, lit
+    return min(r, g, b) > 190
+
+
+def _project(point: tuple[float, float, float]) -> tuple[float, float] | None:
+    """Where three.js draws a point of the fixed frame: pixel x, y (None: behind the eye)."""
+    def sub(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, ...]:
+        return tuple(p - q for p, q in zip(a, b, strict=True))
+
+    def cross(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, ...]:
+        return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+    def unit(a: tuple[float, ...]) -> tuple[float, ...]:
+        n = math.sqrt(sum(v * v for v in a))
+        return tuple(v / n for v in a)
+
+    def dot(a: tuple[float, ...], b: tuple[float, ...]) -> float:
+        return sum(p * q for p, q in zip(a, b, strict=True))
+
+    forward = unit(sub(TARGET, EYE))
+    right = unit(cross(forward, (0.0, 0.0, 1.0)))
+    up = cross(right, forward)
+    d = sub(point, EYE)
+    depth = dot(d, forward)
+    if depth <= 0.05:
+        return None
+    f = (HEIGHT / 2) / math.tan(math.radians(FOV) / 2)
+    return WIDTH / 2 + f * dot(d, right) / depth, HEIGHT / 2 - f * dot(d, up) / depth
+
+
+def _near(picture: Any, xy: tuple[float, float], test: Any, radius: int) -> bool:
+    x0, y0 = round(xy[0]), round(xy[1])
+    return any(test(*picture.getpixel((x, y)))
+               for x in range(max(0, x0 - radius), min(WIDTH, x0 + radius + 1))
+               for y in range(max(0, y0 - radius), min(HEIGHT, y0 + radius + 1)))
+
+
+class Recorder:
+    """Stands in for the widget: keeps what the view sends, in order."""
+
+    def __init__(self) -> None:
+        self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
+        self.status: list[str] = []
+        self.fixed_frame = 'odom'
+        self.lock = threading.Lock()
+
+    def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
+        with self.lock:
+            self.sent.append((msg, list(buffers or [])))
+
+
+@pytest.fixture
+def simulation(ros_domain: int, tmp_path: Path) -> Iterator[Proc]:
+    (tmp_path / 'diffbot.urdf').write_text(diffbot_urdf())
+    (tmp_path / 'bridge.yaml').write_text(BRIDGE_YAML)
+    (tmp_path / 'sim.launch.py').write_text(LAUNCH)
+    process = Proc([str(BIN / 'ros2'), 'launch', str(tmp_path / 'sim.launch.py')])
+    try:
+        yield process
+    finally:
+        process.stop()
+
+
+def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
+                                                           tmp_path: Path) -> None:
+    view = robot_lab.sim_view('room.sdf')
+    recorder = Recorder()
+    try:
+        assert list(view.displays) == ['grid', 'robot_model:/robot_description', 'tf',
+                                       'world', 'laser_scan:/scan']
+        view.remove('tf')  # its axes would hide the robot's own pixels
+        view._scene_canvas = recorder  # type: ignore[assignment]
+        view._on_msg(recorder, {'kind': 'ready'}, [])  # as a page that appeared asks
+        wanted = {'robot_model:/robot_description', 'world', 'laser_scan:/scan'}
+        deadline = time.monotonic() + 40
+        while time.monotonic() < deadline:  # the simulation starts, then the view's ticks
+            with recorder.lock:
+                sent = {k for msg, _ in recorder.sent for k in msg.get('data', {})}
+                posed = {k for msg, _ in recorder.sent for k in msg.get('poses') or {}}
+            if wanted <= sent and {'base_link', 'laser_frame', 'left_wheel'} <= posed:
+                break
+            view._closed.wait(0.05)
+        assert wanted <= sent, (sent, view.status, simulation.output[-3000:])
+        assert {'base_link', 'laser_frame', 'left_wheel'} <= posed, (posed, view.status)
+        laser = view.frames()['laser_frame']
+        assert laser is not None
+        with recorder.lock:
+            replay = list(recorder.sent)
+    finally:
+        view.close()
+    lx, ly, lz = laser[:3]  # the lidar in odom: the robot rests at the room's centre
+    assert abs(lx) < 0.05 and abs(ly) < 0.05 and 0.1 < lz < 0.3, laser
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={'width': 820, 'height': 600})
+            page.set_content(_PAGE)
+            page.evaluate(_RENDER, BUNDLE.read_text())
+            canvas = page.locator('.rl-scene canvas')
+            empty = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
+            for msg, buffers in replay:
+                page.evaluate(_SEND, [msg, [base64.b64encode(b).decode() for b in buffers]])
+            assert browser_lab.wait_in_page(
+                page, "() => { const r = document.querySelector('.rl-scene'); return "
+                "r.dataset.robot === 'drawn' && r.dataset.drawnPoses === r.dataset.poses; }",
+                None, 15), page.evaluate("() => ({...document.querySelector('.rl-scene').dataset})")
+            robot_box = [float(v) for v in page.evaluate(
+                "() => document.querySelector('.rl-scene').dataset.robotBox").split(',')]
+            shot = canvas.screenshot()
+            (tmp_path / 'sim_view.png').write_bytes(shot)
+            drawn = Image.open(io.BytesIO(shot)).convert('RGB')
+            assert (drawn.width, drawn.height) == (WIDTH, HEIGHT)
+        finally:
+            browser.close()
+    # walls: the south (x = -2) and east (y = -2) walls' inner faces, above the scan's line
+    faces = [(-INNER + 0.02, y / 10, 0.4) for y in range(-12, 13, 3)] + \
+            [(x / 10, -INNER + 0.02, 0.4) for x in range(-12, 13, 3)]
+    for point in faces:
+        xy = _project(point)
+        assert xy is not None and 0 <= xy[0] < WIDTH and 0 <= xy[1] < HEIGHT, point
+        assert _is_wall(*drawn.getpixel((round(xy[0]), round(xy[1])))), (point, xy)
+        assert not _is_wall(*empty.getpixel((round(xy[0]), round(xy[1])))), (point, xy)
+    # the robot: its chassis box at the odom origin, where the page says it drew the robot
+    corners = [_project((x, y, z)) for x in (-0.2, 0.2) for y in (-0.2, 0.2)
+               for z in (lz - 0.2, lz + 0.02)]
+    mine = [min(c[0] for c in corners if c), min(c[1] for c in corners if c),
+            max(c[0] for c in corners if c), max(c[1] for c in corners if c)]
+    assert all(abs(a - b) < 25 for a, b in zip(mine, robot_box, strict=True)), (mine, robot_box)
+    x0, y0, x1, y1 = (round(v) for v in robot_box)
+    inside = [(x, y) for x in range(x0, x1) for y in range(y0, y1)]
+    robot_pixels = sum(1 for xy in inside if _is_robot(*drawn.getpixel(xy)))
+    assert robot_pixels > 0.3 * len(inside) > 300, (robot_pixels, len(inside))
+    everywhere = sum(1 for p in _pixels(drawn) if _is_robot(*p))
+    assert everywhere - robot_pixels < 0.05 * robot_pixels, 'robot-white pixels elsewhere'
+    top = _project((0.0, 0.0, lz - 0.05))  # the chassis' top face, at the odom origin
+    assert top is not None and _near(drawn, top, _is_robot, 2), top
+    assert not any(_is_robot(*p) for p in _pixels(empty))
+    # the scan: a red point where each beam meets the south or east wall, on screen
+    hits = []
+    for k in range(360):
+        angle = -math.pi + k * 2 * math.pi / 360
+        c, s = math.cos(angle), math.sin(angle)
+        reach = INNER / max(abs(c), abs(s))
+        if c < -0.5 or s < -0.5:  # on the south or east wall, in front of the camera
+            xy = _project((lx + reach * c, ly + reach * s, lz))
+            if xy is not None and 5 <= xy[0] < WIDTH - 5 and 5 <= xy[1] < HEIGHT - 5:
+                hits.append(xy)
+    assert len(hits) > 50, len(hits)
+    found = sum(_near(drawn, xy, _is_scan, 3) for xy in hits)
+    assert found >= 0.9 * len(hits), f'{found} of {len(hits)} beams drawn on the walls'
+    assert not any(_is_scan(*p) for p in _pixels(empty))
