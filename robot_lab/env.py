@@ -6,6 +6,7 @@ Defaults, each overridable by what the user already set:
 - ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST: DDS never sends a packet off loopback.
 - FASTRTPS_DEFAULT_PROFILES_FILE: the kit's fast-discovery profile (see data/).
 - CMAKE_C/CXX_COMPILER_LAUNCHER: the kit's ccache, when installed (compiler_cache.py).
+- PATH: the venv's bin appended when missing (a child's `xacro`, `ros2`; ros_environment).
 
 And the library path the ROS wheels need, so a Python child does not start twice: the
 wheels' bootstrapper (a .pth file) re-executes the interpreter with LD_LIBRARY_PATH set
@@ -101,7 +102,22 @@ def ros_environment(extra: Mapping[str, str] | None = None) -> dict[str, str]:
     if extra:
         env.update(extra)
     apply_ros_defaults(env)
+    _add_venv_bin(env)
     return env
+
+
+def _add_venv_bin(env: MutableMapping[str, str]) -> None:
+    """Append the venv's bin (`ros2`, `xacro`, `colcon`) to PATH if it is not on it.
+
+    A kernel started without the lesson's set-up may lack it, and a launch file's
+    `xacro` step then fails with "file not found: xacro". Appended, never moved: a PATH
+    that has it keeps its order, and the user's own programs still come first.
+    """
+    venv_bin = os.path.normpath(os.path.join(sys.prefix, 'bin'))
+    path = env.get('PATH', os.defpath)
+    if any(p and os.path.normpath(p) == venv_bin for p in path.split(os.pathsep)):
+        return
+    env['PATH'] = f'{path}{os.pathsep}{venv_bin}' if path else venv_bin
 
 
 def switched_on(variable: str) -> bool:

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import pytest
+import yaml
 from conftest import run_cli, users_profile
 
 from robot_lab.env import apply_ros_defaults, ros_environment
@@ -197,3 +198,43 @@ def test_a_service_answer_waits_for_a_requester_seen_late(ros_domain: int) -> No
     waited, warning = done.stdout.strip().splitlines()[-2:]
     assert 'client will not receive response' in warning  # the requester never matched
     assert 14.5 <= float(waited) < 30, f'the answer waited {waited} s for the reader'
+
+
+VENV_BIN = os.path.join(sys.prefix, 'bin')
+
+
+def test_the_venvs_bin_is_appended_to_a_path_without_it(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv('PATH', '/usr/local/bin:/usr/bin:/bin')
+    env = ros_environment()
+    assert env['PATH'] == f'/usr/local/bin:/usr/bin:/bin{os.pathsep}{VENV_BIN}'
+    assert ros_environment(env)['PATH'] == env['PATH']  # once, however often applied
+    monkeypatch.delenv('PATH')  # unset: the default search path, then the venv's
+    assert ros_environment()['PATH'] == f'{os.defpath}{os.pathsep}{VENV_BIN}'
+
+
+def test_a_path_that_has_the_venvs_bin_keeps_its_order(monkeypatch: pytest.MonkeyPatch) -> None:
+    for path in (f'{VENV_BIN}:/usr/bin:/bin', f'/opt/mine/bin:/usr/bin:{VENV_BIN}/:/bin'):
+        monkeypatch.setenv('PATH', path)
+        assert ros_environment()['PATH'] == path
+
+
+def test_a_launch_files_xacro_runs_from_a_kernel_without_the_venv_on_path(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """`robot_lab.launch('urdf_tutorial', 'display.launch.py', model=...)` in a kernel
+    whose PATH lacks the venv's bin: its `xacro` step ran "file not found: xacro"."""
+    import tempfile
+
+    from robot_lab.launch.plan import ProcessSpec
+    from robot_lab.launch.resolve import describe_launch
+
+    monkeypatch.setattr(tempfile, 'tempdir', str(tmp_path))  # its parameter files
+    monkeypatch.setenv('PATH', '/usr/bin:/bin')
+    plan = describe_launch('urdf_tutorial', 'display.launch.py',
+                           {'model': 'urdf/08-macroed.urdf.xacro'})
+    [publisher] = [a for a in plan.actions if isinstance(a, ProcessSpec)
+                   and a.label.startswith('robot_state_publisher')]
+    params = yaml.safe_load(
+        Path(publisher.cmd[publisher.cmd.index('--params-file') + 1]).read_text())
+    urdf = params['/**']['ros__parameters']['robot_description']
+    assert '<robot name="macroed">' in urdf and '<link name="base_link">' in urdf, urdf[:300]
