@@ -239,14 +239,22 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
             assert (drawn.width, drawn.height) == (WIDTH, HEIGHT)
         finally:
             browser.close()
-    # walls: the south (x = -2) and east (y = -2) walls' inner faces, above the scan's line
-    faces = [(-INNER + 0.02, y / 10, 0.4) for y in range(-12, 13, 3)] + \
-            [(x / 10, -INNER + 0.02, 0.4) for x in range(-12, 13, 3)]
-    for point in faces:
-        xy = _project(point)
-        assert xy is not None and 0 <= xy[0] < WIDTH and 0 <= xy[1] < HEIGHT, point
-        assert _is_wall(*drawn.getpixel((round(xy[0]), round(xy[1])))), (point, xy)
-        assert not _is_wall(*empty.getpixel((round(xy[0]), round(xy[1])))), (point, xy)
+    # walls: the south (x = -2) and east (y = -2) walls' inner faces, from their foot up to
+    # above the scan's line, and the floor in front of them (off the grid's lines)
+    for k in range(-12, 13, 3):
+        along = k / 10 + 0.05
+        for face, floor in (((-INNER + 0.02, along), (-INNER + 0.2, along)),
+                            ((along, -INNER + 0.02), (along, -INNER + 0.2))):
+            for z in (0.03, 0.4):
+                xy = _project((*face, z))
+                assert xy is not None and 0 <= xy[0] < WIDTH and 0 <= xy[1] < HEIGHT, face
+                at = (round(xy[0]), round(xy[1]))
+                assert _is_wall(*drawn.getpixel(at)), (face, z, at, drawn.getpixel(at))
+                assert not _is_wall(*empty.getpixel(at)), (face, z, at)
+            xy = _project((*floor, 0.0))
+            assert xy is not None
+            at = (round(xy[0]), round(xy[1]))
+            assert not _is_wall(*drawn.getpixel(at)), (floor, at, drawn.getpixel(at))
     # the robot: its chassis box at the odom origin, where the page says it drew the robot
     corners = [_project((x, y, z)) for x in (-0.2, 0.2) for y in (-0.2, 0.2)
                for z in (lz - 0.2, lz + 0.02)]
