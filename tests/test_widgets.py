@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import math
+import subprocess
 import sys
 import threading
 import time
@@ -579,3 +580,22 @@ def test_close_widgets_closes_everything_the_kernel_made() -> None:
     assert robot_lab.close_widgets() >= 2
     assert all(c._closed.is_set() for c in consoles)
     assert robot_lab.close_widgets() == 0  # nothing left: a second stop cell is harmless
+
+
+
+def test_each_widget_name_is_its_function_on_every_lookup() -> None:
+    """`robot_lab.widgets.teleop` is the pad's function, as `robot_lab.teleop` is, and stays
+    so: importing robot_lab.widgets.<name> makes that submodule the package's attribute
+    <name>, so a second lookup used to give the module ('module' object is not callable).
+    A fresh interpreter: this module has imported some widget modules already."""
+    probe = (
+        'import types, robot_lab, robot_lab.widgets as w\n'
+        'assert "teleop" in w.__all__\n'
+        'for name in w.__all__:\n'
+        '    first, again = getattr(w, name), getattr(w, name)\n'
+        '    assert not isinstance(first, types.ModuleType) and again is first, name\n'
+        'assert w.teleop is robot_lab.teleop and callable(w.teleop)\n'
+        'print("ok")\n')
+    done = subprocess.run([sys.executable, '-c', probe], capture_output=True, text=True,
+                          timeout=60)
+    assert (done.returncode, done.stdout) == (0, 'ok\n'), done.stderr
