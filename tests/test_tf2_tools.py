@@ -158,6 +158,38 @@ def test_a_kernels_tf_buffer_hears_the_graph() -> None:
         node.destroy_node()
 
 
+
+def test_a_kernels_tf_buffer_closes_its_hidden_node() -> None:
+    """`tf_buffer().close()` takes its listener node off the graph (a notebook's "nothing
+    left running"); the next tf_buffer() is a fresh buffer that hears the graph again."""
+    import os
+
+    from rclpy.duration import Duration
+
+    import robot_lab
+    from robot_lab.rclpy_session import session
+    from robot_lab.tf2.broadcasters import StaticTransformBroadcaster
+
+    sess = session()
+    hidden = f'_robot_lab_tf_{os.getpid()}'
+    buffer = robot_lab.tf_buffer()
+    assert hidden in sess.node.get_node_names()
+    buffer.close()
+    assert hidden not in sess.node.get_node_names()
+    buffer.close()  # a second close is harmless
+    node = rclpy.create_node('kernel_static_broadcaster_2', context=sess.context)
+    fresh = robot_lab.tf_buffer()
+    try:
+        assert fresh is not buffer and hidden in sess.node.get_node_names()
+        StaticTransformBroadcaster(node).sendTransform(_msg('world', 'lens', 0.0))
+        got = fresh.lookup_transform('world', 'lens', rclpy.time.Time(),
+                                     timeout=Duration(seconds=10))
+        assert got.transform.translation.x == 42.0
+    finally:
+        node.destroy_node()
+        fresh.close()
+
+
 def test_buffer_server_answers_a_buffer_client(start) -> None:  # type: ignore[no-untyped-def]
     """`ros2 run tf2_ros buffer_server` and tf2_ros.BufferClient over LookupTransform."""
     import threading

@@ -4,14 +4,16 @@ gets every static frame) and its callbacks in a reentrant group."""
 
 from __future__ import annotations
 
-from threading import Thread
+from threading import Lock, Thread
 from typing import Any
 
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 
-__all__ = ['TransformListener']
+from robot_lab.tf2.buffer import Buffer
+
+__all__ = ['SessionBuffer', 'TransformListener', 'tf_buffer']
 
 
 class TransformListener:
@@ -74,27 +76,51 @@ class TransformListener:
 
 
 _SESSION_BUFFERS: dict[int, Any] = {}
+_SESSION_LOCK = Lock()
 
 
-def tf_buffer() -> Any:
+class SessionBuffer(Buffer):
+    """`tf_buffer()`'s Buffer, with `close()`: a kernel that is done with transforms can
+    stop its hidden listener node (a cell's "nothing left running" then holds)."""
+
+    def close(self) -> None:
+        """Stop listening (idempotent); the next `tf_buffer()` starts a fresh buffer.
+
+        One buffer serves the whole session, so anything else holding it stops hearing
+        /tf too; call `tf_buffer()` again for a filled one.
+        """
+        with _SESSION_LOCK:
+            key = next((k for k, held in _SESSION_BUFFERS.items() if held[1] is self), None)
+            held = _SESSION_BUFFERS.pop(key) if key is not None else None
+        if held is None:
+            return
+        sess, _, listener, node = held
+        if sess.ok:
+            sess.remove_node(node)  # waits until its executor no longer holds the node
+        listener.unregister()
+        node.destroy_node()
+
+
+def tf_buffer() -> SessionBuffer:
     """In a notebook: a tf2_ros Buffer that the kernel's session keeps filled from /tf and
-    /tf_static (one per session; a hidden node listens), for `lookup_transform` in a cell
-    without writing a node first."""
+    /tf_static (one per session; a hidden node listens, until `close()`), for
+    `lookup_transform` in a cell without writing a node first."""
     import os
 
     import rclpy
 
     from robot_lab.rclpy_session import session
-    from robot_lab.tf2.buffer import Buffer
 
     sess = session()
-    held = _SESSION_BUFFERS.get(id(sess))
-    if held is not None and held[0] is sess:
-        return held[1]
-    node = rclpy.create_node(f'_robot_lab_tf_{os.getpid()}', context=sess.context,
-                             start_parameter_services=False, enable_rosout=False)
-    buffer = Buffer(node=None)
-    listener = TransformListener(buffer, node)
-    sess.add_node(node)
-    _SESSION_BUFFERS[id(sess)] = (sess, buffer, listener, node)
+    with _SESSION_LOCK:
+        held = _SESSION_BUFFERS.get(id(sess))
+        if held is not None and held[0] is sess:
+            buffer: SessionBuffer = held[1]
+            return buffer
+        node = rclpy.create_node(f'_robot_lab_tf_{os.getpid()}', context=sess.context,
+                                 start_parameter_services=False, enable_rosout=False)
+        buffer = SessionBuffer(node=None)
+        listener = TransformListener(buffer, node)
+        sess.add_node(node)
+        _SESSION_BUFFERS[id(sess)] = (sess, buffer, listener, node)
     return buffer
