@@ -17,6 +17,7 @@ from typing import Any
 
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
+from robot_lab.sim import engine_log
 from robot_lab.sim.imu import Imu
 from robot_lab.sim.joint_controller import JointPositionController
 from robot_lab.sim.robot import SpawnedRobot, add_robot
@@ -50,6 +51,8 @@ class Simulation:
         self.warn = warn
         self.path = find_world(str(world))
         self.spec, self.info = load_world(self.path, warn)
+        self.speaker = f'world {self.info.name!r} ({self.path.name})'
+        self._speak()
         self.model = self.spec.compile()
         self.data = mujoco.MjData(self.model)
         mujoco.mj_forward(self.model, self.data)
@@ -61,6 +64,10 @@ class Simulation:
         self.subscriptions: dict[str, list[Callable[[Message], None]]] = {}
         self.on_publish: Publish = on_publish or (lambda topic, kind, message: None)
         self.clock_period = round(1e9 / CLOCK_RATE)
+
+    def _speak(self) -> None:
+        """MuJoCo's warnings from the calls that follow name this world (see engine_log)."""
+        engine_log.speak_for(self.speaker, self.warn)
 
     @property
     def world(self) -> WorldInfo:
@@ -104,6 +111,7 @@ class Simulation:
             systems.append(JointPositionController(controller, robot, self.subscribe))
         systems += [Lidar(lidar, robot, self.info.name, self.rng) for lidar in robot.tags.lidars]
         systems += [Imu(imu, robot, self.info.name, self.spec, self.rng) for imu in robot.tags.imus]
+        self._speak()
         self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
         self.systems += systems
@@ -114,6 +122,7 @@ class Simulation:
 
     def step(self, count: int = 1) -> None:
         """Advance `count` fixed steps, running every system around each."""
+        self._speak()
         for _ in range(count):
             time_ns = self.time_ns
             for system in self.systems:
@@ -133,6 +142,7 @@ class Simulation:
 
     def reset(self) -> None:
         """Gazebo's world reset: time 0, every body back at its spawn pose, systems afresh."""
+        self._speak()
         mujoco.mj_resetData(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)
         self.steps = 0
