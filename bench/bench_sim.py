@@ -39,10 +39,21 @@ Measured 2026-12-06, same host and load, `--system --runs 3 --seconds 5 --busy 1
 the imu joined the sample robot: headless 31.4x real time (16.9x in an earlier run: the
 host's load moves it; bare mj_step ran 14-48 us a step, the systems' Python adds about as
 much again); real-time factor 0.999 beside a busy loop; the simulator's process 5.4 % of a
-core; start to first /scan 4.95 s (3.2-6.4 s over runs; not yet at the goal). Of that,
-the simulator serves its socket 0.97 s after its start (0.42 s importing MuJoCo) and
-`create` has spawned the robot at 1.31 s: the rest is the bridge's and this process's ROS
-start and discovery, still to be taken apart.
+core; start to first /scan 4.95 s (3.2-6.4 s over runs; not yet at the goal).
+
+The start taken apart (each process's own log line marks its stage): this bench used to
+start its subscriber's ROS only after `create` had returned, a wait no lab has (a launch
+file starts every process at once); it now starts all four together. On an idle core the
+simulator serves at 1.1 s, `create` has spawned at 1.2 s, the bridge's node is up at
+1.4 s (0.2-0.35 s importing rclpy, 0.35-0.5 s of wall in its first create_node for 0.12 s
+of CPU: the DDS participant) and the first /scan arrives 0.03-0.1 s later (discovery with
+the kit's profile is not the cost). Under this host's load (load average 18-20 on 2
+cores) every stage stretches alike: it is CPU, not waiting. The simulator now listens
+before it imports MuJoCo, so `create` and the bridge connect at once instead of polling.
+`--system --runs 5 --seconds 1 --busy 1`, load average 18-20: before (serial bench) 2.92 s;
+after, all at once: 3.40 s with stages subscriber 0.11, sim serving 2.89, spawned 2.89,
+bridge node 3.35, publisher seen 3.39, first /scan 3.40 (medians) -- the bridge's ROS
+start and the simulator's import, both CPU-bound, are the path.
 
 Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
 (PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
@@ -60,6 +71,7 @@ import tempfile
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
@@ -226,9 +238,24 @@ def _program(package: str, name: str) -> list[str]:
     return [str(Path(sys.prefix) / 'lib' / package / name)]
 
 
-def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
-    """(real-time factor, % of a core, s to first /scan) of the processes a lab starts."""
+STAGES = (('sim serving', 'sim', 'Serving partition'), ('spawned', 'create', 'successful'),
+          ('bridge node', 'bridge', 'Creating GZ->ROS'))
+
+
+def _watch(process: Any, name: str, begin: float, marks: dict[str, float]) -> None:
+    """Note when each process first says what marks a stage (its own log lines)."""
+    for line in process.stdout:
+        for stage, who, text in STAGES:
+            if who == name and text in line and stage not in marks:
+                marks[stage] = time.monotonic() - begin
+
+
+def _real_time(seconds: float, urdf: Path) -> tuple[float, float, dict[str, float]]:
+    """(real-time factor, % of a core, the start's stages in s) of the processes a lab
+    starts: as a launch file does, the simulator, `create`, the bridge and a subscriber
+    (this process) all start at once."""
     import subprocess
+    import threading
 
     import psutil
     import rclpy
@@ -237,27 +264,38 @@ def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
 
     from robot_lab.sim.transport import connect
 
+    marks: dict[str, float] = {}
     begin = time.monotonic()
-    sim = subprocess.Popen([*_program('ros_gz_sim', 'gz_sim'), '-r', 'room.sdf'],
-                           stdout=subprocess.DEVNULL)
-    bridge = subprocess.Popen([*_program('ros_gz_bridge', 'parameter_bridge'),
-                               '/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan'],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    def start(*argv: str) -> subprocess.Popen[str]:
+        return subprocess.Popen(list(argv), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                text=True)
+
+    sim = start(*_program('ros_gz_sim', 'gz_sim'), '-r', 'room.sdf')
+    bridge = start(*_program('ros_gz_bridge', 'parameter_bridge'),
+                   '/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan')
+    create = start(*_program('ros_gz_sim', 'create'), '-file', str(urdf), '-name', 'bot',
+                   '-z', '0.051')
+    for child, name in ((sim, 'sim'), (bridge, 'bridge'), (create, 'create')):
+        threading.Thread(target=_watch, args=(child, name, begin, marks), daemon=True).start()
     try:
-        subprocess.run([*_program('ros_gz_sim', 'create'), '-file', str(urdf), '-name', 'bot',
-                        '-z', '0.051'], check=True, stdout=subprocess.DEVNULL)
         rclpy.init()
         node = rclpy.create_node('bench_sim')
         first: list[float] = []
         node.create_subscription(LaserScan, '/scan', lambda _: first.append(time.monotonic()),
                                  qos_profile_sensor_data)
+        marks['subscriber'] = time.monotonic() - begin
         while not first:
-            rclpy.spin_once(node, timeout_sec=0.1)
+            rclpy.spin_once(node, timeout_sec=0.05)
+            if 'publisher seen' not in marks and node.count_publishers('/scan'):
+                marks['publisher seen'] = time.monotonic() - begin
             if time.monotonic() - begin > 60:
                 raise RuntimeError('no /scan within 60 s of starting the simulator')
-        to_scan = first[0] - begin
+        marks['first /scan'] = first[0] - begin
         node.destroy_node()
         rclpy.shutdown()
+        if create.wait() != 0:
+            raise RuntimeError('create failed')
         connection = connect()
         assert connection is not None
         connection.send({'op': 'sub', 'topic': '/clock'})
@@ -274,7 +312,7 @@ def _real_time(seconds: float, urdf: Path) -> tuple[float, float, float]:
         wall, cpu1 = time.monotonic() - wall0, process.cpu_times()
         connection.close()
         cpu = (cpu1.user + cpu1.system - cpu0.user - cpu0.system) / wall * 100
-        return (sim1 - sim0) / wall, cpu, to_scan
+        return (sim1 - sim0) / wall, cpu, marks
     finally:
         for proc in (bridge, sim):
             proc.terminate()
@@ -298,10 +336,13 @@ def system(runs: int, busy: int, seconds: float) -> None:
         results = [_real_time(seconds, urdf) for _ in range(runs)]
     factor = statistics.median(r[0] for r in results)
     cpu = statistics.median(r[1] for r in results)
-    to_scan = statistics.median(r[2] for r in results)
+    stages = {name: statistics.median(r[2].get(name, math.nan) for r in results)
+              for name in results[0][2]}
     print(f'beside {busy} busy loops: real-time factor {factor:.3f} (goal >= 1.0), simulator '
-          f'CPU {cpu:.1f} % of a core (goal <= 25 %), start to first /scan {to_scan:.2f} s '
-          f'(goal <= 3 s), median of {runs} runs of {seconds:g} s')
+          f'CPU {cpu:.1f} % of a core (goal <= 25 %), start to first /scan '
+          f'{stages["first /scan"]:.2f} s (goal <= 3 s), median of {runs} runs of {seconds:g} s')
+    print('  the start, s after launching (medians): ' + ', '.join(
+        f'{name} {value:.2f}' for name, value in sorted(stages.items(), key=lambda i: i[1])))
 
 
 def main() -> None:

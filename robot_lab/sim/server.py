@@ -19,13 +19,14 @@ import threading
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import RobotLabError
 from robot_lab.sim.about import identity
-from robot_lab.sim.simulation import Simulation
-from robot_lab.sim.systems import header, stamp
 from robot_lab.sim.transport import Connection, connect, partition, socket_path
+
+if TYPE_CHECKING:
+    from robot_lab.sim.simulation import Simulation
 
 __all__ = ['identity', 'main', 'split_gz_args']  # identity: from about, re-exported
 
@@ -147,6 +148,8 @@ class Server:
 
     def _stats(self, now: float) -> None:
         """gz.msgs.WorldStatistics on /world/<name>/stats, 5 times a wall second."""
+        from robot_lab.sim.systems import header, stamp  # imported with the engine, after
+
         last_wall, last_ns = self.last_stats
         if now - last_wall < 0.2:
             return
@@ -218,11 +221,19 @@ def main(argv: Sequence[str] | None = None) -> int:
               'robot_lab.scene_view() instead', flush=True)
         return 1
     path = socket_path()
-    try:
-        sim = Simulation(args.world, seed=args.seed)
+    try:  # listen first: `create` and the bridge connect while the engine still loads
         listener = _listen(path)
     except RobotLabError as error:
         print(f'[Err] {error}', flush=True)
+        return 1
+    try:
+        from robot_lab.sim.simulation import Simulation  # MuJoCo: most of the start's time
+
+        sim = Simulation(args.world, seed=args.seed)
+    except RobotLabError as error:
+        print(f'[Err] {error}', flush=True)
+        listener.close()
+        path.unlink(missing_ok=True)
         return 1
     info = sim.info
     print(f'[Msg] Loaded world {info.name!r} from {sim.path}: step {info.step * 1000:g} ms, '
