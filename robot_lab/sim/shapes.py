@@ -61,6 +61,9 @@ def add_shape(body: mujoco.MjsBody, shape: Shape, name: str,
         geom.type = mujoco.mjtGeom.mjGEOM_MESH
         geom.meshname = shape.mesh
     if friction is not None:
+        # MuJoCo takes the larger condim and friction of two touching geoms; Gazebo's ODE
+        # the smaller mu: without priority a frictionless caster drags at the ground's mu
+        geom.priority = 1  # this geom's own contact settings win against the ground's
         if friction <= 0.0:
             geom.condim = 1  # normal force only: Gazebo's mu1 = mu2 = 0
         else:

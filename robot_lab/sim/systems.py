@@ -20,6 +20,7 @@ import numpy as np
 from robot_lab.sim.gazebo_tags import DiffDriveSettings, JointStateSettings, LidarSettings
 from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.shapes import quat_from_rpy
+from robot_lab.sim.wheels import round_wheel, wheel_torque
 
 __all__ = ['DiffDrive', 'JointStatePublisher', 'Lidar', 'Publish', 'Subscribe', 'System',
            'stamp', 'topic_name']
@@ -103,7 +104,11 @@ class DiffDrive(System):
         self.wheels: tuple[float, float] | None = None
         self.last_ns = 0
         self.velocity = (0.0, 0.0)
-        for joint in self.left + self.right:
+        urdf_joints = settings.left_joints + settings.right_joints
+        for joint, urdf_joint in zip(self.left + self.right, urdf_joints, strict=True):
+            round_wheel(spec, robot, urdf_joint)
+            torque = wheel_torque(spec, robot, urdf_joint, settings.wheel_radius,
+                                  len(urdf_joints))
             actuator = spec.add_actuator()
             actuator.name = f'{joint}::velocity'
             actuator.target = joint
@@ -112,6 +117,8 @@ class DiffDrive(System):
             actuator.gainprm = [WHEEL_GAIN] + [0.0] * 9
             actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
             actuator.biasprm = [0.0, 0.0, -WHEEL_GAIN] + [0.0] * 7
+            actuator.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            actuator.forcerange = [-torque, torque]
         name = robot.name
         self.cmd_topic = topic_name(settings.topic or f'/model/{name}/cmd_vel')
         self.odom_topic = topic_name(settings.odom_topic or f'/model/{name}/odometry')
