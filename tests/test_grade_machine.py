@@ -161,8 +161,11 @@ def _judge(seen: dict[str, Any], job: Path) -> None:
     assert 'Read-only file system' in seen['passwd_write'], seen
     assert ('Read-only file system' in seen['system_write']
             or 'Permission denied' in seen['system_write']), seen
-    resolved = job.resolve()
-    on_the_way = [resolved.parts[2]] if resolved.parts[1] == 'tmp' else []
+    # /tmp shows the folders on the way to the job and to the kit (a clone under /tmp, as a
+    # CI checkout may be), which the job must read; nothing else.
+    kit = (Path(__file__).resolve().parents[1], Path(sys.prefix).resolve())
+    on_the_way = sorted({p.parts[2] for p in (job.resolve(), *kit)
+                         if len(p.parts) > 2 and p.parts[1] == 'tmp'})
     assert seen['tmp'] == on_the_way and seen['tmp_write'] == 'written', seen  # nothing else
     assert seen['sibling'].startswith('FileNotFoundError'), seen
     assert seen['interfaces'] == ['lo'], seen
