@@ -8,6 +8,9 @@ Pure Python: the buffer needs no DDS.
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 import rclpy.time
@@ -26,6 +29,7 @@ from robot_lab.tf2.exceptions import (
 )
 
 pytestmark = pytest.mark.no_ros
+REPO = Path(__file__).resolve().parents[1]
 
 
 def T(sec: float) -> rclpy.time.Time:  # noqa: N802
@@ -221,8 +225,19 @@ def test_unconnected_trees_and_bad_frame_ids() -> None:
     assert issubclass(ConnectivityException, TransformException)
 
 
-def test_the_cache_keeps_ten_seconds_and_refuses_older_data(capfd: pytest.CaptureFixture[str]
-                                                              ) -> None:
+def logged(scenario: str) -> str:
+    """What `scenario` (a function of this module) prints on stderr, run in a fresh Python.
+
+    The core logs as the C++ one does, through rcutils; a process whose rclpy context was
+    made in a kernel (any earlier test that imported ipykernel) sends logs to /rosout only,
+    so the console text is read where nothing else set logging up."""
+    code = f'from tests.test_tf2_buffer_core import {scenario}; {scenario}()'
+    done = subprocess.run([sys.executable, '-c', code], cwd=REPO, capture_output=True,
+                          text=True, timeout=60, check=True)
+    return done.stderr
+
+
+def old_data() -> None:
     core = BufferCore()
     core.set_transform(tf('world', 'robot', 100), 'u')
     core.set_transform(tf('world', 'robot', 111), 'u')
@@ -230,18 +245,27 @@ def test_the_cache_keeps_ten_seconds_and_refuses_older_data(capfd: pytest.Captur
     with pytest.raises(ExtrapolationException, match='into the past'):
         core.lookup_transform_core('world', 'robot', T(100.5))
     core.set_transform(tf('world', 'robot', 100.5), 'the_node')
-    err = capfd.readouterr().err
+
+
+def test_the_cache_keeps_ten_seconds_and_refuses_older_data() -> None:
+    old_data()
+    err = logged('old_data')
     assert ('[WARN]' in err and '[]: TF_OLD_DATA ignoring data from the past for frame robot at '
             'time 100.500000 according to authority the_node\nPossible reasons are listed at '
             'http://wiki.ros.org/tf/Errors%20explained' in err)
 
 
-def test_insert_errors_are_upstreams(capfd: pytest.CaptureFixture[str]) -> None:
+def insert_errors() -> None:
     core = BufferCore()
     core.set_transform(tf('base', 'base', 1), 'me')
     core.set_transform(tf('base', 'wheel', 1, x=math.nan), 'me')
     core.set_transform(tf('base', 'wheel', 1, q=(0.0, 0.0, 0.0, 0.0)), 'me')
-    err = capfd.readouterr().err
+    assert not core._frameExists('wheel')
+
+
+def test_insert_errors_are_upstreams() -> None:
+    insert_errors()
+    err = logged('insert_errors')
     assert ('[]: TF_SELF_TRANSFORM: Ignoring transform from authority "me" with frame_id and  '
             'child_frame_id "base" because they are the same') in err
     assert ('TF_NAN_INPUT: Ignoring transform for child_frame_id "wheel" from authority "me" '
@@ -250,7 +274,6 @@ def test_insert_errors_are_upstreams(capfd: pytest.CaptureFixture[str]) -> None:
     assert ('TF_DENORMALIZED_QUATERNION: Ignoring transform for child_frame_id "wheel" from '
             'authority "me" because of an invalid quaternion in the transform (nan nan nan '
             'nan)') in err
-    assert not core._frameExists('wheel')
 
 
 def test_a_long_quaternion_is_normalised_as_tf2s_matrix_does() -> None:
@@ -325,10 +348,14 @@ def test_the_frames_picture_names_every_frame_without_graphviz() -> None:
 
 # --- tf2/test/simple_tf2_core.cpp, as facts --------------------------------------------------
 
-def test_cpp_core_facts_on_insert_and_lookup(capfd: pytest.CaptureFixture[str]) -> None:
+def unnamed_frames() -> None:
+    assert BufferCore()._set(TransformStamped(), 'authority1', False) is False
+
+
+def test_cpp_core_facts_on_insert_and_lookup() -> None:
     core = BufferCore()
-    assert core._set(TransformStamped(), 'authority1', False) is False
-    err = capfd.readouterr().err
+    unnamed_frames()
+    err = logged('unnamed_frames')
     assert 'TF_NO_CHILD_FRAME_ID: Ignoring transform from authority "authority1" because ' \
            'child_frame_id not set ' in err
     assert 'TF_NO_FRAME_ID: Ignoring transform with child_frame_id ""  from authority ' \
