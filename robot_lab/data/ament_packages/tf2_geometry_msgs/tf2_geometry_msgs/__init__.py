@@ -1,7 +1,8 @@
 """tf2_geometry_msgs, as robot_lab provides it (robot_lab.tf2.geometry).
 
 Upstream's module has no __all__, so `from tf2_geometry_msgs import PointStamped` works
-there too: the message types it imports are names here as well.
+there too: the message types it imports are names here as well. The functions' list is
+robot_lab.tf2.geometry's own, taken rather than restated.
 """
 
 from geometry_msgs.msg import (
@@ -16,17 +17,8 @@ from geometry_msgs.msg import (
     Vector3Stamped,
 )
 
-from robot_lab.tf2.geometry import (
-    do_transform_point,
-    do_transform_polygon_stamped,
-    do_transform_pose,
-    do_transform_pose_stamped,
-    do_transform_pose_with_covariance_stamped,
-    do_transform_vector3,
-    from_msg_msg,
-    to_msg_msg,
-    transform_covariance,
-)
+from robot_lab.tf2 import geometry as _geometry
+from robot_lab.tf2.geometry import *  # noqa: F403
 
 __all__ = [
     'Point',
@@ -38,13 +30,5 @@ __all__ = [
     'PoseWithCovarianceStamped',
     'TransformStamped',
     'Vector3Stamped',
-    'do_transform_point',
-    'do_transform_polygon_stamped',
-    'do_transform_pose',
-    'do_transform_pose_stamped',
-    'do_transform_pose_with_covariance_stamped',
-    'do_transform_vector3',
-    'from_msg_msg',
-    'to_msg_msg',
-    'transform_covariance',
 ]
+__all__ += _geometry.__all__
