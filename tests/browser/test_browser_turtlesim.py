@@ -18,15 +18,7 @@ import robot_lab
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(600)]
 
-CHROMIUM = browser_lab.chromium()
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:  # pragma: no cover - the test extra installs it
-    sync_playwright = None
-
-if CHROMIUM is None or sync_playwright is None:
-    pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)',
-                allow_module_level=True)
+CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
 
 # how many canvas pixels have this colour (within 12 per channel): the trail, the background
 _COUNT = """([el, rgb]) => {

@@ -17,15 +17,7 @@ from test_teleop import Inbox, parts
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-CHROMIUM = browser_lab.chromium()
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:  # pragma: no cover - the test extra installs it
-    sync_playwright = None
-
-if CHROMIUM is None or sync_playwright is None:
-    pytest.skip('needs Debian chromium and playwright (apt-get install -y chromium)',
-                allow_module_level=True)
+CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
 
 ZERO = (0.0,) * 6
 
