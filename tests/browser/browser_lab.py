@@ -8,6 +8,7 @@ browser is never downloaded. Also used by `bench/bench_widgets.py --browser`.
 
 from __future__ import annotations
 
+import base64
 import importlib.util
 import json
 import os
@@ -17,6 +18,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -439,3 +441,61 @@ def drag(page: Any, row: Any, fraction: float) -> None:
     page.mouse.move(track['x'] + fraction * track['width'], track['y'] + track['height'] / 2,
                     steps=12)
     page.mouse.up()
+
+
+# A SceneView replayed without JupyterLab: a test records what the kernel would send the
+# widget (SceneRecorder), then draws it with the committed bundle in a bare page.
+_SCENE_PAGE = """<html><body style="margin:0"><div id="view" style="width: 800px"></div><script>
+window.saved = [];
+window.makeModel = (state) => {
+  const handlers = {};
+  const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
+  window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
+  return {
+    get: (key) => state[key],
+    set: (key, value) => { state[key] = value; },
+    save_changes: () => { window.saved.push(JSON.stringify(state)); },
+    on: (event, f) => { (handlers[event] = handlers[event] || []).push(f); },
+    off: (event, f) => { handlers[event] = (handlers[event] || []).filter(g => g !== f); },
+    send: () => {},
+  };
+};
+</script></body></html>"""
+_SCENE_RENDER = """async ([source, fixedFrame]) => {
+  const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
+  const widget = (await import(url)).default;
+  widget.render({model: window.makeModel({height: 400, fixed_frame: fixedFrame,
+                                          hidden_frames: [], status: []}),
+                 el: document.getElementById('view')});
+}"""
+_SCENE_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
+  const bytes = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
+  return new DataView(bytes.buffer);
+}))"""
+
+
+class SceneRecorder:
+    """Stands in for the SceneView widget: keeps what the view sends, in order."""
+
+    def __init__(self, fixed_frame: str = '') -> None:
+        self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
+        self.status: list[str] = []
+        self.fixed_frame = fixed_frame
+        self.lock = threading.Lock()
+
+    def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
+        with self.lock:
+            self.sent.append((msg, list(buffers or [])))
+
+
+def show_scene(page: Any, bundle: str, fixed_frame: str) -> None:
+    """The scene view's bundle (its source text), drawing in `page` (window.saved: the
+    model's states it saved)."""
+    page.set_content(_SCENE_PAGE)
+    page.evaluate(_SCENE_RENDER, [bundle, fixed_frame])
+
+
+def replay_scene(page: Any, sent: list[tuple[dict[str, Any], list[bytes]]]) -> None:
+    """What a SceneRecorder kept, sent to the page's widget in order."""
+    for msg, buffers in sent:
+        page.evaluate(_SCENE_SEND, [msg, [base64.b64encode(b).decode() for b in buffers]])

@@ -6,11 +6,9 @@ colour must appear on the canvas, and the fixed-frame menu must set the model's 
 
 from __future__ import annotations
 
-import base64
 import io
 import math
 import struct
-import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -34,33 +32,6 @@ pytestmark = pytest.mark.browser
 CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
 Image = pytest.importorskip('PIL.Image')
 
-_PAGE = """<html><body style="margin:0"><div id="view" style="width: 800px"></div><script>
-window.saved = [];
-window.makeModel = (state) => {
-  const handlers = {};
-  const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
-  window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
-  return {
-    get: (key) => state[key],
-    set: (key, value) => { state[key] = value; },
-    save_changes: () => { window.saved.push(JSON.stringify(state)); },
-    on: (event, f) => { (handlers[event] = handlers[event] || []).push(f); },
-    off: (event, f) => { handlers[event] = (handlers[event] || []).filter(g => g !== f); },
-    send: () => {},
-  };
-};
-</script></body></html>"""
-_RENDER = """async (source) => {
-  const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
-  const widget = (await import(url)).default;
-  widget.render({model: window.makeModel({height: 400, fixed_frame: '', hidden_frames: [],
-                                          status: []}),
-                 el: document.getElementById('view')});
-}"""
-_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
-  const bytes = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
-  return new DataView(bytes.buffer);
-}))"""
 # what each display draws in, and how a pixel of it is told (r, g, b)
 COLOURS = {
     'scan': lambda r, g, b: r > 200 and g > 200 and b < 80,  # yellow points
@@ -87,20 +58,6 @@ def _meshes(folder: Path) -> tuple[Path, Path]:
     obj.write_text(''.join(f'v {x} {y} {z}\n' for x, y, z in _CORNERS)
                    + ''.join(f'f {a + 1} {b + 1} {c + 1}\n' for a, b, c in _FACES))
     return stl, obj
-
-
-class Recorder:
-    """Stands in for the widget: keeps what the view sends, in order."""
-
-    def __init__(self) -> None:
-        self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
-        self.status: list[str] = []
-        self.fixed_frame = ''
-        self.lock = threading.Lock()
-
-    def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
-        with self.lock:
-            self.sent.append((msg, list(buffers or [])))
 
 
 def _tf(parent: str, child: str, x: float, yaw: float) -> TransformStamped:
@@ -160,7 +117,7 @@ def _count(picture: Any, test: Any) -> int:
 
 def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path) -> None:
     view = SceneView('odom', robot_description=None)
-    recorder = Recorder()
+    recorder = browser_lab.SceneRecorder()
     try:
         view.remove('tf')  # its yellow-magenta arrows would count as the scan's yellow
         view.add('/scan', 'LaserScan', color=[1, 1, 0])
@@ -200,12 +157,10 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
         try:
             page = browser.new_page(viewport={'width': 820, 'height': 600})
-            page.set_content(_PAGE)
-            page.evaluate(_RENDER, BUNDLE.read_text())
+            browser_lab.show_scene(page, BUNDLE.read_text(), '')
             canvas = page.locator('.rl-scene canvas')
             empty = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
-            for msg, buffers in replay:
-                page.evaluate(_SEND, [msg, [base64.b64encode(b).decode() for b in buffers]])
+            browser_lab.replay_scene(page, replay)
             assert browser_lab.wait_in_page(
                 page, "() => document.querySelector('.rl-scene').dataset.drawnPoses === "
                 "document.querySelector('.rl-scene').dataset.poses", None, 10)
@@ -245,7 +200,7 @@ def test_each_display_draws_what_the_kernel_sent(ros_domain: int, tmp_path: Path
                                                                        full=False)}}
                 if not number:
                     sent['add'] = [robot.spec()]
-                page.evaluate(_SEND, [sent, []])
+                browser_lab.replay_scene(page, [(sent, [])])
                 assert browser_lab.wait_in_page(
                     page, "n => document.querySelector('.rl-scene').dataset.links == n",
                     str(len(robot.links)), 10), name

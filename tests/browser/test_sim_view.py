@@ -11,10 +11,8 @@ the camera's projection puts them.
 
 from __future__ import annotations
 
-import base64
 import io
 import math
-import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -82,30 +80,6 @@ BRIDGE_YAML = """\
   gz_type_name: "gz.msgs.Model"
   direction: GZ_TO_ROS
 """
-_PAGE = """<html><body style="margin:0"><div id="view" style="width: 800px"></div><script>
-window.makeModel = (state) => {
-  const handlers = {};
-  const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
-  window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
-  return {
-    get: (key) => state[key], set: (key, value) => { state[key] = value; },
-    save_changes: () => {}, send: () => {},
-    on: (event, f) => { (handlers[event] = handlers[event] || []).push(f); },
-    off: (event, f) => { handlers[event] = (handlers[event] || []).filter(g => g !== f); },
-  };
-};
-</script></body></html>"""
-_RENDER = """async (source) => {
-  const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
-  const widget = (await import(url)).default;
-  widget.render({model: window.makeModel({height: 400, fixed_frame: 'odom',
-                                          hidden_frames: [], status: []}),
-                 el: document.getElementById('view')});
-}"""
-_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
-  const bytes = Uint8Array.from(atob(b64), c => c.charCodeAt(0));
-  return new DataView(bytes.buffer);
-}))"""
 WIDTH, HEIGHT = 800, 400
 # the bundle's first camera (js/scene_view/src/scene.js): eye, target, vertical field of view
 EYE, TARGET, FOV = (1.8, 1.4, 1.2), (0.0, 0.0, 0.3), 50.0
@@ -162,20 +136,6 @@ def _near(picture: Any, xy: tuple[float, float], test: Any, radius: int) -> bool
                for y in range(max(0, y0 - radius), min(HEIGHT, y0 + radius + 1)))
 
 
-class Recorder:
-    """Stands in for the widget: keeps what the view sends, in order."""
-
-    def __init__(self) -> None:
-        self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
-        self.status: list[str] = []
-        self.fixed_frame = 'odom'
-        self.lock = threading.Lock()
-
-    def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
-        with self.lock:
-            self.sent.append((msg, list(buffers or [])))
-
-
 @pytest.fixture
 def simulation(ros_domain: int, tmp_path: Path) -> Iterator[Proc]:
     (tmp_path / 'diffbot.urdf').write_text(diffbot_urdf())
@@ -191,7 +151,7 @@ def simulation(ros_domain: int, tmp_path: Path) -> Iterator[Proc]:
 def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
                                                            tmp_path: Path) -> None:
     view = robot_lab.sim_view('room.sdf')
-    recorder = Recorder()
+    recorder = browser_lab.SceneRecorder('odom')
     try:
         assert list(view.displays) == ['grid', 'robot_model:/robot_description', 'tf',
                                        'world', 'laser_scan:/scan']
@@ -221,12 +181,10 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
         try:
             page = browser.new_page(viewport={'width': 820, 'height': 600})
-            page.set_content(_PAGE)
-            page.evaluate(_RENDER, BUNDLE.read_text())
+            browser_lab.show_scene(page, BUNDLE.read_text(), 'odom')
             canvas = page.locator('.rl-scene canvas')
             empty = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
-            for msg, buffers in replay:
-                page.evaluate(_SEND, [msg, [base64.b64encode(b).decode() for b in buffers]])
+            browser_lab.replay_scene(page, replay)
             assert browser_lab.wait_in_page(
                 page, "() => { const r = document.querySelector('.rl-scene'); return "
                 "r.dataset.robot === 'drawn' && r.dataset.drawnPoses === r.dataset.poses; }",
