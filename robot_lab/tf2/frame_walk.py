@@ -279,31 +279,24 @@ class Walker:
                                                  ids[fixed], target_chain)
             if code != TF2Error.NO_ERROR:
                 raise RAISE.get(code, TransformException)(text)
-            m, n = len(target_chain), len(source_chain)
-            while m > 0 and n > 0:
-                m -= 1
-                n -= 1
-                if source_chain[n] != target_chain[m]:
-                    break
-            if n > 0:
-                del source_chain[n - 1:]
-            if m < len(target_chain):
-                source_chain.extend(target_chain[:m + 1])
+            _join_chains(source_chain, target_chain, reverse=False)
         return [self.frame_name(number) for number in source_chain]
 
     def frame_number(self, name: str) -> int:
         raise NotImplementedError
 
 
-def _join_chains(chain: list[int], reverse_chain: list[int]) -> None:
-    """walkToTopParent's pruning of the two halves at their common part."""
-    m, n = len(reverse_chain), len(chain)
+def _join_chains(chain: list[int], other: list[int], reverse: bool = True) -> None:
+    """The pruning of two chains at their common part, as walkToTopParent does it (`other`'s
+    kept part appended reversed) and _chainAsVector (appended in order, `reverse=False`)."""
+    m, n = len(other), len(chain)
     while m > 0 and n > 0:
         m -= 1
         n -= 1
-        if chain[n] != reverse_chain[m]:
+        if chain[n] != other[m]:
             break
     if n > 0:
         del chain[n - 1:]
-    if m < len(reverse_chain):
-        chain.extend(reversed(reverse_chain[:m + 1]))
+    if m < len(other):
+        kept = other[:m + 1]
+        chain.extend(reversed(kept) if reverse else kept)
