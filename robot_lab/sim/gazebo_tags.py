@@ -196,15 +196,7 @@ def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
         if noise is not None:
             settings.noise_mean = noise.number('mean', 0.0)
             settings.noise_stddev = noise.number('stddev', 0.0)
-    settings.update_rate = sensor.number('update_rate', 10.0)
-    settings.topic = sensor.value('topic')
-    settings.frame_id = (sensor.value('gz_frame_id') or sensor.value('frame_id')
-                         or sensor.value('ignition_frame_id'))
-    pose = sensor.find('pose')
-    if pose is not None and pose.text:
-        values = [float(v) for v in pose.text.split()] + [0.0] * 6
-        settings.xyz = (values[0], values[1], values[2])
-        settings.rpy = (values[3], values[4], values[5])
+    _place(sensor, settings, default_rate=10.0)
     for child in sensor.children:
         if child.tag not in ('lidar', 'ray', 'update_rate', 'topic', 'gz_frame_id', 'frame_id',
                              'ignition_frame_id', 'pose', 'always_on', 'visualize'):
@@ -213,9 +205,10 @@ def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
     return settings
 
 
-def _imu(sensor: Node, link: str, warn: Warn) -> ImuSettings:
-    settings = ImuSettings(sensor.attrib.get('name', 'imu'), link)
-    settings.update_rate = sensor.number('update_rate', 0.0)
+def _place(sensor: Node, settings: LidarSettings | ImuSettings, default_rate: float) -> None:
+    """What every sensor tag says alike: its rate, topic, frame id (gz_frame_id, frame_id or
+    Fortress's ignition_frame_id) and pose on its link (missing numbers: 0)."""
+    settings.update_rate = sensor.number('update_rate', default_rate)
     settings.topic = sensor.value('topic')
     settings.frame_id = (sensor.value('gz_frame_id') or sensor.value('frame_id')
                          or sensor.value('ignition_frame_id'))
@@ -224,6 +217,11 @@ def _imu(sensor: Node, link: str, warn: Warn) -> ImuSettings:
         values = [float(v) for v in pose.text.split()] + [0.0] * 6
         settings.xyz = (values[0], values[1], values[2])
         settings.rpy = (values[3], values[4], values[5])
+
+
+def _imu(sensor: Node, link: str, warn: Warn) -> ImuSettings:
+    settings = ImuSettings(sensor.attrib.get('name', 'imu'), link)
+    _place(sensor, settings, default_rate=0.0)
     imu = sensor.find('imu')
     for quantity in (imu.children if imu is not None else []):
         if quantity.tag not in ('angular_velocity', 'linear_acceleration'):
