@@ -9,11 +9,16 @@ from __future__ import annotations
 import re
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
+
+from conftest import BIN, Proc
 
 from robot_lab.messages import message_class
 from robot_lab.rclpy_session import session
+from robot_lab.sim.sample_robot import diffbot_urdf
 
 
 class Listener:
@@ -141,3 +146,17 @@ def last_hz_window(out: str) -> tuple[float, float, float, int]:
     assert windows, out
     rate, shortest, longest, size = windows[-1]
     return float(rate), float(shortest), float(longest), int(size)
+
+
+@contextmanager
+def diffbot_launch(folder: Path, launch: str, bridge_yaml: str) -> Iterator[Proc]:
+    """`ros2 launch` of a launch file's text, saved in `folder` beside what it reads there:
+    the sample diff-drive robot (diffbot.urdf) and parameter_bridge's config (bridge.yaml)."""
+    (folder / 'diffbot.urdf').write_text(diffbot_urdf())
+    (folder / 'bridge.yaml').write_text(bridge_yaml)
+    (folder / 'sim.launch.py').write_text(launch)
+    process = Proc([str(BIN / 'ros2'), 'launch', str(folder / 'sim.launch.py')])
+    try:
+        yield process
+    finally:
+        process.stop()

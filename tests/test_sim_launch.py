@@ -12,10 +12,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import BIN, Proc
-from rosutil import Listener
-
-from robot_lab.sim.sample_robot import diffbot_urdf
+from conftest import Proc
+from rosutil import Listener, diffbot_launch
 
 LAUNCH = """\
 import os
@@ -82,14 +80,8 @@ BRIDGE_YAML = """\
 @pytest.fixture(scope='module')
 def launched(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Proc]:
     folder: Path = tmp_path_factory.mktemp('harmonic')
-    (folder / 'diffbot.urdf').write_text(diffbot_urdf())
-    (folder / 'bridge.yaml').write_text(BRIDGE_YAML)
-    (folder / 'sim.launch.py').write_text(LAUNCH)
-    process = Proc([str(BIN / 'ros2'), 'launch', str(folder / 'sim.launch.py')])
-    try:
+    with diffbot_launch(folder, LAUNCH, BRIDGE_YAML) as process:
         yield process
-    finally:
-        process.stop()
 
 
 def test_the_robot_is_spawned_from_robot_description(launched: Proc) -> None:

@@ -20,11 +20,11 @@ from typing import Any
 
 import browser_lab
 import pytest
-from conftest import BIN, Proc
+from conftest import Proc
+from rosutil import diffbot_launch
 
 import robot_lab
 from robot_lab.scene.canvas import BUNDLE
-from robot_lab.sim.sample_robot import diffbot_urdf
 
 pytestmark = pytest.mark.browser
 CHROMIUM, sync_playwright = browser_lab.browser_or_skip()
@@ -138,14 +138,8 @@ def _near(picture: Any, xy: tuple[float, float], test: Any, radius: int) -> bool
 
 @pytest.fixture
 def simulation(ros_domain: int, tmp_path: Path) -> Iterator[Proc]:
-    (tmp_path / 'diffbot.urdf').write_text(diffbot_urdf())
-    (tmp_path / 'bridge.yaml').write_text(BRIDGE_YAML)
-    (tmp_path / 'sim.launch.py').write_text(LAUNCH)
-    process = Proc([str(BIN / 'ros2'), 'launch', str(tmp_path / 'sim.launch.py')])
-    try:
+    with diffbot_launch(tmp_path, LAUNCH, BRIDGE_YAML) as process:
         yield process
-    finally:
-        process.stop()
 
 
 def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
