@@ -249,7 +249,10 @@ def show_their_error(shell: Any, etype: type[BaseException], value: BaseExceptio
     chained = (value.__cause__, value.__context__, value.__suppress_context__)
     value.__cause__, value.__context__ = None, None  # the kit's inner errors stay inside
     try:
-        shown: list[str] = shell.InteractiveTB.structured_traceback(etype, value, kept)
+        # tb_offset=0: IPython 8 (Python 3.10's) would drop the first of the student's frames
+        # (the shell's own offset of 1 hides its exec frame, not in `kept`); 9 ignores it.
+        shown: list[str] = shell.InteractiveTB.structured_traceback(etype, value, kept,
+                                                                    tb_offset=0)
     finally:
         value.__cause__, value.__context__, value.__suppress_context__ = chained
     advice = try_line(value, frames, shell.user_ns)
