@@ -43,7 +43,10 @@ KIT = [
     'xacro>=2.1.1,<2.2',
     # Module 2's simulator (robot_lab/sim): MuJoCo's bindings alone, without its GLFW viewer
     # (bench/bench_sim.py measured it against PyBullet)
-    'mujoco-core>=4.0.1,<4.1',
+    'mujoco-core>=4.0.1,<4.1; python_version >= "3.11"',
+    # mujoco-core is for Python 3.11+ only; on 3.10 the full bindings (same module, its
+    # viewer too): tests/test_sim_* pass with 3.17 there (fresh-clone 3.10 run)
+    'mujoco>=3.17,<3.18; python_version < "3.11"',
 ]
 
 setup(
