@@ -53,7 +53,14 @@ before it imports MuJoCo, so `create` and the bridge connect at once instead of 
 `--system --runs 5 --seconds 1 --busy 1`, load average 18-20: before (serial bench) 2.92 s;
 after, all at once: 3.40 s with stages subscriber 0.11, sim serving 2.89, spawned 2.89,
 bridge node 3.35, publisher seen 3.39, first /scan 3.40 (medians) -- the bridge's ROS
-start and the simulator's import, both CPU-bound, are the path.
+start and the simulator's import, both CPU-bound, are the path. The same command at load
+average 7: start to first /scan 1.28 s (subscriber 0.06, sim serving 1.17, spawned 1.18,
+bridge node 1.23, publisher seen 1.25), at the goal; headless 26.3x, factor 0.996, 5.0 %.
+Listening before the import is no measurable gain: A/B against the old server, medians
+of 3-5 at load 7-9, first /scan 0.91/0.80/1.21 s (old) vs 0.54/0.75/1.58 s (new), noise
+larger than any difference. The figure is set by the host's load, not by a wait.
+After the wheel fixes (wheels.py) the headless speed rose: 54-90x in three runs at that
+load, the robot no longer bouncing on its contacts.
 
 Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
 (PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
