@@ -77,16 +77,14 @@ def widen_receive_buffers(size: int = RECEIVE_BUFFER) -> int:
     DDS's in a kit process); return how many sockets were asked."""
     import socket
 
+    from robot_lab.linux import procfs
+
     asked = 0
-    try:
-        fds = os.listdir('/proc/self/fd')
-    except OSError:
-        return 0
-    for name in fds:
-        with contextlib.suppress(OSError, ValueError):
-            if not os.readlink(f'/proc/self/fd/{name}').startswith('socket:'):
-                continue
-            sock = socket.socket(fileno=os.dup(int(name)))
+    for fd, target in procfs.fd_targets().items():
+        if not target.startswith('socket:'):
+            continue
+        with contextlib.suppress(OSError, ValueError):  # closed meanwhile
+            sock = socket.socket(fileno=os.dup(fd))
             try:
                 if sock.type == socket.SOCK_DGRAM and sock.family in (socket.AF_INET,
                                                                        socket.AF_INET6):
