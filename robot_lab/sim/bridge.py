@@ -16,7 +16,6 @@ import contextlib
 import re
 import sys
 import threading
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -116,7 +115,18 @@ class Bridge:
             if spec.direction in ('ROS_TO_GZ', 'BIDIRECTIONAL'):
                 node.create_subscription(cls, spec.ros_topic,
                                          lambda msg, s=spec: self._to_gz(s, msg), 10)
-        threading.Thread(target=self._link, daemon=True).start()
+        self.stopping = threading.Event()
+        self.link = threading.Thread(target=self._link, daemon=True)
+        self.link.start()
+
+    def stop(self) -> None:
+        """End the relay before rclpy's node goes: a publish racing the node's destruction
+        at interpreter exit can deadlock in the middleware (seen once on SIGTERM)."""
+        self.stopping.set()
+        connection = self.connection
+        if connection is not None:
+            connection.close()  # its receive() returns None at once
+        self.link.join(timeout=2.0)
 
     @staticmethod
     def _qos(topic: str) -> Any:
@@ -136,15 +146,15 @@ class Bridge:
 
     def _link(self) -> None:
         """Connect to the simulation (waiting for it), subscribe, relay; again if it ends."""
-        while True:
+        while not self.stopping.is_set():
             connection = connect()
             if connection is None:
-                time.sleep(0.1)  # polling the socket: nothing announces a simulation's start
+                self.stopping.wait(0.1)  # polling the socket: no simulation announces its start
                 continue
             for topic in self.to_ros:
                 connection.send({'op': 'sub', 'topic': topic})
             self.connection = connection
-            while (frame := connection.receive()) is not None:
+            while (frame := connection.receive()) is not None and not self.stopping.is_set():
                 for spec, cls, publisher in self.to_ros.get(str(frame.get('topic')), []):
                     msg = from_gz(spec.gz_type, cls, frame['msg'])
                     if spec.direction == 'BIDIRECTIONAL':
@@ -174,9 +184,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     for index, spec in enumerate(specs):
         spec.check(str(config) if index >= cut else 'parameter_bridge')
-    Bridge(node, specs)
-    with contextlib.suppress(KeyboardInterrupt, ExternalShutdownException):  # Ctrl-C, SIGINT
-        rclpy.spin(node)
+    bridge = Bridge(node, specs)
+    try:
+        with contextlib.suppress(KeyboardInterrupt, ExternalShutdownException):  # Ctrl-C, SIGINT
+            rclpy.spin(node)
+    finally:
+        bridge.stop()
     return 0
 
 
