@@ -17,6 +17,7 @@ from conftest import BIN
 
 from robot_lab.env import ros_environment
 from robot_lab.pkg import kit_packages
+from robot_lab.process import child_setup
 
 TF2_ROS = Path(sys.prefix, 'lib', 'tf2_ros')
 
@@ -41,8 +42,10 @@ def test_sigint_while_a_kit_program_imports_exits_130_without_traceback(
     [script] = kit_packages.install_executables(tmp_path)
     assert script == tmp_path / 'lib' / 'probe_pkg' / 'probe'
     env = {**ros_environment(), 'PYTHONPATH': str(tmp_path)}
+    # child_setup: Ctrl-C as a terminal gives it, even when this run was started with
+    # SIGINT ignored (a CI job started with `&` passes it on ignored, and Python keeps that).
     child = subprocess.Popen([str(script)], env=env, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE)
+                             stderr=subprocess.PIPE, preexec_fn=child_setup)
     assert child.stdout is not None and child.stdout.readline() == b'importing\n'
     child.send_signal(signal.SIGINT)
     _, err = child.communicate(timeout=30)
@@ -79,7 +82,8 @@ def test_sigint_right_after_tf2_echo_starts_prints_no_traceback() -> None:
     script's first line, is the interpreter's and out of the script's reach)."""
     env = {**ros_environment(), 'PYTHONPROFILEIMPORTTIME': '1'}
     echo = subprocess.Popen([str(TF2_ROS / 'tf2_echo'), 'world', 'nowhere'], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=child_setup)
     assert echo.stderr is not None
     seen = []
     for raw in iter(echo.stderr.readline, b''):
