@@ -275,3 +275,24 @@ def test_lidar_noise_repeats_with_the_seed_and_differs_without_it() -> None:
     first, again, other = scan(1), scan(1), scan(2)
     assert first == again and first != other
     assert max(abs(a - b) for a, b in zip(first, other, strict=True)) < 0.1  # noise, not walls
+
+
+def test_a_urdf_mesh_beside_its_file_collides(tmp_path: Path) -> None:
+    """A relative mesh filename is read from the URDF file's folder: the box holds the
+    link at its half height."""
+    trimesh = pytest.importorskip('trimesh')
+    trimesh.creation.box(extents=(0.2, 0.2, 0.2)).export(tmp_path / 'block.stl')
+    source = tmp_path / 'block.urdf'
+    source.write_text("""<?xml version="1.0"?>
+<robot name="block">
+  <link name="base_link">
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><mesh filename="block.stl"/></geometry></collision>
+  </link>
+</robot>
+""")
+    sim = Simulation('empty.sdf', warn=lambda line: None)
+    sim.spawn(source.read_text(), 'block', (0.0, 0.0, 0.5), source=str(source))
+    sim.step(500)
+    assert sim.data.xpos[sim.model.body('block::base_link').id][2] == pytest.approx(0.1, abs=0.01)

@@ -130,7 +130,7 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         raise SimulationError(f'an entity named {name!r} already exists in the world',
                               fix='give the robot another -name')
     tags = read_gazebo_tags(root, warn)
-    base = Path(source).parent if Path(source).is_file() else None  # relative mesh paths
+    folder = Path(source).parent if Path(source).is_file() else None  # relative mesh paths
     for element in root.children:
         if element.tag not in ('link', 'joint', 'gazebo', 'material'):
             warn(f"{element.where}: <{element.tag}> is not simulated by robot_lab's simulator "
@@ -146,7 +146,7 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         _inertial(body, node, moves, warn)
         friction = tags.friction.get(link)
         for index, collision in enumerate(node.findall('collision')):
-            shape = _collision_shape(spec, collision, link, warn, base)
+            shape = _collision_shape(spec, collision, link, warn, folder)
             if shape is not None:
                 add_shape(body, shape, f'{body.name}::collision{index}', friction)
         for joint in tree.child_joints.get(link, []):
