@@ -8,10 +8,11 @@ from disagreeing on it.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+
+from robot_lab.tf2.linear_math import quaternion_from_euler
 
 __all__ = ['Shape', 'add_shape', 'quat_from_rpy']
 
@@ -19,12 +20,10 @@ Vec3 = tuple[float, float, float]
 
 
 def quat_from_rpy(roll: float, pitch: float, yaw: float) -> list[float]:
-    """(w, x, y, z) of R = Rz(yaw) Ry(pitch) Rx(roll), URDF's and SDF's convention."""
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return [cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
-            cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy]
+    """(w, x, y, z), MuJoCo's order, of R = Rz(yaw) Ry(pitch) Rx(roll): URDF's and SDF's
+    convention, which is tf2's setRPY."""
+    x, y, z, w = quaternion_from_euler(roll, pitch, yaw)
+    return [w, x, y, z]
 
 
 @dataclass(frozen=True)
