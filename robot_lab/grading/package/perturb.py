@@ -96,18 +96,11 @@ def _show(value: Value) -> str:
     return f'{value:.3g}' if isinstance(value, float) else repr(value)
 
 
-def _leaves(data: object, prefix: str = '') -> Iterator[tuple[str, float]]:
+def _leaves(data: object) -> Iterator[tuple[str, float]]:
     """Numeric leaves of a message dict ('linear.x', 'ranges[0]'), stamps left out."""
-    if isinstance(data, dict):
-        for key, value in data.items():
-            if key not in _SKIP:
-                yield from _leaves(value, f'{prefix}{key}.')
-    elif isinstance(data, list | tuple):
-        for i, value in enumerate(data[:64]):
-            yield from _leaves(value, f'{prefix[:-1]}[{i}].')
-    elif (isinstance(data, int | float) and not isinstance(data, bool)
-          and math.isfinite(float(data))):
-        yield prefix[:-1], float(data)
+    for key, value in command_fields(data):
+        if not isinstance(value, bool | str):
+            yield key, float(value)
 
 
 def _varying(values: list[dict[str, object]]) -> tuple[set[str], float, float]:
