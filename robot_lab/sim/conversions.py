@@ -39,12 +39,14 @@ def _vector(target: Any, gz: Gz) -> None:
     target.x, target.y, target.z = (float(gz.get(k, 0.0)) for k in 'xyz')
 
 
+def _quaternion(target: Any, gz: Gz) -> None:
+    _vector(target, gz)
+    target.w = float(gz.get('w', 1.0))
+
+
 def _pose(target: Any, gz: Gz) -> None:
     _vector(target.position, gz.get('position', {}))
-    q = gz.get('orientation', {})
-    target.orientation.x, target.orientation.y, target.orientation.z = (
-        float(q.get(k, 0.0)) for k in 'xyz')
-    target.orientation.w = float(q.get('w', 1.0))
+    _quaternion(target.orientation, gz.get('orientation', {}))
 
 
 def _twist(msg: Any, gz: Gz) -> None:
@@ -92,18 +94,13 @@ def _tf(msg: Any, gz: Gz) -> None:
         _header(transform, pose)
         transform.child_frame_id = str(pose.get('name', ''))
         _vector(transform.transform.translation, pose.get('position', {}))
-        q = pose.get('orientation', {})
-        rotation = transform.transform.rotation
-        rotation.x, rotation.y, rotation.z = (float(q.get(k, 0.0)) for k in 'xyz')
-        rotation.w = float(q.get('w', 1.0))
+        _quaternion(transform.transform.rotation, pose.get('orientation', {}))
         msg.transforms.append(transform)
 
 
 def _imu(msg: Any, gz: Gz) -> None:
     _header(msg, gz)
-    q = gz.get('orientation', {})
-    msg.orientation.x, msg.orientation.y, msg.orientation.z = (float(q.get(k, 0.0)) for k in 'xyz')
-    msg.orientation.w = float(q.get('w', 1.0))
+    _quaternion(msg.orientation, gz.get('orientation', {}))
     _vector(msg.angular_velocity, gz.get('angular_velocity', {}))
     _vector(msg.linear_acceleration, gz.get('linear_acceleration', {}))
 
