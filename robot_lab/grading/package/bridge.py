@@ -22,11 +22,10 @@ import json
 import subprocess
 import sys
 import threading
-import time
 from collections.abc import Callable
 from typing import IO, Any
 
-__all__ = ['Bridge', 'main', 'wait_matched']
+__all__ = ['Bridge', 'main']
 
 Handler = Callable[[dict[str, Any]], None]
 
@@ -183,17 +182,6 @@ def main() -> int:
     with contextlib.suppress(Exception):
         rclpy.shutdown()
     return 0
-
-
-def wait_matched(bridge: Bridge, topic: str, timeout: float) -> int:
-    """The helper's subscriber count of its publisher on `topic`, once it is not 0 (or
-    `timeout` has passed)."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not bridge.matched.get(topic):
-        if topic in bridge.errors:
-            break
-        time.sleep(0.05)
-    return bridge.matched.get(topic, 0)
 
 
 if __name__ == '__main__':
