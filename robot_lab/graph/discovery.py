@@ -441,7 +441,7 @@ def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
                   answer_burst=ANSWER_BURST, expected_timeout=EXPECTED_TIMEOUT,
                   names_timeout=NAMES_TIMEOUT, participant_timeout=PARTICIPANT_TIMEOUT,
                   warm_participant_timeout=WARM_PARTICIPANT_TIMEOUT, resend_wait=RESEND_WAIT,
-                  bare_node_wait=BARE_NODE_WAIT, max_poll_gap=MAX_POLL_GAP, poll=POLL)
+                  max_poll_gap=MAX_POLL_GAP, poll=POLL)
     complete = host_participants_seen(session)
     outcome = settler_of(session).settle(
         probe, rules=rules, timeout=timeout, settle=settle, ready=ready,

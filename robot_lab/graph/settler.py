@@ -35,7 +35,6 @@ class Rules:
     participant_timeout: float = 10.0
     warm_participant_timeout: float = 7.0
     resend_wait: float = 1.5
-    bare_node_wait: float = 3.0
     max_poll_gap: float = 0.25
     poll: float = 0.02
 
