@@ -94,15 +94,16 @@ class BufferCore(Walker):
 
     # --- frames ---------------------------------------------------------------------------
 
-    def _frame(self, number: int) -> Cache | None:
+    # the walker's view of this buffer (frame_walk.Walker)
+    def frame_cache(self, number: int) -> Cache | None:
         return self._frames[number] if number < len(self._frames) else None
 
-    def _name(self, number: int) -> str:
+    def frame_name(self, number: int) -> str:
         if number >= len(self._frame_names):
             raise LookupException(f'Reverse lookup of frame id {number} failed!')
         return self._frame_names[number]
 
-    def _number(self, name: str) -> int:
+    def frame_number(self, name: str) -> int:
         return self._frame_ids.get(name, 0)
 
     def _number_or_insert(self, name: str) -> int:
@@ -124,7 +125,7 @@ class BufferCore(Walker):
             raise InvalidArgumentException(
                 f'Invalid argument "{frame_id}" passed to {function} - in tf2 frame_ids '
                 "cannot start with a '/'")
-        number = self._number(frame_id)
+        number = self.frame_number(frame_id)
         if number == 0:
             raise LookupException(f'"{frame_id}" passed to {function} does not exist. ')
         return number
@@ -136,7 +137,7 @@ class BufferCore(Walker):
         elif frame_id.startswith('/'):
             why = "in tf2 frame_ids cannot start with a '/'"
         else:
-            number = self._number(frame_id)
+            number = self.frame_number(frame_id)
             if number:
                 return number, ''
             why = 'frame does not exist'
@@ -194,7 +195,7 @@ class BufferCore(Walker):
             return False
         with self._lock:
             number = self._number_or_insert(child)
-            cache = self._frame(number)
+            cache = self.frame_cache(number)
             if cache is None or cache.is_static != is_static:
                 cache = StaticCache() if is_static else TimeCache(self.cache_time)
                 self._frames[number] = cache
@@ -223,7 +224,7 @@ class BufferCore(Walker):
             if target == source:
                 stamp = time
                 if time == 0:
-                    cache = self._frame(self._number(target))
+                    cache = self.frame_cache(self.frame_number(target))
                     stamp = cache.latest_stamp() if cache is not None else time
                 return (lm.ZERO, lm.IDENTITY), stamp
             target_id = self._validate('lookupTransform argument target_frame', target)
@@ -326,7 +327,7 @@ class BufferCore(Walker):
             if len(self._frames) == 1:
                 return '[]'
             for number in range(1, len(self._frames)):
-                cache = self._frame(number)
+                cache = self.frame_cache(number)
                 latest = cache.get_data(0) if cache is not None else None
                 if cache is None or latest is None:
                     continue
@@ -365,10 +366,10 @@ class BufferCore(Walker):
 
     def frames(self) -> list[tuple[str, Cache | None]]:
         """(name, cache) of every frame known, in the order they were first seen."""
-        return [(self._frame_names[n], self._frame(n)) for n in range(1, len(self._frames))]
+        return [(self._frame_names[n], self.frame_cache(n)) for n in range(1, len(self._frames))]
 
     def authority(self, name: str) -> str:
-        return self._authority.get(self._number(name), 'no recorded authority')
+        return self._authority.get(self.frame_number(name), 'no recorded authority')
 
     def parent_name(self, number: int) -> str:
         return self._frame_names[number]
@@ -389,14 +390,3 @@ class BufferCore(Walker):
         return lookup_velocity(self, tracking_frame, observation_frame, reference_frame,
                                reference_point, reference_point_frame, nanoseconds_of(time),
                                _duration_nanoseconds(averaging_interval))
-
-    # the walker's view of this buffer
-    def frame_cache(self, number: int) -> Cache | None:
-        return self._frame(number)
-
-    def frame_name(self, number: int) -> str:
-        return self._name(number)
-
-    def frame_number(self, name: str) -> int:
-        return self._number(name)
-
