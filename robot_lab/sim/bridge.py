@@ -24,7 +24,7 @@ import yaml
 
 from robot_lab.sim.about import identity
 from robot_lab.sim.conversions import PAIRS, from_gz, to_gz
-from robot_lab.sim.transport import Connection, connect
+from robot_lab.sim.transport import Connection, connect, topic_name
 
 __all__ = ['BridgeSpec', 'main', 'parse_bridge_arg', 'parse_bridge_config']
 
@@ -87,10 +87,6 @@ def parse_bridge_config(path: str) -> list[BridgeSpec]:
     return specs
 
 
-def _gz_name(topic: str) -> str:
-    return topic if topic.startswith('/') else '/' + topic
-
-
 class Bridge:
     """The node's publishers and subscriptions, and the connection to the simulation."""
 
@@ -111,7 +107,7 @@ class Bridge:
             if spec.direction in ('GZ_TO_ROS', 'BIDIRECTIONAL'):
                 qos = self._qos(spec.ros_topic)
                 publisher = node.create_publisher(cls, spec.ros_topic, qos)
-                self.to_ros.setdefault(_gz_name(spec.gz_topic), []).append((spec, cls, publisher))
+                self.to_ros.setdefault(topic_name(spec.gz_topic), []).append((spec, cls, publisher))
             if spec.direction in ('ROS_TO_GZ', 'BIDIRECTIONAL'):
                 node.create_subscription(cls, spec.ros_topic,
                                          lambda msg, s=spec: self._to_gz(s, msg), 10)
@@ -141,7 +137,7 @@ class Bridge:
             return
         connection = self.connection
         if connection is not None:
-            connection.send({'op': 'pub', 'topic': _gz_name(spec.gz_topic), 'type': spec.gz_type,
+            connection.send({'op': 'pub', 'topic': topic_name(spec.gz_topic), 'type': spec.gz_type,
                              'msg': to_gz(spec.gz_type, msg)})
 
     def _link(self) -> None:

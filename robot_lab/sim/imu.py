@@ -16,7 +16,8 @@ import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 from robot_lab.sim.gazebo_tags import ImuSettings
 from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.shapes import quat_from_rpy
-from robot_lab.sim.systems import Publish, System, header, topic_name
+from robot_lab.sim.systems import Publish, System, header
+from robot_lab.sim.transport import topic_name
 
 __all__ = ['Imu']
 

@@ -14,7 +14,8 @@ import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
 from robot_lab.sim.gazebo_tags import JointPositionSettings
 from robot_lab.sim.robot import SpawnedRobot
-from robot_lab.sim.systems import Subscribe, System, topic_name
+from robot_lab.sim.systems import Subscribe, System
+from robot_lab.sim.transport import topic_name
 
 __all__ = ['JointPositionController']
 

@@ -28,8 +28,8 @@ from robot_lab.sim.systems import (
     Publish,
     System,
     header,
-    topic_name,
 )
+from robot_lab.sim.transport import topic_name
 from robot_lab.sim.world import WorldInfo, find_world, load_world
 from robot_lab.sim.xml_tree import Warn
 

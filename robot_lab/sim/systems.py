@@ -20,20 +20,16 @@ import numpy as np
 from robot_lab.sim.gazebo_tags import DiffDriveSettings, JointStateSettings, LidarSettings
 from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.shapes import quat_from_rpy
+from robot_lab.sim.transport import topic_name
 from robot_lab.sim.wheels import round_wheel, wheel_torque
 
 __all__ = ['DiffDrive', 'JointStatePublisher', 'Lidar', 'Publish', 'Subscribe', 'System',
-           'stamp', 'topic_name']
+           'stamp']
 
 Message = dict[str, Any]
 Publish = Callable[[str, str, Message], None]
 Subscribe = Callable[[str, Callable[[Message], None]], None]
 WHEEL_GAIN = 2.0  # N m per rad/s: the wheels' velocity servo (Gazebo commands velocity)
-
-
-def topic_name(name: str) -> str:
-    """gz-transport's fully qualified topic: relative names start at the root."""
-    return name if name.startswith('/') else '/' + name
 
 
 def stamp(time_ns: int) -> dict[str, int]:

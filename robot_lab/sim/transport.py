@@ -24,10 +24,15 @@ import threading
 from pathlib import Path
 from typing import Any
 
-__all__ = ['Connection', 'connect', 'partition', 'socket_path']
+__all__ = ['Connection', 'connect', 'partition', 'socket_path', 'topic_name']
 
 Frame = dict[str, Any]
 _LENGTH = struct.Struct('>I')
+
+
+def topic_name(name: str) -> str:
+    """gz-transport's fully qualified topic: relative names start at the root."""
+    return name if name.startswith('/') else '/' + name
 
 
 def partition(env: dict[str, str] | None = None) -> str:
