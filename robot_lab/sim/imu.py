@@ -57,7 +57,7 @@ class Imu(System):
         self.addresses = [int(model.sensor(name).adr[0]) for name in self.sensors]
 
     def senses(self, time_ns: int) -> bool:
-        return self.period_ns == 0 or time_ns >= (self.next_ns or self.period_ns)
+        return self.pending(time_ns)
 
     def _vector(self, data: mujoco.MjData, address: int, quantity: str) -> dict[str, float]:
         values = {}

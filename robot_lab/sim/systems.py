@@ -67,6 +67,11 @@ class System:
         body, MuJoCo's sensors): mj_step leaves those as they were before its integration."""
         return False
 
+    def pending(self, time_ns: int) -> bool:
+        """Whether `due` will say yes at `time_ns` (without moving the period on): what a
+        sensor's `senses` asks."""
+        return time_ns >= (self.next_ns or self.period_ns)
+
     def due(self, time_ns: int) -> bool:
         """Whether a period has come round: at whole multiples of it in simulated time."""
         if self.next_ns == 0:
@@ -273,7 +278,7 @@ class Lidar(System):
         self.body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.body_name)
 
     def senses(self, time_ns: int) -> bool:
-        return time_ns >= (self.next_ns or self.period_ns)
+        return self.pending(time_ns)
 
     def ranges(self, model: mujoco.MjModel, data: mujoco.MjData) -> list[float]:
         rotation = data.xmat[self.body].reshape(3, 3)
