@@ -78,9 +78,8 @@ class _Tree:
         with self._lock:
             for t in msg.transforms:
                 v, q = t.transform.translation, t.transform.rotation
-                stamp = t.header.stamp.sec * 1_000_000_000 + t.header.stamp.nanosec
                 self.edges[t.child_frame_id] = _Edge(
-                    t.header.frame_id, t.child_frame_id, stamp, (v.x, v.y, v.z),
+                    t.header.frame_id, t.child_frame_id, _stamp_ns(t.header.stamp), (v.x, v.y, v.z),
                     (q.x, q.y, q.z, q.w), static)
 
     def edge(self, child: str) -> _Edge | None:
