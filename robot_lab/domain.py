@@ -138,11 +138,6 @@ def _pool(variable: str, default: range, env: Mapping[str, str] | None, example:
     return pool
 
 
-def _start_time(pid: int) -> int | None:
-    """The process's start time in clock ticks (tells a live pid from a reused one)."""
-    return start_time(pid)
-
-
 def _user_name(uid: int) -> str:
     try:
         return pwd.getpwuid(uid).pw_name
@@ -212,7 +207,7 @@ class DomainRegistry:
         """Leases whose holder still runs; the others are dropped from `data`."""
         live = {}
         for key, lease in list(data['leases'].items()):
-            if _start_time(int(lease.get('pid', 0))) == lease.get('start'):
+            if start_time(int(lease.get('pid', 0))) == lease.get('start'):
                 live[int(key)] = lease
             else:
                 del data['leases'][key]
@@ -248,7 +243,7 @@ class DomainRegistry:
                     f'in {self.path}', fix='wait for other jobs to end, or run fewer at once')
             chosen = free[:count]
             for domain in chosen:
-                data['leases'][str(domain)] = {'pid': pid, 'start': _start_time(pid),
+                data['leases'][str(domain)] = {'pid': pid, 'start': start_time(pid),
                                                'uid': os.getuid(), 'purpose': purpose}
             return chosen
 
