@@ -68,7 +68,7 @@ def _from_topic(topic: str, ros_args: list[str]) -> str:
         rclpy.spin_once(node, timeout_sec=0.5)
     node.destroy_node()
     rclpy.shutdown()
-    return received[0] if received else ''
+    return received[0]  # the loop above ends only once one arrived
 
 
 def _wait_for_simulation() -> Connection | None:
