@@ -19,7 +19,7 @@ import robot_lab
 from robot_lab.errors import GraphError
 from robot_lab.scene.displays import Markers, Outbox, RobotModel
 from robot_lab.scene.frames import FrameTree, compose, inverse, parse_tf_message
-from robot_lab.scene.meshes import MeshFiles, mesh_uris
+from robot_lab.scene.meshes import MeshFiles
 
 URDF_DIR = robot_lab.package_share('urdf_tutorial') / 'urdf'
 
@@ -88,8 +88,9 @@ def test_frames_resolve_in_the_fixed_frame_through_their_tree() -> None:
 
 @pytest.mark.no_ros
 def test_meshes_are_read_through_the_ament_index_with_their_textures() -> None:
-    urdf = (URDF_DIR / '05-visual.urdf').read_text()
-    uris = mesh_uris(urdf)
+    model = RobotModel()
+    model.set_urdf((URDF_DIR / '05-visual.urdf').read_text())
+    uris = model.mesh_uris
     assert uris == ['package://urdf_tutorial/meshes/l_finger.dae',
                     'package://urdf_tutorial/meshes/l_finger_tip.dae']
     files = MeshFiles()

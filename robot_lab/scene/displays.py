@@ -147,6 +147,7 @@ class RobotModel(Display):
         self.urdf: str | None = None
         self.links: list[str] = []
         self.root: str | None = None
+        self.mesh_uris: list[str] = []  # read with the links, not again at each send
         self.error = ''
         self.meshes = MeshFiles()
 
@@ -162,9 +163,10 @@ class RobotModel(Display):
         except ET.ParseError as err:
             self.error = (f'the URDF on {self.topic} does not parse ({err}); '
                           'fix: check it with `check_urdf` or `xacro` first')
-            self.links, self.root = [], None
+            self.links, self.root, self.mesh_uris = [], None, []
             return
         self.error = ''
+        self.mesh_uris = mesh_uris(root)
         self.links = [str(link.get('name')) for link in root.iter('link')]
         children = {str(j.find('child').get('link')) for j in root.iter('joint')  # type: ignore[union-attr]
                     if j.find('child') is not None}
@@ -176,11 +178,7 @@ class RobotModel(Display):
             return None
         if full:
             self.meshes.forget_sent()
-        try:
-            uris = mesh_uris(self.urdf)
-        except ET.ParseError:
-            uris = []
-        out.meshes.update(self.meshes.pack(uris, out.buffers))
+        out.meshes.update(self.meshes.pack(self.mesh_uris, out.buffers))
         return {'urdf': self.urdf}
 
     def status(self, poses: dict[str, Pose | None], tree: FrameTree, fixed: str) -> list[str]:

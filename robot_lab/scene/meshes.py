@@ -40,9 +40,8 @@ def resolve_uri(uri: str) -> Path:
     return Path(uri)
 
 
-def mesh_uris(urdf: str) -> list[str]:
-    """Every mesh and texture file a URDF names, in document order, once each."""
-    root = ET.fromstring(urdf)
+def mesh_uris(root: ET.Element) -> list[str]:
+    """Every mesh and texture file a parsed URDF names, in document order, once each."""
     seen: dict[str, None] = {}
     for tag in ('mesh', 'texture'):
         for node in root.iter(tag):
