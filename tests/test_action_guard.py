@@ -46,9 +46,10 @@ ActionServer(server_node, Fibonacci, 'guard', execute, callback_group=ReentrantC
 client_node = rclpy.create_node('guard_client')
 client = ActionClient(client_node, Fibonacci, 'guard')
 executors = [MultiThreadedExecutor(num_threads=3), SingleThreadedExecutor()]
-for executor, node in zip(executors, (server_node, client_node)):
+spinners = [threading.Thread(target=executor.spin, daemon=True) for executor in executors]
+for executor, node, spinner in zip(executors, (server_node, client_node), spinners):
     executor.add_node(node)
-    threading.Thread(target=executor.spin, daemon=True).start()
+    spinner.start()
 assert client.wait_for_server(timeout_sec=30), 'no action server'
 
 in_callback, sent, callback_done = threading.Event(), threading.Event(), threading.Event()
@@ -87,8 +88,15 @@ seen['accepted'] = sum(1 for h in handles if h is not None and h.accepted)
 results = [h.get_result_async() for h in handles if h is not None]
 seen['results'] = sorted(r.result().result.sequence[0] for r in results if finished(r).wait(30))
 print(json.dumps(seen), flush=True)
-for executor in executors:
+# Join the spinners before exit: a daemon thread still inside rclpy's C++ when the
+# interpreter finalizes is unwound through a noexcept frame, and the process aborts
+# ("terminate called without an active exception") after the test's answer was printed.
+for executor, spinner in zip(executors, spinners):
     executor.shutdown()
+    spinner.join(30)
+    assert not spinner.is_alive(), 'an executor kept spinning after shutdown'
+server_node.destroy_node()
+client_node.destroy_node()
 rclpy.shutdown()
 """
 
