@@ -1,55 +1,31 @@
 """XML launch files (launch_xml): elements with source lines -> the shared tag parsers.
 
-ElementTree drops line numbers, so the tree is built with expat directly: every error
-can then say `robot.launch.xml:12`.
+`xml_lines` keeps each element's line, so every error can say `robot.launch.xml:12`.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
-from xml.parsers import expat
 
 from robot_lab.errors import LaunchError
 from robot_lab.launch.action import LaunchDescriptionStep
 from robot_lab.launch.entity import Entity
 from robot_lab.launch.registry import parse_root
 from robot_lab.launch.substitutions import coerce
+from robot_lab.xml_lines import XmlElement, parse_xml_lines
 
 __all__ = ['XmlEntity', 'load_xml_launch_file', 'parse_xml']
 
 
-class _Element:
-    def __init__(self, tag: str, attrib: dict[str, str], line: int) -> None:
-        self.tag, self.attrib, self.line = tag, attrib, line
-        self.children: list[_Element] = []
-
-
-def parse_xml(path: Path) -> _Element:
+def parse_xml(path: Path) -> XmlElement:
     """The element tree of `path`, each element with its line; LaunchError if malformed."""
-    parser = expat.ParserCreate()
-    stack: list[_Element] = []
-    roots: list[_Element] = []
-
-    def start(tag: str, attrib: dict[str, str]) -> None:
-        element = _Element(tag, attrib, parser.CurrentLineNumber)
-        (stack[-1].children if stack else roots).append(element)
-        stack.append(element)
-
-    def end(tag: str) -> None:
-        stack.pop()
-
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
     try:
-        parser.Parse(path.read_bytes(), True)
-    except expat.ExpatError as err:
-        raise LaunchError(f'malformed XML: {expat.ErrorString(err.code)}', file=path,
-                          line=err.lineno, fix='check the tags are closed and attributes quoted'
-                          ) from None
+        text = path.read_bytes()
     except OSError as err:
         raise LaunchError(f'cannot read launch file: {err.strerror}', file=path) from None
-    return roots[0]
+    return parse_xml_lines(text, str(path), XmlElement, LaunchError, what='malformed XML',
+                           fix='check the tags are closed and attributes quoted')
 
 
 _KINDS = {'bool': 'bool', 'int': 'int', 'float': 'float'}
@@ -58,7 +34,7 @@ _KINDS = {'bool': 'bool', 'int': 'int', 'float': 'float'}
 class XmlEntity(Entity):
     """An XML element: attributes are strings, coerced when a type is asked for."""
 
-    def __init__(self, element: _Element, file: Path) -> None:
+    def __init__(self, element: XmlElement, file: Path) -> None:
         self.element, self.file = element, file
         self.type_name, self.line = element.tag, element.line
         self._read_attrs: set[str] = set()

@@ -9,11 +9,11 @@ file and line of the element at fault and how to fix it, which urdfdom's message
 from __future__ import annotations
 
 import math
-import xml.parsers.expat
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from robot_lab.errors import UrdfError
+from robot_lab.xml_lines import XmlElement, parse_xml_lines
 
 __all__ = [
     'JOINT_TYPES',
@@ -32,45 +32,12 @@ JOINT_TYPES = ('revolute', 'continuous', 'prismatic', 'fixed', 'floating', 'plan
 Vector = tuple[float, float, float]
 
 
-@dataclass
-class Element:
-    """An XML element with the line it starts on (ElementTree keeps no lines)."""
-
-    tag: str
-    attrib: dict[str, str]
-    line: int
-    children: list[Element] = field(default_factory=list)
-
-    def find(self, tag: str) -> Element | None:
-        return next((child for child in self.children if child.tag == tag), None)
-
-    def findall(self, tag: str) -> list[Element]:
-        return [child for child in self.children if child.tag == tag]
+Element = XmlElement  # a URDF keeps everything in attributes; the text is unused
 
 
 def parse_xml(text: str | bytes, source: str = 'robot_description') -> Element:
     """The document's root element; malformed XML is a UrdfError at expat's line."""
-    parser = xml.parsers.expat.ParserCreate()
-    stack: list[Element] = []
-    roots: list[Element] = []
-
-    def start(tag: str, attrib: dict[str, str]) -> None:
-        element = Element(tag, dict(attrib), parser.CurrentLineNumber)
-        (stack[-1].children if stack else roots).append(element)
-        stack.append(element)
-
-    def end(tag: str) -> None:
-        stack.pop()
-
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
-    try:
-        parser.Parse(text, True)
-    except xml.parsers.expat.ExpatError as exc:
-        raise UrdfError(f'not well-formed XML: {xml.parsers.expat.ErrorString(exc.code)}',
-                        file=source, line=exc.lineno,
-                        fix='close every tag and quote every attribute') from None
-    return roots[0]
+    return parse_xml_lines(text, source, Element, UrdfError)
 
 
 @dataclass(frozen=True)
