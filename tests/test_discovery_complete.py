@@ -16,6 +16,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -143,7 +144,7 @@ def test_a_poll_the_host_did_not_run_does_not_use_up_the_wait(
     """A process the host did not run for a while (a busy host, a paused virtual machine)
     had no time to hear anyone: that gap counts as one poll's, not as the whole wait."""
     sess = session(ros_domain)
-    monkeypatch.setattr(discovery, 'EXPECTED_TIMEOUT', 1.0)
+    monkeypatch.setattr(discovery, 'RULES', replace(discovery.RULES, expected_timeout=1.0))
     calls: list[float] = []
 
     def probe() -> int:
@@ -156,7 +157,7 @@ def test_a_poll_the_host_did_not_run_does_not_use_up_the_wait(
     # ready() False: nodes on their way, so it answers only at the deadline
     discovery.settled(sess, probe, timeout=0.5, ready=lambda: False)
     waited = time.monotonic() - started
-    assert len(calls) > 10 and waited >= 1.5 + 1.0 - discovery.MAX_POLL_GAP, (
+    assert len(calls) > 10 and waited >= 1.5 + 1.0 - discovery.RULES.max_poll_gap, (
         len(calls), waited)
 
 
@@ -165,11 +166,11 @@ def test_nodes_whose_names_are_on_their_way_hold_the_answer_longer(
     """After a kernel was killed with -9, a relaunch's endpoints are in the graph seconds
     before its node names (the killed participants' lease runs out first). While a /rosout
     or /parameter_events writer has no node name, a query that expects nodes waits up to
-    NAMES_TIMEOUT; a 5 s wait printed ['/robot'] of three on the grader's CI host."""
+    RULES.names_timeout; a 5 s wait printed ['/robot'] of three on the grader's CI host."""
     sess = session(ros_domain)
     _until(lambda: not discovery.names_pending(sess), "this session's own node named")
-    monkeypatch.setattr(discovery, 'EXPECTED_TIMEOUT', 0.3)
-    monkeypatch.setattr(discovery, 'NAMES_TIMEOUT', 30.0)
+    monkeypatch.setattr(discovery, 'RULES', replace(discovery.RULES, expected_timeout=0.3,
+                                                    names_timeout=30.0))
     graph: list[str] = ['/robot']
     began = time.monotonic()
 
@@ -182,7 +183,7 @@ def test_nodes_whose_names_are_on_their_way_hold_the_answer_longer(
     answer = discovery.settled(sess, lambda: list(graph), timeout=0.1,
                                ready=lambda: len(graph) == 3)
     assert answer == ['/controller', '/robot', '/sensor']
-    # With no name pending, the expected nodes are waited for EXPECTED_TIMEOUT only.
+    # With no name pending, the expected nodes are waited for expected_timeout only.
     monkeypatch.setattr(discovery, 'names_pending', lambda _session: False)
     began = time.monotonic()
     assert discovery.settled(sess, lambda: ['/robot'], timeout=0.1, ready=lambda: False) == [
@@ -202,7 +203,7 @@ def test_the_answer_is_read_after_the_graph_is_found_complete(
 
     def everyone_once_a_moment_has_passed(_session: object) -> object:
         def complete() -> bool:
-            if time.monotonic() - began >= 2 * discovery.SETTLE and not graph:
+            if time.monotonic() - began >= 2 * discovery.RULES.settle and not graph:
                 graph.extend(NODES)  # every participant answers at once, mid-poll
             return bool(graph)
         return complete
@@ -216,7 +217,7 @@ def test_a_node_listed_without_endpoints_holds_an_answer_only_briefly(
         capsys: pytest.CaptureFixture[str]) -> None:
     """A node whose endpoints never come (a name a graph cache kept) held every query of a
     kernel until the deadline and printed that a participant was not heard. Now it holds
-    one for BARE_NODE_WAIT, and the session's next query not at all."""
+    one for RULES.bare_node_wait, and the session's next query not at all."""
     sess = session(ros_domain)
     own = f'/{sess.node.get_name()}'
     real = discovery._named_participants
@@ -226,8 +227,8 @@ def test_a_node_listed_without_endpoints_holds_an_answer_only_briefly(
         return prefixes, named - {own}
 
     monkeypatch.setattr(discovery, '_named_participants', without_own_endpoints)
-    monkeypatch.setattr(discovery, 'PARTICIPANT_TIMEOUT', 60.0)
-    monkeypatch.setattr(discovery, 'WARM_PARTICIPANT_TIMEOUT', 60.0)
+    monkeypatch.setattr(discovery, 'RULES', replace(discovery.RULES, participant_timeout=60.0,
+                                                    warm_participant_timeout=60.0))
     capsys.readouterr()
     started = time.monotonic()
     assert discovery.settled(sess, lambda: 'answer', timeout=0.1) == 'answer'
@@ -245,8 +246,8 @@ def test_an_answer_that_leaves_out_a_participant_says_so(
     comes at the deadline, with a line on stderr that it may be incomplete."""
     sess = session(ros_domain)
     _until(lambda: participants_on_host(ros_domain) == 1, 'this session alone on the host')
-    monkeypatch.setattr(discovery, 'WARM_PARTICIPANT_TIMEOUT', 0.5)
-    monkeypatch.setattr(discovery, 'PARTICIPANT_TIMEOUT', 0.5)
+    monkeypatch.setattr(discovery, 'RULES', replace(discovery.RULES, participant_timeout=0.5,
+                                                    warm_participant_timeout=0.5))
     port = discovery_port(ros_domain, 21)  # participant id 21: free here
     bound = Proc([sys.executable, '-c', _BOUND, str(port)], env=dict(os.environ),
                  stdin=subprocess.PIPE)
@@ -279,7 +280,7 @@ def test_socket_drops_counts_what_a_full_receive_buffer_lost() -> None:
 
 def test_a_young_session_that_lost_datagrams_waits_for_their_resend(
         ros_domain: int, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Its answer holds RESEND_WAIT after the last drop; with none, it comes sooner."""
+    """Its answer holds RULES.resend_wait after the last drop; with none, it comes sooner."""
     sess = session(ros_domain)
     sess.created = time.monotonic()  # young again: a cold command's session
     started = time.monotonic()
@@ -290,7 +291,7 @@ def test_a_young_session_that_lost_datagrams_waits_for_their_resend(
     started = time.monotonic()
     discovery.settled(sess, lambda: 'answer')
     lossy = time.monotonic() - started
-    assert quiet < discovery.RESEND_WAIT <= lossy, (quiet, lossy)
+    assert quiet < discovery.RULES.resend_wait <= lossy, (quiet, lossy)
 
 
 # A process that has bound a discovery port of the domain but is not heard yet, as a

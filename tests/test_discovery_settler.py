@@ -37,7 +37,7 @@ def settle(*, young: bool = True, everyone: Callable[[float], bool | None] = lam
     outcome and the order of the first poll's reads."""
     clock = Clock()
     created = clock.now - (0.1 if young else 60.0)
-    settler = Settler(created, monotonic=clock, sleep=clock.sleep)
+    settler = Settler(monotonic=clock, sleep=clock.sleep)
     began = clock.now
     order: list[str] = []
 
@@ -49,7 +49,7 @@ def settle(*, young: bool = True, everyone: Callable[[float], bool | None] = lam
         return read
 
     outcome = settler.settle(
-        at('probe', probe), rules=RULES, timeout=timeout, settle=RULES.settle,
+        at('probe', probe), created=created, rules=RULES, timeout=timeout, settle=RULES.settle,
         ready=at('ready', ready), ready_settle=ready_settle,  # type: ignore[arg-type]
         complete=at('complete', everyone), heard=at('heard', heard),  # type: ignore[arg-type]
         pending=at('pending', pending), drops=at('drops', drops))  # type: ignore[arg-type]
@@ -128,7 +128,7 @@ def test_a_poll_the_host_did_not_run_counts_as_one_gap() -> None:
 
 def test_a_node_without_endpoints_holds_queries_once_per_session() -> None:
     clock = Clock()
-    settler = Settler(clock.now, monotonic=clock, sleep=clock.sleep)
+    settler = Settler(monotonic=clock, sleep=clock.sleep)
     assert not settler.bare_long_enough({'/cached'}, 3.0)
     clock.sleep(3.0)
     assert settler.bare_long_enough({'/cached'}, 3.0)  # the next query: no wait again
@@ -139,7 +139,7 @@ def test_a_node_without_endpoints_holds_queries_once_per_session() -> None:
 def test_bare_nodes_of_threads_sharing_a_session_are_kept_whole() -> None:
     """A graph daemon's client threads share one session's settler."""
     clock = Clock()
-    settler = Settler(clock.now, monotonic=clock, sleep=clock.sleep)
+    settler = Settler(monotonic=clock, sleep=clock.sleep)
     names = {f'/n{i}' for i in range(50)}
     threads = [threading.Thread(target=lambda: [settler.bare_long_enough(names, 1.0)
                                                 for _ in range(200)]) for _ in range(4)]

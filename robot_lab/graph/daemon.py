@@ -60,7 +60,7 @@ __all__ = [
 # `ros2 daemon start`'s daemon also exits after two hours without a request.
 IDLE_TIMEOUT = 2 * 60 * 60.0
 # How long a command waits for the daemon's answer before asking the graph itself: above
-# the longest the daemon settles an answer (discovery.NAMES_TIMEOUT, counted in time the
+# the longest the daemon settles an answer (settler.Rules.names_timeout, counted in time the
 # daemon ran), with room for a host that runs it only part of the time.
 QUERY_TIMEOUT = 20.0
 EXIT_WITHIN = 20.0  # s for the daemon's own exit, before its watchdog ends it (_main)

@@ -53,15 +53,8 @@ if TYPE_CHECKING:
     from robot_lab.rclpy_session import Session
 
 __all__ = [
-    'ANSWER_BURST',
-    'BARE_NODE_WAIT',
-    'EXPECTED_TIMEOUT',
     'LOOKUP_TIMEOUT',
-    'NAMES_TIMEOUT',
-    'POLL',
-    'RESEND_WAIT',
-    'SETTLE',
-    'WARM_SETTLE',
+    'RULES',
     'HostCount',
     'absolute_name',
     'endpoints_attributed',
@@ -81,65 +74,11 @@ __all__ = [
 
 T = TypeVar('T')
 
-# Others learn of a new participant from its announcements but answer at their next lease
-# announcement (0.2 s with the kit's profile), then endpoints and node names follow.
-# Measured for a fresh process against a running 3-node system (2 cores): with a 0.5 s
-# announcement period, complete after 0.55 s (median) and up to 1.02 s (25 runs, load 4-6);
-# with 0.2 s, 0.32 s and up to 0.70 s (20 runs, quiet). On a loaded host the first answer
-# itself can come later than any fixed window, so a young session waits for answers: it is
-# complete ANSWER_BURST after the first one at the earliest (all who heard the same
-# announcements answer within about two lease periods), once every node it lists has its
-# endpoints and the answer has been unchanged for SETTLE.
-ANSWER_BURST = 0.45
-SETTLE = 0.25
-# A session past its first second has seen the graph; only fresh changes need settling.
-WARM_AGE = 1.5
-WARM_SETTLE = 0.05
-# How long a query waits for nodes a running launch has started but discovery has not yet
-# shown (they are on their way: their processes are alive).
-EXPECTED_TIMEOUT = 5.0
-# The same wait while the graph holds a node's /rosout or /parameter_events writer whose
-# node name has not come yet (names_pending): the node is there, its name on its way.
-# After a kernel was killed with -9, a relaunch's names reach every participant, old or
-# new, only once the killed ones' lease has run out: 2.6-2.8 s after the kill here with the
-# new nodes' endpoints seen from 0.3 s (Dec 2). A 5 s wait from the request printed
-# ['/robot'] of three on the grader's CI host (stop 38).
-NAMES_TIMEOUT = 12.0
-# How long a young session waits for participants the host's socket table shows but
-# discovery has not yet brought (a process that bound its port is creating its node).
-PARTICIPANT_TIMEOUT = 10.0
-# The same wait for a warm session (a daemon, a kernel). One that saw participants killed
-# with -9 learns the node names of new ones only after the dead ones' lease ends (2 s
-# after the kill), then at the next endpoint-discovery heartbeat (1 s) and the next
-# heartbeat of the names' writer (0.2 s, the kit's profile). The last name came 6 s after
-# the new nodes' endpoints in one run with Fast DDS's 3 s writer heartbeat, where a 5 s
-# bound printed two of three nodes (CI); 2.5-3.5 s with 0.2 s (2 runs). Below the time a
-# daemon client waits (daemon.QUERY_TIMEOUT).
-WARM_PARTICIPANT_TIMEOUT = 7.0
+# The waits of settling (settler.Rules says why each is as long as it is). One object, so
+# a test replaces it whole: monkeypatch.setattr(discovery, 'RULES', replace(RULES, ...)).
+RULES = Rules()
 # How long a lookup of a named node/topic waits for discovery before calling it unknown.
 LOOKUP_TIMEOUT = 2.5
-POLL = 0.02
-# The waits above are counted in time this process ran: a poll that comes later than this
-# after the one before (the process was not run: a host busy with others, a virtual
-# machine whose CPU its host took back) counts as this long. Discovery made no progress
-# here in that gap either, so it does not use up a deadline. A cold `node list` on a CI
-# host once printed no node at all: a deadline passed before anyone was heard, where the
-# poll loop hears the seed system in 0.26 s beside sixteen busy loops (20 runs here).
-# Polls come 0.03-0.04 s apart beside six busy loops.
-MAX_POLL_GAP = 0.25
-# Fast DDS's endpoint-discovery writers send a heartbeat every second and repair 100 ms
-# after a negative acknowledgement (EDPSimple's defaults): an endpoint announcement the
-# kernel dropped from a young session's full receive buffer comes again within about
-# 1.1 s. A young session that lost datagrams answers only once its answer has held that
-# long since the last loss (a cold `action info` once listed no client under load).
-RESEND_WAIT = 1.5
-# A node's endpoints are announced after its name; lost, they come again within RESEND_WAIT.
-# A node listed longer than this without them keeps none the session will see (a name a
-# graph cache kept, a node of another client library without /parameter_events or
-# /rosout): a complete answer no longer waits for it. A kernel once waited out the warm
-# deadline (7 s) in every query of a lesson's checks for such a node, and said on stderr,
-# in a checked cell, that a participant was not heard.
-BARE_NODE_WAIT = 2 * RESEND_WAIT
 # Set to 1 to have every settled answer print how it was reached on stderr (why it
 # answered, the session's age, the time waited, the host's participants and those seen,
 # and at a deadline the processes holding ports not heard); set to a file's path to have
@@ -167,14 +106,14 @@ def absolute_name(name: str) -> str:
 def wait_until(probe: Callable[[], T | None], timeout: float) -> T | None:
     """Poll `probe` until it returns something other than None, or `timeout` passes (in
     `RunClock` time)."""
-    clock = RunClock(MAX_POLL_GAP)
+    clock = RunClock(RULES.max_poll_gap)
     while True:
         value = probe()
         if value is not None:
             return value
         if clock() >= timeout:
             return None
-        time.sleep(POLL)
+        time.sleep(RULES.poll)
 
 
 def full_node_names(session: Session, include_hidden: bool) -> list[str]:
@@ -285,10 +224,9 @@ def settler_of(session: Session) -> Settler:
         try:
             found = _settlers.get(session)
             if found is None:
-                found = _settlers[session] = Settler(session.created)
+                found = _settlers[session] = Settler()
         except TypeError:  # a stand-in session without weak references: one per query
-            found = Settler(session.created)
-        found.created = session.created  # a session made young again (a test) is young
+            found = Settler()
         return found
 
 
@@ -316,9 +254,9 @@ def _participant_pids(prefixes: set[bytes]) -> list[int] | None:
 class HostCount:
     """A probe: True once the session has seen every participant of its domain on this
     host (see `participants_on_host`), each with a named node, and every node it lists
-    has its endpoints (or has been listed without them for BARE_NODE_WAIT); None when the
-    host's count cannot be read. It keeps what its last call counted, for the note an
-    incomplete answer gets."""
+    has its endpoints (or has been listed without them for RULES.bare_node_wait); None
+    when the host's count cannot be read. It keeps what its last call counted, for the
+    note an incomplete answer gets."""
 
     def __init__(self, session: Session) -> None:
         self.session = session
@@ -342,7 +280,7 @@ class HostCount:
             return False  # not heard yet
         bare = set(full_node_names(self.session, include_hidden=True)) - with_endpoints
         # kept per session: a kernel's next query does not wait for the same node again
-        return settler_of(self.session).bare_long_enough(bare, BARE_NODE_WAIT)
+        return settler_of(self.session).bare_long_enough(bare, RULES.bare_node_wait)
 
     def unheard(self) -> list[str]:
         """`pid:command` of each process holding a discovery port of the domain whose
@@ -420,32 +358,31 @@ def heard_from_others(session: Session) -> Callable[[], bool]:
 
 
 def settled(session: Session, probe: Callable[[], T], timeout: float = 2.0,
-            settle: float = SETTLE,
+            settle: float | None = None,
             ready: Callable[[], bool | None] | None = None,
-            ready_settle: float = WARM_SETTLE) -> T:
+            ready_settle: float | None = None) -> T:
     """`probe()` once discovery is complete (every participant on the host seen, see
-    `host_participants_seen`; else the ANSWER_BURST rule) and the answer stopped changing.
+    `host_participants_seen`; else the `answer_burst` rule) and the answer stopped changing.
     Bounded by `timeout`, extended while participants the host shows are still unseen.
 
     `ready` (default: `launched_nodes_seen(session)`) can shorten the settling: True
     means everything known to be coming has been seen; False means more is coming, so the
-    wait may extend to EXPECTED_TIMEOUT (NAMES_TIMEOUT while names_pending); once True,
-    the answer need only be stable for `ready_settle`. A young session whose sockets
-    dropped datagrams also waits RESEND_WAIT after the last drop. Bounded: on a graph that
-    keeps changing it returns the latest answer.
+    wait may extend to RULES.expected_timeout (names_timeout while names_pending); once
+    True, the answer need only be stable for `ready_settle` (default RULES.warm_settle;
+    `settle` defaults to RULES.settle). A young session whose sockets dropped datagrams
+    also waits RULES.resend_wait after the last drop. Bounded: on a graph that keeps
+    changing it returns the latest answer.
     """
     if ready is None:
         ready = launched_nodes_seen(session)
+    rules = RULES
     began = time.monotonic()
-    rules = Rules(settle=SETTLE, warm_age=WARM_AGE, warm_settle=WARM_SETTLE,
-                  answer_burst=ANSWER_BURST, expected_timeout=EXPECTED_TIMEOUT,
-                  names_timeout=NAMES_TIMEOUT, participant_timeout=PARTICIPANT_TIMEOUT,
-                  warm_participant_timeout=WARM_PARTICIPANT_TIMEOUT, resend_wait=RESEND_WAIT,
-                  max_poll_gap=MAX_POLL_GAP, poll=POLL)
     complete = host_participants_seen(session)
     outcome = settler_of(session).settle(
-        probe, rules=rules, timeout=timeout, settle=settle, ready=ready,
-        ready_settle=ready_settle, complete=complete, heard=heard_from_others(session),
+        probe, created=session.created, rules=rules, timeout=timeout,
+        settle=rules.settle if settle is None else settle, ready=ready,
+        ready_settle=rules.warm_settle if ready_settle is None else ready_settle,
+        complete=complete, heard=heard_from_others(session),
         pending=lambda: names_pending(session), drops=lambda: socket_drops())
     counted = complete if isinstance(complete, HostCount) else None
     if outcome.everyone is False and not outcome.complete and counted is not None:
