@@ -3,8 +3,15 @@
 It loads the world, serves the partition's socket (`transport`), spawns what `create`
 asks for, and steps the physics at the world's real-time factor, publishing what the
 systems publish to whoever subscribed. It says what it is before anything else: its first
-line names robot_lab and the engine, never Gazebo. There is no GUI: without `-r` Gazebo
-would wait, paused, for its play button; the kit runs at once and says so.
+line names robot_lab and the engine, never Gazebo. Without `-r` it starts paused, as Gazebo
+does (whose GUI has a play button): /clock holds at 0 until a WorldControl `pause: false`
+comes, and its log says how to send one.
+
+Pacing holds the world's real-time factor on average: steps are due at absolute deadlines
+counted from an anchor (set when it starts running, after a pause, a reset or steps on
+request), so a late wake-up is caught up, never carried forward as drift. The statistics
+(/world/<name>/stats, 10 a wall second as Gazebo throttles them) count real time as
+Gazebo's realTimeWatch does: running time only, paused time left out.
 """
 
 from __future__ import annotations
@@ -28,9 +35,16 @@ from robot_lab.sim.transport import Connection, connect, partition, socket_path
 if TYPE_CHECKING:
     from robot_lab.sim.simulation import Simulation
 
-__all__ = ['identity', 'main', 'split_gz_args']  # identity: from about, re-exported
+__all__ = ['identity', 'main', 'split_gz_args', 'start_command']  # identity: from about
 
 Frame = dict[str, Any]
+STATS_PERIOD = 0.1  # wall seconds between /world/<name>/stats messages (Gazebo: 10 a second)
+
+
+def start_command(world: str) -> str:
+    """The `gz service` line that starts a paused world, as Gazebo's docs write it."""
+    return (f'gz service -s /world/{world}/control --reqtype gz.msgs.WorldControl '
+            f"--reptype gz.msgs.Boolean --timeout 3000 --req 'pause: false'")
 
 
 def split_gz_args(argv: Sequence[str]) -> list[str]:
@@ -62,17 +76,19 @@ def _parser() -> argparse.ArgumentParser:
 class Server:
     """The simulation, its socket, and its clients' subscriptions."""
 
-    def __init__(self, sim: Simulation, listener: socket.socket) -> None:
+    def __init__(self, sim: Simulation, listener: socket.socket, paused: bool = False) -> None:
         self.sim = sim
         self.listener = listener
         self.inbox: queue.Queue[tuple[Connection, Frame]] = queue.Queue()
         self.subscribers: dict[str, set[Connection]] = {}
         self.types: dict[str, str] = {}
         self.lock = threading.Lock()
-        self.paused = False
-        self.started = time.monotonic()
-        self.anchor = (self.started, 0)
-        self.last_stats = (self.started, 0)
+        self.paused = paused
+        self.rate = 1000.0  # steps per wall second; run() sets it
+        self.anchor = (time.monotonic(), 0)
+        self.run_time = 0.0  # wall seconds spent running, up to run_since
+        self.run_since = time.monotonic()
+        self.last_stats = (time.monotonic(), 0, 0.0)  # wall, sim ns, running s
         sim.on_publish = self.publish
         threading.Thread(target=self._accept, daemon=True).start()
 
@@ -133,56 +149,81 @@ class Server:
     def control(self, request: Frame) -> None:
         """gz.msgs.WorldControl, as `/world/<name>/control` takes it: pause, (multi_)step,
         reset; steps asked for while paused run at once."""
-        if 'pause' in request:
+        now = time.monotonic()
+        if 'pause' in request and bool(request['pause']) != self.paused:
+            self.run_time = self.running_time(now)
+            self.run_since = now
             self.paused = bool(request['pause'])
+            print(f'[Msg] World {"paused" if self.paused else "running"}', flush=True)
+            self._anchor()
         if request.get('reset'):
             self.sim.reset()
+            self.run_time, self.run_since = 0.0, now  # Gazebo's rewind: real time 0 too
+            self.last_stats = (now, 0, 0.0)
             print('[Msg] World reset: time 0, models at their spawn poses', flush=True)
+            self._anchor()
         steps = int(request.get('multi_step') or 0) or (1 if request.get('step') else 0)
-        self.sim.step(steps)
-        self._anchor()
+        if steps:
+            self.sim.step(steps)
+            self._anchor()
+
+    def running_time(self, now: float) -> float:
+        """Wall seconds spent running (Gazebo's real_time: its watch stops while paused)."""
+        return self.run_time + (0.0 if self.paused else now - self.run_since)
 
     def _anchor(self) -> None:
         """Real time counts again from now (after a pause, a reset, or steps on request)."""
         self.anchor = (time.monotonic(), self.sim.steps)
 
+    def _due(self, now: float) -> int:
+        """The step count the absolute schedule asks for at `now`."""
+        wall0, steps0 = self.anchor
+        return steps0 + int((now - wall0) * self.rate)
+
     def _stats(self, now: float) -> None:
-        """gz.msgs.WorldStatistics on /world/<name>/stats, 5 times a wall second."""
+        """gz.msgs.WorldStatistics on /world/<name>/stats, 10 times a wall second; while
+        paused, /clock too (held at the paused time), as Gazebo's loop keeps publishing it."""
         from robot_lab.sim.systems import header, stamp  # imported with the engine, after
 
-        last_wall, last_ns = self.last_stats
-        if now - last_wall < 0.2:
+        last_wall, last_ns, last_run = self.last_stats
+        if now - last_wall < STATS_PERIOD:
             return
         time_ns = self.sim.time_ns
-        factor = (time_ns - last_ns) / 1e9 / (now - last_wall)
-        self.last_stats = (now, time_ns)
-        real = now - self.started
+        running = self.running_time(now)
+        factor = (time_ns - last_ns) / 1e9 / (running - last_run) if running > last_run else 0.0
+        self.last_stats = (now, time_ns, running)
         self.publish(f'/world/{self.sim.info.name}/stats', 'gz.msgs.WorldStatistics', {
             'header': header(time_ns), 'sim_time': stamp(time_ns),
-            'real_time': stamp(int(real * 1e9)), 'iterations': self.sim.steps,
+            'real_time': stamp(int(running * 1e9)), 'iterations': self.sim.steps,
             'paused': self.paused, 'real_time_factor': factor,
             'step_size': stamp(self.sim.step_ns), 'model_count': len(self.sim.info.models)
             + len(self.sim.robots)})
+        if self.paused:
+            self.sim.publish_clock()
 
     def run(self, rate: float, iterations: int) -> None:
         """Step at `rate` steps per wall second, handling clients' frames between steps."""
-        self.started = time.monotonic()
-        self.last_stats = (self.started, 0)
+        self.rate = rate
+        now = time.monotonic()
+        self.run_since = now
+        self.last_stats = (now - STATS_PERIOD, 0, 0.0)  # the first statistics go out at once
         self._anchor()
         while not iterations or self.sim.steps < iterations:
             now = time.monotonic()
-            wall0, steps0 = self.anchor
-            due = steps0 + int((now - wall0) * rate)
-            while not self.paused and self.sim.steps < due and (
+            # the anchor may move while frames are handled (a reset): ask it every step
+            while not self.paused and self.sim.steps < self._due(now) and (
                     not iterations or self.sim.steps < iterations):
                 self._drain()
-                self.sim.step()
-            if self.paused:
-                self._anchor()
+                if not self.paused and self.sim.steps < self._due(now):
+                    self.sim.step()
             self._stats(now)
-            wait = max(0.0, (self.sim.steps + 1 - steps0) / rate - (time.monotonic() - wall0))
+            if self.paused:
+                wait = STATS_PERIOD
+            else:
+                wall0, steps0 = self.anchor
+                wait = (self.sim.steps + 1 - steps0) / rate - (time.monotonic() - wall0)
             try:  # wake for a client's frame, or when the next step is due
-                connection, frame = self.inbox.get(timeout=min(wait, 0.05))
+                connection, frame = self.inbox.get(timeout=min(max(wait, 0.0), STATS_PERIOD))
                 self.handle(connection, frame)
             except queue.Empty:
                 pass
@@ -238,13 +279,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     info = sim.info
     print(f'[Msg] Loaded world {info.name!r} from {sim.path}: step {info.step * 1000:g} ms, '
           f'real-time factor {info.real_time_factor:g}', flush=True)
+    if not args.run:  # Gazebo without -r: paused until its play button (no GUI here)
+        print(f'[Msg] Paused, as gz sim starts without -r: start it with  '
+              f'{start_command(info.name)}  (from ROS, through parameter_bridge '
+              f'/world/{info.name}/control@ros_gz_interfaces/srv/ControlWorld: ros2 service '
+              f'call /world/{info.name}/control ros_gz_interfaces/srv/ControlWorld '
+              f'"{{world_control: {{pause: false}}}}"), or pass -r to run at once', flush=True)
     print(f'[Msg] Serving partition {partition()!r} on {path}', flush=True)
-    if not args.run:
-        print('[Msg] No GUI to press play in: running now, as with -r', flush=True)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
     rate = args.rate or info.real_time_factor / info.step
     try:
-        Server(sim, listener).run(rate, args.iterations)
+        Server(sim, listener, paused=not args.run).run(rate, args.iterations)
     except KeyboardInterrupt:
         pass
     finally:

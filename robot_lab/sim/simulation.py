@@ -135,10 +135,16 @@ class Simulation:
             for system in self.systems:
                 system.post_update(self.model, self.data, time_ns, self.on_publish)
             if time_ns % self.clock_period == 0:
-                clock = {'header': header(time_ns), 'sim': {'sec': time_ns // 1_000_000_000,
-                                                            'nsec': time_ns % 1_000_000_000}}
-                self.on_publish('/clock', 'gz.msgs.Clock', clock)
-                self.on_publish(f'/world/{self.info.name}/clock', 'gz.msgs.Clock', clock)
+                self.publish_clock()
+
+    def publish_clock(self) -> None:
+        """gz.msgs.Clock at the current time on /clock and /world/<name>/clock (also while
+        paused: the server repeats it, as Gazebo's loop does)."""
+        time_ns = self.time_ns
+        clock = {'header': header(time_ns), 'sim': {'sec': time_ns // 1_000_000_000,
+                                                    'nsec': time_ns % 1_000_000_000}}
+        self.on_publish('/clock', 'gz.msgs.Clock', clock)
+        self.on_publish(f'/world/{self.info.name}/clock', 'gz.msgs.Clock', clock)
 
     def reset(self) -> None:
         """Gazebo's world reset: time 0, every body back at its spawn pose, systems afresh."""

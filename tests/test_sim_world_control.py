@@ -1,0 +1,74 @@
+"""A world started without -r waits, paused, as Gazebo's does; world control starts it.
+
+One simulator process, started as `gz sim room.sdf` (no -r): its log says it is paused and
+gives the exact `gz service` line that starts it; /clock holds at 0 and the statistics say
+`paused: true` until that line is run. Then, through `parameter_bridge
+/world/room/control@ros_gz_interfaces/srv/ControlWorld`, `ros2 service call` pauses and
+runs it from ROS, as ros_gz_bridge's README does it.
+"""
+
+from __future__ import annotations
+
+import shlex
+import subprocess
+from collections.abc import Iterator
+
+import pytest
+from conftest import BIN, Proc
+
+from robot_lab.sim.control import world_control
+from robot_lab.sim.transport import connect
+
+
+def _sim_ns(message: dict[str, object]) -> int:
+    sim = message['sim_time'] if 'sim_time' in message else message['sim']
+    assert isinstance(sim, dict)
+    return int(sim['sec']) * 1_000_000_000 + int(sim['nsec'])
+
+
+def _messages(topic: str, count: int) -> list[dict[str, object]]:
+    """The next `count` messages the simulator publishes on its own (gz) `topic`."""
+    connection = connect()
+    assert connection is not None
+    try:
+        connection.send({'op': 'sub', 'topic': topic})
+        out = []
+        while len(out) < count:
+            frame = connection.receive()
+            assert frame is not None, 'the simulator closed the connection'
+            out.append(dict(frame['msg']))
+        return out
+    finally:
+        connection.close()
+
+
+@pytest.fixture(scope='module')
+def paused_world() -> Iterator[Proc]:
+    process = Proc([str(BIN.parent / 'lib' / 'ros_gz_sim' / 'gz_sim'), 'room.sdf'])
+    try:
+        process.wait_for(r'Serving partition', timeout=60)
+        yield process
+    finally:
+        process.stop()
+
+
+def test_without_r_it_waits_paused_and_says_how_to_start_it(paused_world: Proc) -> None:
+    command = ("gz service -s /world/room/control --reqtype gz.msgs.WorldControl "
+               "--reptype gz.msgs.Boolean --timeout 3000 --req 'pause: false'")
+    said = paused_world.wait_for(r'Paused.*').group(0)
+    assert command in said and 'pass -r' in said
+    first = [line for line in paused_world.lines if line.startswith('[')][:4]
+    assert any('Paused' in line for line in first), first  # among its first lines
+    clocks = _messages('/clock', 3)  # published while paused, held at 0
+    assert [_sim_ns(c) for c in clocks] == [0, 0, 0]
+    stats = _messages('/world/room/stats', 2)
+    assert all(s['paused'] is True and s['iterations'] == 0 for s in stats)
+
+    done = subprocess.run([str(BIN / 'gz'), *shlex.split(command)[1:]], capture_output=True,
+                          text=True, timeout=30, check=False)
+    assert done.returncode == 0 and done.stdout.startswith('data: true'), done.stderr
+    paused_world.wait_for(r'World running')
+    first_ns = _sim_ns(_messages('/clock', 1)[0])
+    later = _messages('/world/room/stats', 2)[-1]
+    assert later['paused'] is False and _sim_ns(later) > first_ns  # time moves now
+    world_control(pause=True)
