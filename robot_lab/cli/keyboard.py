@@ -12,6 +12,8 @@ import sys
 import threading
 from collections.abc import Callable, Sequence
 
+from robot_lab.keyboard_terminal import KeyTerminal
+
 __all__ = ['CURSOR_DOWN', 'CURSOR_RIGHT', 'CURSOR_UP', 'SPACE', 'KeyBinding', 'listen',
            'unchanged']
 
@@ -36,16 +38,13 @@ def listen(bindings: Sequence[KeyBinding], log: Callable[[str, str], None],
         terminal = os.isatty(fd)
     except (AttributeError, ValueError, OSError):
         terminal = False
-    saved = None
+    keys = None
     if terminal:
-        import termios
-        import tty
-
-        saved = termios.tcgetattr(fd)
-        tty.setcbreak(fd)  # before the keys are announced: a key typed after them counts
+        keys = KeyTerminal(fd)
+        keys.start()  # before the keys are announced: a key typed after them counts
     for key, what, _action in bindings:
         log('INFO', f'Press {_NAMES[key]} for {what}')
-    if saved is None:
+    if keys is None:
         err('stdin is not a terminal device. Keyboard handling disabled.')
         return unchanged
     actions = {key: action for key, _what, action in bindings}
@@ -66,5 +65,5 @@ def listen(bindings: Sequence[KeyBinding], log: Callable[[str, str], None],
                     action()
 
     threading.Thread(target=read_keys, name='robot_lab-bag-keys', daemon=True).start()
-    return lambda: termios.tcsetattr(fd, termios.TCSADRAIN, saved)
+    return keys.restore
 

@@ -11,16 +11,14 @@ what it is on its first log line and with `--version`.
 from __future__ import annotations
 
 import codecs
-import os
-import select
 import signal
 import sys
 import termios
 import threading
-from collections.abc import Iterator, Sequence
-from typing import Any
+from collections.abc import Sequence
 
 from robot_lab.keyboard_teleop.keys import BANNER, QUIT, Drive, speed_line, twist_message
+from robot_lab.keyboard_terminal import KeyTerminal, spin_while
 
 __all__ = ['NO_TERMINAL', 'TeleopKeyboard', 'main', 'version_line']
 
@@ -80,41 +78,6 @@ class TeleopKeyboard:
         self.publisher.wait_for_all_acked(Duration(seconds=timeout))
 
 
-class _KeyTerminal:
-    """The terminal with no echo, no line buffering and no signal keys (CTRL-C is a key)."""
-
-    def __init__(self, fd: int) -> None:
-        self.fd = fd
-        self.saved = termios.tcgetattr(fd)
-        self.decoder = codecs.getincrementaldecoder('utf-8')(errors='replace')
-
-    def __enter__(self) -> _KeyTerminal:
-        mode = termios.tcgetattr(self.fd)
-        mode[0] &= ~(termios.ICRNL | termios.IXON | termios.ISTRIP)
-        mode[3] &= ~(termios.ICANON | termios.ECHO | termios.ISIG | termios.IEXTEN)
-        mode[6][termios.VMIN] = 1
-        mode[6][termios.VTIME] = 0
-        termios.tcsetattr(self.fd, termios.TCSANOW, mode)
-        return self
-
-    def keys(self, running: threading.Event) -> Iterator[str]:
-        """Each key typed, until `running` clears or the terminal closes."""
-        while running.is_set():
-            ready, _, _ = select.select([self.fd], [], [], 0.1)
-            if not ready:
-                continue
-            try:
-                data = os.read(self.fd, 64)
-            except OSError:
-                return
-            if not data:
-                return
-            yield from self.decoder.decode(data)
-
-    def __exit__(self, *_: object) -> None:
-        termios.tcsetattr(self.fd, termios.TCSADRAIN, self.saved)
-
-
 def main(argv: Sequence[str] | None = None) -> None:
     """The executable (exit status 1 without a terminal or with bad parameters)."""
     import rclpy
@@ -127,7 +90,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         print(version_line())
         return
     try:
-        terminal = _KeyTerminal(sys.stdin.fileno())
+        terminal = KeyTerminal(sys.stdin.fileno(), ctrl_c_is_key=True)
     except (termios.error, OSError, ValueError):
         print(NO_TERMINAL, file=sys.stderr)
         raise SystemExit(1) from None
@@ -148,8 +111,7 @@ def main(argv: Sequence[str] | None = None) -> None:
                       '-p stamped:=true, or leave frame_id out')
             raise SystemExit(1)
         executor.add_node(teleop.node)
-        spinner = threading.Thread(target=_spin, args=(executor, running), daemon=True)
-        spinner.start()
+        spinner = spin_while(executor, running)
         _drive(teleop, terminal, running)
     finally:
         running.clear()
@@ -161,23 +123,20 @@ def main(argv: Sequence[str] | None = None) -> None:
         rclpy.utilities.try_shutdown()
 
 
-def _drive(teleop: TeleopKeyboard, terminal: _KeyTerminal, running: threading.Event) -> None:
+def _drive(teleop: TeleopKeyboard, terminal: KeyTerminal, running: threading.Event) -> None:
     try:
         with terminal:  # raw before the banner: a key typed once it shows is never echoed
             print(BANNER, flush=True)
             print(speed_line(teleop.drive.speed, teleop.drive.turn), flush=True)
-            for key in terminal.keys(running):
-                if key == QUIT:
-                    break
-                for line in teleop.key(key):
-                    print(line, flush=True)
+            decoder = codecs.getincrementaldecoder('utf-8')(errors='replace')
+            for chunk in terminal.chunks(running):
+                for key in decoder.decode(chunk):
+                    if key == QUIT:
+                        return
+                    for line in teleop.key(key):
+                        print(line, flush=True)
     finally:
         teleop.stop()
-
-
-def _spin(executor: Any, running: threading.Event) -> None:
-    while running.is_set():
-        executor.spin_once(timeout_sec=0.1)
 
 
 if __name__ == '__main__':

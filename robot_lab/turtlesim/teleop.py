@@ -8,7 +8,6 @@ raw terminal, as upstream does (so the arrow keys' final bytes A-D are what coun
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 import termios
@@ -20,6 +19,7 @@ from geometry_msgs.msg import Twist
 from rclpy.action.client import ActionClient
 from turtlesim.action import RotateAbsolute
 
+from robot_lab.keyboard_terminal import KeyTerminal, spin_while
 from robot_lab.turtlesim.cpp_node import CppNode
 from robot_lab.turtlesim.node import topic_qos
 
@@ -67,28 +67,6 @@ class TeleopTurtle(CppNode):
         self.goal_handle = future.result()
 
 
-class _RawTerminal:
-    """No echo, no line buffering, and a read that returns every 0.1 s (VMIN 0, VTIME 1)."""
-
-    def __init__(self, fd: int) -> None:
-        self.fd = fd
-        self.cooked = termios.tcgetattr(fd)
-
-    def __enter__(self) -> _RawTerminal:
-        raw = termios.tcgetattr(self.fd)
-        raw[3] &= ~(termios.ICANON | termios.ECHO)
-        raw[6][termios.VMIN] = 0
-        raw[6][termios.VTIME] = 1
-        termios.tcsetattr(self.fd, termios.TCSANOW, raw)
-        return self
-
-    def read(self) -> bytes:
-        return os.read(self.fd, 1)
-
-    def __exit__(self, *_: object) -> None:
-        termios.tcsetattr(self.fd, termios.TCSANOW, self.cooked)
-
-
 def main(args: Sequence[str] | None = None) -> None:
     """The `turtle_teleop_key` executable (exit status 1 without a terminal)."""
     import rclpy
@@ -96,7 +74,7 @@ def main(args: Sequence[str] | None = None) -> None:
     from rclpy.signals import SignalHandlerOptions
 
     try:
-        terminal = _RawTerminal(sys.stdin.fileno())
+        terminal = KeyTerminal(sys.stdin.fileno())
     except (termios.error, OSError, ValueError):
         print('turtle_teleop_key reads keys from a terminal: run it in a terminal '
               '(JupyterLab: File > New > Terminal), not from a notebook cell or a pipe',
@@ -111,17 +89,11 @@ def main(args: Sequence[str] | None = None) -> None:
     node = TeleopTurtle()
     executor = SingleThreadedExecutor()
     executor.add_node(node)
-    spinner = threading.Thread(target=_spin, args=(executor, running), daemon=True)
-    spinner.start()
+    spinner = spin_while(executor, running)
     print(PROMPT, flush=True)
     try:
         with terminal:
-            while running.is_set():
-                byte = terminal.read()
-                if byte == b'q':
-                    break
-                if byte:
-                    node.key(byte)
+            _drive(node, terminal, running)
     finally:
         running.clear()
         spinner.join(timeout=2.0)
@@ -130,9 +102,13 @@ def main(args: Sequence[str] | None = None) -> None:
         rclpy.utilities.try_shutdown()
 
 
-def _spin(executor: Any, running: threading.Event) -> None:
-    while running.is_set():
-        executor.spin_once(timeout_sec=0.1)
+def _drive(node: TeleopTurtle, terminal: KeyTerminal, running: threading.Event) -> None:
+    for chunk in terminal.chunks(running):
+        for value in chunk:  # byte by byte, as upstream reads them
+            byte = bytes([value])
+            if byte == b'q':
+                return
+            node.key(byte)
 
 
 if __name__ == '__main__':
