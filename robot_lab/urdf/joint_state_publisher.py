@@ -18,7 +18,6 @@ from typing import Any
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
 from rclpy.exceptions import ParameterAlreadyDeclaredException
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, QoSProfile
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 
@@ -26,6 +25,7 @@ from robot_lab.errors import UrdfError
 from robot_lab.nodes.base import run_node
 from robot_lab.urdf.joints import Dependent, JointTable, joint_table
 from robot_lab.urdf.model import parse_urdf
+from robot_lab.urdf.state_publisher import description_qos
 
 __all__ = ['JointStatePublisher', 'main']
 
@@ -59,9 +59,8 @@ class JointStatePublisher(Node):
         else:
             self.get_logger().info('Waiting for robot_description to be published on the '
                                    'robot_description topic...')
-        self.create_subscription(
-            String, 'robot_description', self.on_description,
-            QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+        self.create_subscription(String, 'robot_description', self.on_description,
+                                 description_qos())
         self.delta = float(self.get_parameter('delta').value)
         for topic in self.get_parameter('source_list').value or []:
             self.create_subscription(JointState, topic, self.on_source, 10)

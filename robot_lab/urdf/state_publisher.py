@@ -31,7 +31,7 @@ from robot_lab.nodes.base import run_node
 from robot_lab.urdf.kinematics import Pose, joint_pose, mimic_positions
 from robot_lab.urdf.model import Joint, Robot, parse_urdf
 
-__all__ = ['RobotStatePublisher', 'main', 'static_qos', 'tf_qos']
+__all__ = ['RobotStatePublisher', 'description_qos', 'main', 'static_qos', 'tf_qos']
 
 SOURCE = 'robot_description'  # how errors name the URDF: it came as a parameter
 
@@ -42,7 +42,13 @@ def tf_qos() -> QoSProfile:
 
 
 def static_qos() -> QoSProfile:
-    """StaticTransformBroadcaster's and /robot_description's: depth 1, transient-local."""
+    """StaticTransformBroadcaster's: depth 1, transient-local."""
+    return QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+def description_qos() -> QoSProfile:
+    """/robot_description's, publisher and subscribers alike: depth 1, transient-local, so
+    a node that starts after robot_state_publisher still gets the URDF."""
     return QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
@@ -99,7 +105,7 @@ class RobotStatePublisher(Node):
         self.tf = self.create_publisher(TFMessage, '/tf', tf_qos())
         self.tf_static = self.create_publisher(TFMessage, '/tf_static', static_qos())
         self.static_sent: dict[str, TransformStamped] = {}  # child frame -> transform
-        self.description = self.create_publisher(String, 'robot_description', static_qos())
+        self.description = self.create_publisher(String, 'robot_description', description_qos())
         self.setup(text, source)
         self.create_subscription(JointState, 'joint_states', self.on_joint_state,
                                  qos_profile_sensor_data)

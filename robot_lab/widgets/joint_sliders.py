@@ -61,8 +61,9 @@ class JointSliders:
 
     def _published_description(self, timeout: float) -> str:
         """The URDF robot_state_publisher latched on /robot_description."""
-        from rclpy.qos import DurabilityPolicy, QoSProfile
         from std_msgs.msg import String
+
+        from robot_lab.urdf.state_publisher import description_qos
 
         got: list[str] = []
         arrived = threading.Event()
@@ -72,9 +73,8 @@ class JointSliders:
             arrived.set()
 
         node = self.session.node
-        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        subscription = self.session.run_in_executor(
-            lambda: node.create_subscription(String, '/robot_description', take, latched))
+        subscription = self.session.run_in_executor(lambda: node.create_subscription(
+            String, '/robot_description', take, description_qos()))
         try:
             if not arrived.wait(timeout):
                 raise GraphError(
