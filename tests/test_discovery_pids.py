@@ -7,7 +7,8 @@ from __future__ import annotations
 import os
 import socket
 
-from robot_lab.graph.host_sockets import port_processes, unheard_ports
+from robot_lab.graph.host_sockets import unheard_ports
+from robot_lab.linux.procfs import socket_holders
 
 # 70000 and 4464 share their low 16 bits (70000 - 65536 = 4464).
 LOW, HIGH = 4464, 70000
@@ -47,4 +48,4 @@ def test_ports_whose_holders_cannot_be_read_count_as_heard() -> None:
 def test_holders_are_whole_pids() -> None:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
         inode = os.fstat(sock.fileno()).st_ino
-        assert port_processes([inode]) == {inode: frozenset({os.getpid()})}
+        assert socket_holders([inode]) == {inode: frozenset({os.getpid()})}

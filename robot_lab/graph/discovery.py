@@ -39,13 +39,7 @@ from typing import TYPE_CHECKING, TypeVar
 from weakref import WeakKeyDictionary
 
 from robot_lab.env import switched_on
-from robot_lab.graph.host_sockets import (
-    discovery_ports,
-    own_sockets,
-    port_processes,
-    socket_drops,
-    unheard_ports,
-)
+from robot_lab.graph.host_sockets import discovery_ports, socket_drops, unheard_ports
 from robot_lab.graph.settler import HostPorts, Rules, RunClock, Settler
 from robot_lab.linux import procfs
 
@@ -189,7 +183,8 @@ def participants_on_host(domain_id: int) -> int | None:
 
 
 # The host's discovery ports, once this process's own is among them (see HostPorts).
-_host_ports = HostPorts(lambda domain: discovery_ports(domain), lambda: own_sockets())
+_host_ports = HostPorts(lambda domain: discovery_ports(domain),
+                        lambda: procfs.own_socket_inodes())
 
 
 def participants_seen(session: Session) -> tuple[int, set[str]]:
@@ -289,7 +284,7 @@ class HostCount:
         ports = _host_ports(self.session.domain_id)
         prefixes, with_endpoints = _named_participants(self.session)
         ports = ports or {}
-        holders = port_processes(ports.values())
+        holders = procfs.socket_holders(ports.values())
         found = []
         for port in unheard_ports(ports, _participant_pids(prefixes) or [], holders):
             found += [f'{pid}:{_command(pid)}' for pid in sorted(holders[ports[port]])]

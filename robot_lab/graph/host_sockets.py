@@ -13,8 +13,8 @@ from robot_lab.domain import domain_ports
 from robot_lab.linux.procfs import own_socket_inodes, socket_holders
 from robot_lab.linux.sock_diag import UdpSocket, udp_sockets
 
-__all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'own_sockets',
-           'port_processes', 'socket_drops', 'udp_sockets', 'unheard_ports']
+__all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'socket_drops',
+           'udp_sockets', 'unheard_ports']
 
 
 # Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
@@ -22,11 +22,6 @@ __all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'o
 _PARTICIPANT_GAIN, _D1 = 2, 10
 # Fast DDS writes only a pid's low 16 bits into its GUID prefix (bytes 4-5).
 GUID_PID_BITS = 16
-
-
-def own_sockets() -> set[int]:
-    """The inodes of the sockets this process holds."""
-    return own_socket_inodes()
 
 
 def discovery_port(domain_id: int, participant_id: int) -> int:
@@ -43,14 +38,8 @@ def discovery_ports(domain_id: int, sockets: list[UdpSocket] | None = None) -> d
 
 def socket_drops() -> int:
     """Datagrams the kernel dropped (receive buffer full) on this process's UDP sockets."""
-    mine = own_sockets()
+    mine = own_socket_inodes()
     return sum(s.drops for s in udp_sockets() if s.inode in mine)
-
-
-def port_processes(inodes: Iterable[int]) -> dict[int, frozenset[int]]:
-    """Socket inode -> the pids (whole) of this PID namespace's processes holding it,
-    for the sockets this user may trace (see procfs.socket_holders)."""
-    return socket_holders(inodes)
 
 
 def unheard_ports(ports: Mapping[int, int], heard: Iterable[int],
@@ -64,7 +53,7 @@ def unheard_ports(ports: Mapping[int, int], heard: Iterable[int],
     for an unheard one of the other. So each heard participant accounts for one port
     only, of a process whose pid it matches, and the ports are matched to participants so
     that as many as possible are accounted for (augmenting paths; a few dozen ports)."""
-    holders = port_processes(ports.values()) if holders is None else holders
+    holders = socket_holders(ports.values()) if holders is None else holders
     mask = (1 << GUID_PID_BITS) - 1
     candidates = {port: {pid & mask for pid in holders[inode]}
                   for port, inode in ports.items() if holders.get(inode)}
