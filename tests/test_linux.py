@@ -1,5 +1,5 @@
 """The Linux layer (robot_lab/linux/): sock_diag against a fake netlink peer and with two
-threads dumping at once, a forked node without pidfds, each capability's switch, the
+threads dumping at once, pidfds switched off, each capability's switch, the
 doctor's table, and a launch and a cold `node list` with each capability off."""
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ class FakePeer:
     returns; closes its end afterwards if `close`, else leaves the dump waiting."""
 
     def __init__(self, script: Script, close: bool = False,
-                 before_reply: Callable[[], None] = lambda: None) -> None:
+                 before_reply: Callable[[], object] = lambda: None) -> None:
         self.ours, self.theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         self.script, self.close, self.before_reply = script, close, before_reply
         self.thread = threading.Thread(target=self._serve, daemon=True)
@@ -191,86 +191,13 @@ def test_the_socket_table_comes_from_proc_without_sock_diag(
 
 # --- pidfds -----------------------------------------------------------------------------
 
-def _child(code: str) -> int:
-    return os.posix_spawn(sys.executable, [sys.executable, '-c', code], dict(os.environ))
-
-
-def test_a_forked_node_is_waited_for_and_signalled_without_pidfds(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    """Linux before 5.3 (or a seccomp filter) has no pidfd_open: the launcher's handle on
-    a forked node polls instead of failing."""
-    def missing(pid: int, flags: int = 0) -> int:
-        raise OSError(errno.ENOSYS, 'Function not implemented')
-
-    monkeypatch.setattr(os, 'pidfd_open', missing)
-    with open(os.devnull, 'rb') as out, open(os.devnull, 'rb') as err:
-        exits = fork_client.ForkedProcess(_child('import sys; sys.exit(3)'), ['exits'], out, err)
-        assert exits.wait(timeout=30) == 3
-        sleeps = fork_client.ForkedProcess(_child('import time; time.sleep(60)'), ['sleeps'],
-                                           out, err)
-        assert sleeps.poll() is None
-        sleeps.send_signal(signal.SIGTERM)
-        assert sleeps.wait(timeout=30) == -signal.SIGTERM
-
-
-def test_a_kernel_with_pidfds_but_no_waitid_on_them_is_polled(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    """Linux 5.3 has pidfd_open but not waitid(P_PIDFD) (5.4)."""
-    real = os.waitid
-
-    def waitid(idtype: int, ident: int, options: int) -> object:
-        if idtype == os.P_PIDFD:
-            raise OSError(errno.EINVAL, 'Invalid argument')
-        return real(idtype, ident, options)
-
-    monkeypatch.setattr(os, 'waitid', waitid)
-    with open(os.devnull, 'rb') as out, open(os.devnull, 'rb') as err:
-        exits = fork_client.ForkedProcess(_child('import sys; sys.exit(4)'), ['exits'], out, err)
-        assert exits.wait(timeout=30) == 4
-
-
 def test_switched_off_pidfds_are_not_opened() -> None:
     assert pidfd.open_pidfd(os.getpid()) is not None or not capabilities.available('pidfd')
     with capabilities.switched_off('pidfd'):
         assert pidfd.open_pidfd(os.getpid()) is None
 
 
-# --- the fork server's clone --------------------------------------------------------------
-
-_CLONE = """
-import ctypes, os
-from robot_lab.linux.clone import Forker
-from robot_lab.linux.libc import holding_gil
-
-def robust_list():
-    head, length = ctypes.c_void_p(), ctypes.c_size_t()
-    holding_gil().syscall(ctypes.c_long(274), ctypes.c_long(0), ctypes.byref(head),
-                          ctypes.byref(length))
-    return head.value or 0
-
-forker = Forker()
-pid = forker.fork()
-if pid == 0:
-    os.write(1, f'child {os.getpid()} {os.getppid()} {robust_list()}\\n'.encode())
-    os._exit(7)
-os.write(1, f'parent {os.getpid()} {pid} {robust_list()}\\n'.encode())  # one write each
-"""
-
-
-@pytest.mark.skipif(platform.machine() != 'x86_64', reason='syscall numbers of x86_64')
-def test_a_cloned_child_is_the_grandparents_with_its_robust_futex_list() -> None:
-    """As glibc's fork leaves it: the child's robust-futex list registered (the kernel gives
-    a new task none, so a lock it held when it died would never be released)."""
-    done = subprocess.run([sys.executable, '-c', _CLONE], capture_output=True, text=True,
-                          timeout=60, check=False)
-    lines = dict(line.split(' ', 1) for line in done.stdout.splitlines())
-    assert set(lines) == {'child', 'parent'}, done.stdout + done.stderr
-    child, child_parent, child_list = map(int, lines['child'].split())
-    _, forked, parent_list = map(int, lines['parent'].split())
-    assert child == forked and child_parent == os.getpid()  # CLONE_PARENT: ours
-    assert os.waitpid(child, 0)[1] >> 8 == 7
-    assert child_list == parent_list != 0
-
+# --- the fork server ------------------------------------------------------------------
 
 def test_a_fork_server_that_stops_answering_is_ended_and_the_node_execd(
         monkeypatch: pytest.MonkeyPatch) -> None:
@@ -307,7 +234,7 @@ class NoFork:
         raise RuntimeError('would fork now')
 
 ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
-server = fork_server._Server(theirs, NoFork())
+server = fork_server._Server(theirs, NoFork().fork)
 for step in ('alone', 'with a C thread'):
     if step != 'alone':
         faulthandler.dump_traceback_later(600)  # a native thread threading never sees
@@ -333,7 +260,7 @@ def test_the_fork_server_refuses_to_fork_beside_a_native_thread() -> None:
 
 _NAMESPACES = """
 import os, sys, tempfile
-from robot_lab.linux import namespaces as ns
+from robot_lab.linux import namespaces as ns, procfs
 uid, gid = os.getuid(), os.getgid()
 try:
     ns.unshare(ns.CLONE_NEWUSER | ns.CLONE_NEWNS)
@@ -346,9 +273,9 @@ print('uid', os.getuid())
 ns.mount(None, '/', None, ns.MS_REC | ns.MS_PRIVATE)
 folder = tempfile.mkdtemp()
 ns.mount('tmpfs', folder, 'tmpfs', ns.MS_NOSUID | ns.MS_NODEV, 'size=1m')
-print('mounted', folder in ns.mount_points())
+print('mounted', folder in procfs.mount_points())
 ns.unmount(folder, detach=True)
-print('unmounted', folder not in ns.mount_points())
+print('unmounted', folder not in procfs.mount_points())
 os.rmdir(folder)
 ns.drop_capabilities()
 print('CapEff', [l.split()[1] for l in open('/proc/self/status') if l.startswith('CapEff')][0])
@@ -366,13 +293,38 @@ def test_a_user_namespace_its_ids_mounts_and_no_capabilities() -> None:
                                            'unmounted True', 'CapEff 0000000000000000']
 
 
+def test_what_refuses_namespaces_is_read_by_the_layer(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ubuntu 24.04's AppArmor rule, Debian's old switch, a zero limit, Docker's seccomp
+    filter: each read from /proc by the layer, each its own advice from the grader."""
+    from robot_lab.grading.package import containment
+    from robot_lab.linux import namespaces, procfs
+
+    settings = {'kernel.apparmor_restrict_unprivileged_userns': '1',
+                'kernel.unprivileged_userns_clone': '0', 'user.max_net_namespaces': '0',
+                'user.max_user_namespaces': '0', 'user.max_pid_namespaces': '15000'}
+    monkeypatch.setattr(procfs, 'sysctl', settings.get)
+    monkeypatch.setattr(procfs, 'status', lambda pid=None: {'Seccomp': '2'})
+    found = namespaces.restrictions()
+    assert found == namespaces.Restrictions(apparmor=True, userns_clone_off=True,
+                                            zero_limits=('net', 'user'), seccomp=True)
+    monkeypatch.setattr(os, 'geteuid', lambda: 1000)
+    advice = ' '.join(containment._advice())
+    for said in ('kernel.apparmor_restrict_unprivileged_userns=0',
+                 'kernel.unprivileged_userns_clone=1',
+                 'user.max_net_namespaces=15000 user.max_user_namespaces=15000',
+                 'seccomp=unconfined'):
+        assert said in advice, advice
+    monkeypatch.setattr(os, 'geteuid', lambda: 0)  # root needs no user namespace
+    advice = ' '.join(containment._advice())
+    assert 'apparmor' not in advice and 'user.max_user_namespaces' not in advice, advice
+    monkeypatch.setattr(procfs, 'sysctl', lambda name: None)  # an older kernel: none of them
+    monkeypatch.setattr(procfs, 'status', lambda pid=None: {})
+    assert namespaces.restrictions() == namespaces.Restrictions(False, False, (), False)
+
+
 # --- nothing reaches around the layer ---------------------------------------------------
 
 _REACHES = re.compile(r'^\s*(import ctypes|from ctypes)|ctypes\.|[\'"]/proc', re.MULTILINE)
-# Files that still reach Linux themselves, and why (each is another engineer's this session).
-_NOT_YET = {
-    'robot_lab/grading/package/confinement.py': 'bind() of /proc/self/fd/N paths (no read)',
-}
 
 
 def test_nothing_outside_the_layer_calls_ctypes_or_reads_proc() -> None:
@@ -380,7 +332,7 @@ def test_nothing_outside_the_layer_calls_ctypes_or_reads_proc() -> None:
     found = sorted(str(path.relative_to(root)) for path in (root / 'robot_lab').rglob('*.py')
                    if not path.is_relative_to(root / 'robot_lab' / 'linux')
                    and _REACHES.search(path.read_text(encoding='utf-8')))
-    assert set(found) <= set(_NOT_YET), f'use robot_lab.linux instead: {found}'
+    assert found == [], f'use robot_lab.linux instead: {found}'
 
 
 def test_procfs_reads_status_and_sysctls() -> None:

@@ -15,15 +15,16 @@ import os
 import struct
 import subprocess
 import sys
+from typing import NamedTuple
 
 from robot_lab.linux import procfs
 from robot_lab.linux.libc import check, libc
 
 __all__ = ['CLONE_NEWIPC', 'CLONE_NEWNET', 'CLONE_NEWNS', 'CLONE_NEWPID', 'CLONE_NEWUSER',
            'MS_BIND', 'MS_NODEV', 'MS_NOEXEC', 'MS_NOSUID', 'MS_PRIVATE', 'MS_RDONLY', 'MS_REC',
-           'MS_REMOUNT', 'bind', 'drop_capabilities', 'in_initial_user_namespace',
-           'job_namespaces', 'kept_flags', 'map_ids', 'mount', 'mount_points', 'probe', 'remount',
-           'unmount', 'unshare']
+           'MS_REMOUNT', 'Restrictions', 'bind', 'bind_descriptor', 'drop_capabilities',
+           'in_initial_user_namespace', 'job_namespaces', 'kept_flags', 'map_ids', 'mount',
+           'probe', 'remount', 'restrictions', 'unmount', 'unshare']
 
 CLONE_NEWNS, CLONE_NEWIPC, CLONE_NEWUSER = 0x00020000, 0x08000000, 0x10000000
 CLONE_NEWPID, CLONE_NEWNET = 0x20000000, 0x40000000
@@ -73,13 +74,14 @@ def remount(path: str, read_only: bool) -> None:
 
 
 def bind(source: str, target: str, recursive: bool = True) -> None:
-    """Bind `source` (a path, or /proc/self/fd/N of an O_PATH descriptor) at `target`."""
+    """Bind the path `source` at `target`."""
     mount(source, target, None, MS_BIND | (MS_REC if recursive else 0))
 
 
-def mount_points() -> list[str]:
-    """This mount namespace's mount points, in mount order."""
-    return procfs.mount_points()
+def bind_descriptor(fd: int, target: str, recursive: bool = True) -> None:
+    """Bind what the descriptor `fd` (O_PATH will do) names at `target`: its path may be
+    covered by another mount by now, the descriptor still reaches it (/proc/self/fd/N)."""
+    bind(f'/proc/self/fd/{fd}', target, recursive)
 
 
 def unmount(target: str, detach: bool = False) -> None:
@@ -112,6 +114,30 @@ def drop_capabilities() -> None:
     version 3); a process forked later without an exec holds none either."""
     header = struct.pack('=Ii', _CAPABILITY_V3, 0)
     check(libc().capset(header, bytes(24)), 'capset')
+
+
+class Restrictions(NamedTuple):
+    """What this machine sets that refuses namespaces (the fix for each differs)."""
+
+    apparmor: bool  # kernel.apparmor_restrict_unprivileged_userns=1 (Ubuntu 24.04)
+    userns_clone_off: bool  # kernel.unprivileged_userns_clone=0 (Debian's older kernels)
+    zero_limits: tuple[str, ...]  # kinds (mnt, net, pid, ipc, user) whose user.max_* is 0
+    seccomp: bool  # this process runs under a seccomp filter (Docker's default profile)
+
+
+def restrictions() -> Restrictions:
+    """The settings of this kernel and process that refuse namespaces (read, not tried:
+    `probe` says whether they are refused)."""
+    try:
+        seccomp = procfs.status().get('Seccomp') == '2'  # 2: a filter, 1: strict mode
+    except OSError:
+        seccomp = False
+    return Restrictions(
+        apparmor=procfs.sysctl('kernel.apparmor_restrict_unprivileged_userns') == '1',
+        userns_clone_off=procfs.sysctl('kernel.unprivileged_userns_clone') == '0',
+        zero_limits=tuple(kind for kind in ('mnt', 'net', 'pid', 'ipc', 'user')
+                          if procfs.sysctl(f'user.max_{kind}_namespaces') == '0'),
+        seccomp=seccomp)
 
 
 def _try_in_child() -> int:

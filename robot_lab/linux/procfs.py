@@ -9,7 +9,7 @@ import os
 import threading
 from collections.abc import Iterable
 
-__all__ = ['command_line', 'fd_targets', 'mapped_paths', 'maps', 'mount_points',
+__all__ = ['command_line', 'fd_targets', 'is_proc', 'mapped_paths', 'maps', 'mount_points',
            'own_socket_inodes', 'pid_namespace', 'pids', 'process_running', 'socket_holders',
            'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
 
@@ -126,6 +126,11 @@ def mapped_paths(pid: int | None = None) -> list[str]:
 def pid_namespace(pid: int | None = None) -> str:
     """The process's PID namespace (`pid:[INODE]`); OSError if gone or another user's."""
     return os.readlink(f'{_where(pid)}/ns/pid')
+
+
+def is_proc(path: str) -> bool:
+    """Whether `path` is /proc or below it (a mount there is procfs's own)."""
+    return path == '/proc' or path.startswith('/proc/')
 
 
 def mount_points() -> list[str]:

@@ -32,7 +32,7 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-from robot_lab.linux import namespaces, prctl
+from robot_lab.linux import namespaces, prctl, procfs
 from robot_lab.linux.namespaces import (
     MS_NODEV,
     MS_NOEXEC,
@@ -98,7 +98,7 @@ def _bind(fd: int, target: Path, is_dir: bool) -> None:
     else:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.touch(exist_ok=True)
-    bind(f'/proc/self/fd/{fd}', str(target))
+    namespaces.bind_descriptor(fd, str(target))
 
 
 def _entries(text: str, name: str, number: int) -> list[str]:
@@ -182,8 +182,8 @@ def confine(job_dir: Path, uid: int | None = None, home: Path | None = None) -> 
     cwd = os.getcwd()
     problems: list[str] = []
     try:
-        for point in namespaces.mount_points():
-            if point == '/proc' or point.startswith('/proc/'):
+        for point in procfs.mount_points():
+            if procfs.is_proc(point):
                 continue
             try:
                 remount(point, read_only=True)

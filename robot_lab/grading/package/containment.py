@@ -70,39 +70,26 @@ def namespaces_available() -> bool:
     return namespace_problem() is None
 
 
-def _sysctl(name: str) -> str | None:
-    from robot_lab.linux import procfs
-
-    return procfs.sysctl(name)
-
-
-def _seccomp_filtered() -> bool:
-    """Whether a seccomp filter is on this process (mode 2), as Docker's profile is."""
-    from robot_lab.linux import procfs
-
-    try:
-        return procfs.status().get('Seccomp') == '2'
-    except OSError:
-        return False
-
-
 def _advice() -> list[str]:
     """What would let this machine make namespaces, most specific first."""
+    from robot_lab.linux.namespaces import restrictions
+
+    found = restrictions()
+    root = os.geteuid() == 0
     said = []
     if shutil.which('unshare') is None:
         said.append("install util-linux (it provides 'unshare')")
-    if _sysctl('kernel.apparmor_restrict_unprivileged_userns') == '1' and os.geteuid() != 0:
+    if found.apparmor and not root:
         said.append("Ubuntu's AppArmor restricts user namespaces: `sudo sysctl "
                     'kernel.apparmor_restrict_unprivileged_userns=0`, or an AppArmor profile '
                     'with `userns,` for /usr/bin/unshare')
-    if _sysctl('kernel.unprivileged_userns_clone') == '0' and os.geteuid() != 0:
+    if found.userns_clone_off and not root:
         said.append('`sudo sysctl kernel.unprivileged_userns_clone=1`')
-    kinds = ['mnt', 'net', 'pid', 'ipc'] + ([] if os.geteuid() == 0 else ['user'])
-    zero = [f'user.max_{kind}_namespaces=15000' for kind in kinds
-            if _sysctl(f'user.max_{kind}_namespaces') == '0']
+    zero = [f'user.max_{kind}_namespaces=15000' for kind in found.zero_limits
+            if kind != 'user' or not root]
     if zero:
         said.append(f"`sudo sysctl -w {' '.join(zero)}` (a limit of 0 allows none)")
-    if _seccomp_filtered():
+    if found.seccomp:
         said.append('in a container, run it with `--security-opt seccomp=unconfined` '
                     '(Docker) or grade on the host')
     if not said:
