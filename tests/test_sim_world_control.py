@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import shlex
 import subprocess
+import threading
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 from conftest import BIN, Proc
@@ -72,3 +74,55 @@ def test_without_r_it_waits_paused_and_says_how_to_start_it(paused_world: Proc) 
     later = _messages('/world/room/stats', 2)[-1]
     assert later['paused'] is False and _sim_ns(later) > first_ns  # time moves now
     world_control(pause=True)
+
+
+@pytest.fixture(scope='module')
+def control_bridge(paused_world: Proc) -> Iterator[Proc]:
+    process = Proc([str(BIN / 'ros2'), 'run', 'ros_gz_bridge', 'parameter_bridge',
+                    '/world/room/control@ros_gz_interfaces/srv/ControlWorld',
+                    '/world/default/control@ros_gz_interfaces/srv/ControlWorld'
+                    '@gz.msgs.WorldControl@gz.msgs.Boolean'])
+    try:
+        process.wait_for(r'Creating ROS service bridge: \[/world/default/control', timeout=60)
+        yield process
+    finally:
+        process.stop()
+
+
+def test_ros_service_call_runs_and_pauses_the_world(control_bridge: Proc) -> None:
+    from ros_gz_interfaces.srv import ControlWorld
+
+    from robot_lab.rclpy_session import session
+
+    world_control(pause=True)
+    done = subprocess.run(
+        [str(BIN / 'ros2'), 'service', 'call', '/world/room/control',
+         'ros_gz_interfaces/srv/ControlWorld', '{world_control: {pause: false}}'],
+        capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0 and 'success=True' in done.stdout, done.stdout + done.stderr
+    assert world_control()['paused'] is False
+
+    node = session().node
+    request = ControlWorld.Request()
+    request.world_control.multi_step = 50  # steps end paused, as Gazebo's do
+    for name, succeeds in (('/world/room/control', True), ('/world/default/control', False)):
+        client = node.create_client(ControlWorld, name)
+        try:
+            assert client.wait_for_service(timeout_sec=20)
+            before = world_control()['iterations']
+            reply = _call(client, request)
+            assert reply.success is succeeds, name  # no world 'default': success false
+            if succeeds:
+                state = world_control()
+                assert state['paused'] is True and state['iterations'] >= before + 50
+        finally:
+            node.destroy_client(client)
+
+
+def _call(client: Any, request: Any) -> Any:
+    """The reply, as the session's executor (its own thread) delivers it."""
+    answered = threading.Event()
+    future = client.call_async(request)
+    future.add_done_callback(lambda _: answered.set())
+    assert answered.wait(timeout=20), 'no reply within 20 s'
+    return future.result()

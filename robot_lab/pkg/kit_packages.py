@@ -81,6 +81,7 @@ KIT_PACKAGES: tuple[str, ...] = (
     'urdf_tutorial',
     'xacro',
     # Module 2's simulation packages (robot_lab/sim; launch file and worlds, programs below)
+    'ros_gz_interfaces',  # world control from ROS: ControlWorld, through parameter_bridge
     'ros_gz_sim',
     'ros_gz_bridge',
     'teleop_twist_keyboard',

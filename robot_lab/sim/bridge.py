@@ -5,7 +5,10 @@ Upstream's syntax, on the command line (`TOPIC@ROS_TYPE]GZ_TYPE` ROS -> gz,
 (`--ros-args -p config_file:=bridge.yaml`: a list of entries with `ros_topic_name`,
 `gz_topic_name` or `topic_name`, `ros_type_name`, `gz_type_name`, `direction`
 BIDIRECTIONAL | GZ_TO_ROS | ROS_TO_GZ), as a node named `ros_gz_bridge` (so a launch file's
-`Node(package='ros_gz_bridge', executable='parameter_bridge', ...)` runs unchanged). The
+`Node(package='ros_gz_bridge', executable='parameter_bridge', ...)` runs unchanged). A
+service, as upstream's jazzy bridges one (`/world/<name>/control@ros_gz_interfaces/srv/
+ControlWorld[@gz.msgs.WorldControl@gz.msgs.Boolean]`), becomes a ROS service that asks
+the simulation's world control and answers `success`. The
 simulation may start before or after the bridge; the bridge waits for it and reconnects if
 it restarts, as gz-transport's discovery would.
 """
@@ -23,15 +26,19 @@ from typing import Any
 import yaml
 
 from robot_lab.sim.about import identity
-from robot_lab.sim.conversions import PAIRS, from_gz, to_gz
+from robot_lab.sim.conversions import PAIRS, SERVICES, from_gz, to_gz, world_control_request
 from robot_lab.sim.transport import Connection, connect, topic_name
 
-__all__ = ['BridgeSpec', 'main', 'parse_bridge_arg', 'parse_bridge_config']
+__all__ = ['BridgeSpec', 'ServiceSpec', 'main', 'parse_bridge_arg', 'parse_bridge_config',
+           'parse_service_arg']
 
 _ARG = re.compile(r'^(?P<topic>[^@\[\]]+)@(?P<ros>[^@\[\]]+)(?P<dir>[@\[\]])(?P<gz>[^@\[\]]+)$')
+_SERVICE = re.compile(r'^(?P<name>[^@\[\]]+)@(?P<ros>[^@\[\]]+/srv/[^@\[\]]+)'
+                      r'(?:@(?P<req>[^@\[\]]+)@(?P<rep>[^@\[\]]+))?$')
 _DIRECTIONS = {'@': 'BIDIRECTIONAL', '[': 'GZ_TO_ROS', ']': 'ROS_TO_GZ'}
 USAGE = ('Usage: parameter_bridge [<topic@ROS2_type@Gz_type> ..]  [<topic@ROS2_type[Gz_type> ..]'
-         '  [<topic@ROS2_type]Gz_type> ..] [--ros-args -p config_file:=<path_to_config_file>]')
+         '  [<topic@ROS2_type]Gz_type> ..] [<service@ROS2_srv_type[@Gz_req_type@Gz_rep_type]> ..]'
+         ' [--ros-args -p config_file:=<path_to_config_file>]')
 
 
 @dataclass(frozen=True)
@@ -63,6 +70,60 @@ def parse_bridge_arg(arg: str) -> BridgeSpec:
         raise SystemExit(f'parameter_bridge: {arg!r} is not TOPIC@ROS_TYPE(@|[|])GZ_TYPE\n{USAGE}')
     topic = match['topic']
     return BridgeSpec(topic, topic, match['ros'], match['gz'], _DIRECTIONS[match['dir']])
+
+
+@dataclass(frozen=True)
+class ServiceSpec:
+    """One bridged service: a ROS service that forwards to the simulation's gz service."""
+
+    name: str
+    ros_type: str
+    gz_request: str
+    gz_reply: str
+
+
+def parse_service_arg(arg: str) -> ServiceSpec | None:
+    """`/world/room/control@ros_gz_interfaces/srv/ControlWorld` -> a ServiceSpec (None if
+    `arg` names no service); a service the kit does not bridge: one line naming it."""
+    match = _SERVICE.match(arg)
+    if match is None:
+        return None
+    types = SERVICES.get(match['ros'])
+    if types is None or (match['req'] and (match['req'], match['rep']) != types):
+        known = ', '.join(f'{ros}@{req}@{rep}' for ros, (req, rep) in SERVICES.items())
+        raise SystemExit(f"parameter_bridge: {arg!r}: robot_lab's bridge does not bridge this "
+                         f'service; it bridges: {known}')
+    if not re.fullmatch(r'/world/[^/]+/control', match['name']):
+        raise SystemExit(f"parameter_bridge: {arg!r}: robot_lab's simulator serves "
+                         f'/world/<name>/control only; write /world/<world name>/control')
+    return ServiceSpec(match['name'], match['ros'], *types)
+
+
+def serve_world_control(node: Any, spec: ServiceSpec) -> Any:
+    """The ROS service: each request goes to the simulation of this partition as a
+    WorldControl; `success` is false when none answers (as upstream's on a timeout)."""
+    from robot_lab.messages import message_class
+    from robot_lab.sim.control import world_control
+    from robot_lab.sim.xml_tree import SimulationError
+
+    def call(request: Any, response: Any) -> Any:
+        frame, unsupported = world_control_request(request.world_control)
+        if unsupported:
+            node.get_logger().warning(
+                f'{spec.name}: {", ".join(unsupported)} not supported by robot_lab\'s '
+                f'simulator: ignored (pause, step, multi_step and reset.all are)')
+        try:
+            world_control(pause=frame['pause'], step=frame['multi_step'], reset=frame['reset'],
+                          world=spec.name.split('/')[2])
+            response.success = True
+        except SimulationError as error:
+            node.get_logger().error(f'{spec.name}: {error}')
+            response.success = False
+        return response
+
+    node.get_logger().info(f'Creating ROS service bridge: [{spec.name} ({spec.ros_type}) -> '
+                           f'{spec.gz_request}/{spec.gz_reply}]')
+    return node.create_service(message_class(spec.ros_type), spec.name, call)
 
 
 def parse_bridge_config(path: str) -> list[BridgeSpec]:
@@ -165,7 +226,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(identity())
         return 0
     cut = args.index('--ros-args') if '--ros-args' in args else len(args)
-    specs = [parse_bridge_arg(a) for a in args[:cut]]
+    services = [s for s in map(parse_service_arg, args[:cut]) if s is not None]
+    specs = [parse_bridge_arg(a) for a in args[:cut] if parse_service_arg(a) is None]
     import rclpy
     from rclpy.executors import ExternalShutdownException
 
@@ -175,11 +237,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     config = node.declare_parameter('config_file', '').value
     if config:
         specs += parse_bridge_config(str(config))
-    if not specs:
+    if not specs and not services:
         print(USAGE, file=sys.stderr)
         return 1
     for index, spec in enumerate(specs):
         spec.check(str(config) if index >= cut else 'parameter_bridge')
+    for service in services:
+        serve_world_control(node, service)
     bridge = Bridge(node, specs)
     try:
         with contextlib.suppress(KeyboardInterrupt, ExternalShutdownException):  # Ctrl-C, SIGINT

@@ -27,6 +27,9 @@ def _request(frame: dict[str, Any]) -> dict[str, Any]:
         connection.send({**frame, 'id': 1})
         while (reply := connection.receive()) is not None:
             if reply.get('op') == 'reply':
+                if reply.get('ok') is False:
+                    raise SimulationError(str(reply.get('error')),
+                                          fix='name the world the simulation runs')
                 data: dict[str, Any] = reply.get('data') or {}
                 return data
     finally:
@@ -34,10 +37,13 @@ def _request(frame: dict[str, Any]) -> dict[str, Any]:
     raise SimulationError('the simulation closed the connection before it answered')
 
 
-def world_control(pause: bool | None = None, step: int = 0, reset: bool = False) -> dict[str, Any]:
+def world_control(pause: bool | None = None, step: int = 0, reset: bool = False,
+                  world: str = '') -> dict[str, Any]:
     """Pause or run, advance `step` steps (also while paused), reset to time 0; returns
-    `{'paused': ..., 'iterations': ...}` after the request."""
-    request: dict[str, Any] = {'op': 'control', 'multi_step': step, 'reset': reset}
+    `{'paused': ..., 'iterations': ...}` after the request. `world`, if given, must be the
+    one the simulation runs (as /world/<name>/control names it)."""
+    request: dict[str, Any] = {'op': 'control', 'multi_step': step, 'reset': reset,
+                               'world': world}
     if pause is not None:
         request['pause'] = pause
     return _request(request)

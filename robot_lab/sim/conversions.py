@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ['PAIRS', 'from_gz', 'to_gz']
+__all__ = ['PAIRS', 'SERVICES', 'from_gz', 'to_gz', 'world_control_request']
 
 Gz = dict[str, Any]
 
@@ -26,6 +26,28 @@ PAIRS: dict[tuple[str, str], set[str]] = {
     ('sensor_msgs/msg/Imu', 'gz.msgs.IMU'): {'gz_to_ros'},
     ('std_msgs/msg/Float64', 'gz.msgs.Double'): {'ros_to_gz', 'gz_to_ros'},
 }
+
+# ROS service type -> its gz request and reply types (ros_gz_bridge's jazzy README: one)
+SERVICES: dict[str, tuple[str, str]] = {
+    'ros_gz_interfaces/srv/ControlWorld': ('gz.msgs.WorldControl', 'gz.msgs.Boolean'),
+}
+
+
+def world_control_request(msg: Any) -> tuple[Gz, list[str]]:
+    """A ros_gz_interfaces/msg/WorldControl as the kit's control frame (the fields
+    `Server.control` takes), and the fields set that the kit does not simulate.
+
+    As ros_gz_bridge converts it, `pause` always goes (a request that leaves it out
+    asks to run); steps end paused ("Paused after stepping multi_step")."""
+    steps = int(msg.multi_step) or (1 if msg.step else 0)
+    reset = msg.reset
+    frame: Gz = {'pause': True if steps else bool(msg.pause), 'multi_step': steps,
+                 'reset': bool(reset.all or reset.time_only or reset.model_only)}
+    unsupported = [name for name, value in (
+        ('reset.time_only', reset.time_only), ('reset.model_only', reset.model_only),
+        ('seed', msg.seed), ('run_to_sim_time', msg.run_to_sim_time.sec
+                             or msg.run_to_sim_time.nanosec)) if value]
+    return frame, unsupported
 
 
 def _header(msg: Any, gz: Gz) -> None:

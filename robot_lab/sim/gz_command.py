@@ -146,7 +146,8 @@ def _service(argv: Sequence[str]) -> int:
     reset = request.get('reset', {})
     world_control(pause=request.get('pause'),
                   step=int(request.get('multi_step', 0)) or (1 if request.get('step') else 0),
-                  reset=bool(reset.get('all') if isinstance(reset, dict) else reset))
+                  reset=bool(reset.get('all') if isinstance(reset, dict) else reset),
+                  world=args.service.split('/')[2])
     print('data: true\n')
     return 0
 

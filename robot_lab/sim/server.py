@@ -139,6 +139,13 @@ class Server:
                 print(f'[Err] {error}', flush=True)
             connection.send(reply)
         elif op == 'control':
+            world = frame.get('world') or self.sim.info.name
+            if world != self.sim.info.name:  # Gazebo: no such service, the call times out
+                connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': False,
+                                 'error': f'no world {world!r} here: the simulation runs '
+                                          f'{self.sim.info.name!r} (/world/'
+                                          f'{self.sim.info.name}/control)'})
+                return
             self.control(frame)
             connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True,
                              'data': {'paused': self.paused, 'iterations': self.sim.steps}})
