@@ -190,6 +190,9 @@ def setup(notebook: str) -> Lesson:
     from robot_lab.notebook_cell import show_their_errors
 
     show_their_errors()  # a cell's error: the student's frames and a Try: line
+    from robot_lab.script_cells import decode_whole_characters
+
+    decode_whole_characters()  # IPython 8 (Python 3.10): a `°` in %%bash output stays whole
     if os.environ.get('NBGRADER_EXECUTION', '').strip():
         _short_errors(lesson.workspace)
     return lesson
