@@ -68,6 +68,23 @@ def test_a_warm_session_settles_sooner() -> None:
     assert outcome.complete and outcome.waited < RULES.warm_settle + 0.05
 
 
+def test_a_session_is_young_by_its_own_created_at_each_query() -> None:
+    """The settler keeps no copy of when its session was made: a session made young
+    again (a cold command's, in a test) is young at its next query on the same settler."""
+    clock = Clock()
+    settler = Settler(monotonic=clock, sleep=clock.sleep)
+
+    def query(created: float) -> Outcome[str]:
+        return settler.settle(lambda: 'answer', created=created, rules=RULES, timeout=2.0,
+                              settle=RULES.settle, ready=lambda: None, ready_settle=0.05,
+                              complete=lambda: True, heard=lambda: False,
+                              pending=lambda: False, drops=lambda: 0)
+
+    assert not query(clock.now - 60.0).young
+    assert query(clock.now).young
+    assert not query(clock.now - RULES.warm_age).young
+
+
 def test_a_changing_answer_is_waited_out() -> None:
     outcome, _ = settle(probe=lambda t: round(t, 2) if t < 1.0 else 'still')
     assert outcome.complete and outcome.value == 'still'
