@@ -1,0 +1,175 @@
+"""The simulator of a trial (`robot_lab.sim.trial`), with its ground truth on stdout.
+
+It is `gz sim` (the kit's `server.Server` on the partition's socket, so the bridge, `gz
+topic` and `create` reach it as usual) with a robot already spawned, started paused, and
+one more duty: every `--sample` sim seconds it prints what MuJoCo knows and no topic
+tells, as a line `@truth {json}`: the sim time, the signed gap between the robot's
+collision geometry and the obstacle's (`mj_geomDistance`, negative when they overlap),
+whether any of their geoms touch, the root link's pose, and how many commands the robot's
+systems took. The trial reads these lines; odometry never enters the judgement.
+
+Run by the trial only: `python -m robot_lab.sim.referee SPEC.json`. It prints `@ready
+{json}` once the robot stands in the world (paused), and steps once a client sends
+`control pause: false`, until `iterations` steps have run.
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
+import numpy
+
+from robot_lab.errors import RobotLabError
+from robot_lab.sim.robot import SpawnedRobot
+from robot_lab.sim.server import Server, _listen
+from robot_lab.sim.simulation import Simulation
+from robot_lab.sim.transport import partition, socket_path
+
+__all__ = ['main']
+
+_FAR = 100.0  # metres: beyond this the gap is reported as this
+
+
+def _geoms_of(model: Any, prefixes: Sequence[str]) -> list[int]:
+    """The geoms whose body's name starts with one of `prefixes` (`model::`)."""
+    found = []
+    for geom in range(model.ngeom):
+        body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(model.geom_bodyid[geom]))
+        if body and any(str(body).startswith(p) for p in prefixes):
+            found.append(geom)
+    return found
+
+
+class Truth:
+    """What the referee measures after a step; `sample()` is one `@truth` line's dict."""
+
+    def __init__(self, sim: RefereeSimulation, robot: str, obstacles: Sequence[str]) -> None:
+        self.sim = sim
+        self.robot = robot
+        model = sim.model
+        self.robot_geoms = _geoms_of(model, [f'{robot}::'])
+        if obstacles:
+            self.obstacle_geoms = _geoms_of(model, [f'{o}::' for o in obstacles])
+        else:  # every geom of the world but the ground's and the robot's
+            mine = set(self.robot_geoms)
+            self.obstacle_geoms = [g for g in range(model.ngeom) if g not in mine
+                                   and model.geom_type[g] != mujoco.mjtGeom.mjGEOM_PLANE]
+        self.pairs = {frozenset((a, b)) for a in self.robot_geoms for b in self.obstacle_geoms}
+
+    def gap(self) -> float:
+        fromto = numpy.zeros(6)
+        best = _FAR
+        for a in self.robot_geoms:
+            for b in self.obstacle_geoms:
+                best = min(best, float(mujoco.mj_geomDistance(
+                    self.sim.model, self.sim.data, a, b, _FAR, fromto)))
+        return best
+
+    def contact(self) -> bool:
+        data = self.sim.data
+        return any(frozenset((int(data.contact.geom1[i]), int(data.contact.geom2[i])))
+                   in self.pairs for i in range(data.ncon))
+
+    def sample(self) -> dict[str, Any]:
+        gap = self.gap()
+        touching = self.contact() or gap < 0.0
+        x, y, yaw = self.sim.body_pose(self.robot)
+        return {'t': self.sim.time_ns / 1e9, 'gap': gap, 'contact': touching, 'x': x, 'y': y,
+                'yaw': yaw, 'commands': self.sim.commands}
+
+
+def _ground_gap(sim: RefereeSimulation, robot: str) -> float:
+    """The signed gap between the robot's geoms and the ground plane(s)."""
+    truth = Truth(sim, robot, [])
+    truth.obstacle_geoms = [g for g in range(sim.model.ngeom)
+                            if sim.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE]
+    return truth.gap() if truth.obstacle_geoms and truth.robot_geoms else 0.0
+
+
+class RefereeSimulation(Simulation):
+    """The world, counting the commands its systems take and printing `@truth` samples
+    every `every` steps (`Server.run` steps one at a time)."""
+
+    truth: Truth | None = None
+    every = 10
+    commands = 0
+
+    def command(self, topic: str, message: dict[str, Any]) -> bool:
+        taken = super().command(topic, message)
+        self.commands += int(taken)
+        return taken
+
+    def step(self, count: int = 1) -> None:
+        for _ in range(count):
+            super().step()
+            if self.truth is not None and self.steps % self.every == 0:
+                _emit('truth', self.truth.sample())
+
+
+def _spawned(spec: dict[str, Any]) -> tuple[RefereeSimulation, SpawnedRobot]:
+    """The world with the robot spawned; at `z` None it rests on the ground (1 mm above,
+    found by spawning it at z 0 and measuring), as a lab's `create -z` would place it."""
+    x, y, z = spec['xyz']
+    if z is None:
+        probe = RefereeSimulation(spec['world'], seed=0, warn=lambda line: None)
+        probe.spawn(spec['urdf'], spec['name'], (x, y, 0.0), tuple(spec['rpy']))
+        z = 0.001 - _ground_gap(probe, spec['name'])
+    sim = RefereeSimulation(spec['world'], seed=int(spec.get('seed', 0)))
+    robot = sim.spawn(spec['urdf'], spec['name'], (x, y, z), tuple(spec['rpy']),
+                      spec.get('source', 'robot_description'))
+    return sim, robot
+
+
+def _emit(tag: str, payload: dict[str, Any]) -> None:
+    print(f'@{tag} {json.dumps(payload)}', flush=True)
+
+
+def _run(spec: dict[str, Any]) -> int:
+    path = socket_path()
+    listener = _listen(path)
+    try:
+        sim, robot = _spawned(spec)
+        sim.truth = truth = Truth(sim, robot.name, spec.get('obstacles') or [])
+        sim.every = max(1, round(float(spec.get('sample', 0.01)) / sim.info.step))
+        server = Server(sim, listener)
+        server.paused = True
+        _emit('ready', {
+            'partition': partition(), 'socket': str(path), 'step': sim.info.step,
+            'world': sim.info.name, 'robot_geoms': len(truth.robot_geoms),
+            'obstacle_geoms': len(truth.obstacle_geoms),
+            'scan_topics': [lidar.topic or f'/world/{sim.info.name}/model/{robot.name}/link/'
+                            f'{lidar.link}/sensor/{lidar.name}/scan'
+                            for lidar in robot.tags.lidars],
+            'cmd_topics': [drive.topic or f'/model/{robot.name}/cmd_vel'
+                           for drive in robot.tags.diff_drives],
+            'first': truth.sample()})
+        rate = float(spec.get('speed') or sim.info.real_time_factor) / sim.info.step
+        server.run(rate, int(spec['iterations']))
+        _emit('done', truth.sample())
+    finally:
+        listener.close()
+        path.unlink(missing_ok=True)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    try:
+        spec = json.loads(Path(args[0]).read_text())
+        return _run(spec)
+    except RobotLabError as error:
+        print(f'@error {json.dumps(str(error))}', flush=True)
+        return 1
+    except KeyboardInterrupt:
+        return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
