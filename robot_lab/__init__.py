@@ -112,6 +112,8 @@ _API: dict[str, str] = {
     'bridge_hint': 'robot_lab.sim.control',
     'world_markers': 'robot_lab.sim.markers',
     'sim_view': 'robot_lab.sim.sim_view',
+    'Trial': 'robot_lab.sim.trial',  # a controller against a world, judged by ground truth
+    'TrialResult': 'robot_lab.sim.trial_result',
 }
 
 __all__ = sorted(_API)
@@ -148,5 +150,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from robot_lab.sim.markers import world_markers
     from robot_lab.sim.sim_view import sim_view
     from robot_lab.sim.simulation import Simulation
+    from robot_lab.sim.trial import Trial
+    from robot_lab.sim.trial_result import TrialResult
     from robot_lab.tf2.listener import tf_buffer
     from robot_lab.tf2.view_frames import frames_figure, view_frames
