@@ -122,7 +122,6 @@ class Session:
 
     def __init__(self, domain_id: int) -> None:
         defer_code_generator()  # a kernel generates no message code either
-        import rclpy
         from rclpy.parameter import Parameter
 
         apply_ros_defaults()
@@ -130,11 +129,8 @@ class Session:
         self.domain_id = domain_id
         self._closing = False  # close() has begun: a dying spin thread is expected
         self.context, self._owns_context = self._context_for(domain_id)
-        self.node = rclpy.create_node(
-            f'_robot_lab_{os.getpid()}_{domain_id}',
-            context=self.context,
-            start_parameter_services=False,
-            enable_rosout=False,
+        self.node = self.hidden_node(
+            f'{os.getpid()}_{domain_id}',
             # No ~/get_type_description service either: nobody asks a hidden node for its
             # types, and creating it imports numpy (0.05 CPU-s of each cold command).
             parameter_overrides=[Parameter('start_type_description_service', value=False)],
@@ -151,6 +147,16 @@ class Session:
         # Exceptions raised by the callbacks of the nodes added with add_node, latest last.
         self.callback_errors: deque[BaseException | None] = deque(maxlen=10)
         self._thread = self._start_spinning(self.executor, 'executor')
+
+    def hidden_node(self, name: str, **options: Any) -> Node:
+        """A node of the kit's own on this session's context, `_robot_lab_<name>`: hidden
+        (the leading `_`), so node lists, graph pictures and checks leave it out; no
+        parameter services and no /rosout, since nobody asks it anything."""
+        import rclpy
+
+        return rclpy.create_node(f'_robot_lab_{name}', context=self.context,
+                                 start_parameter_services=False, enable_rosout=False,
+                                 **options)
 
     def _new_executor(self) -> Executor:
         from rclpy.executors import SingleThreadedExecutor

@@ -114,11 +114,7 @@ class SceneView(LiveView):
         """A node of the view's own that no executor spins: the view takes what arrived
         at each tick. An executor wakes, and rebuilds its wait set in Python, for every
         message: /tf at 50 Hz cost the kernel 2.5 % of a core that way."""
-        import rclpy
-
-        return rclpy.create_node(f'_robot_lab_scene_{id(self):x}',
-                                 context=self.session.context,
-                                 start_parameter_services=False, enable_rosout=False)
+        return self.session.hidden_node(f'scene_{id(self):x}')
 
     def _subscribe(self, key: str, type_name: str, topic: str, qos: QoSProfile,
                    take: Callable[[Any], None], raw: bool = False) -> None:

@@ -107,8 +107,6 @@ def tf_buffer() -> SessionBuffer:
     `lookup_transform` in a cell without writing a node first."""
     import os
 
-    import rclpy
-
     from robot_lab.rclpy_session import session
 
     sess = session()
@@ -117,8 +115,7 @@ def tf_buffer() -> SessionBuffer:
         if held is not None and held[0] is sess:
             buffer: SessionBuffer = held[1]
             return buffer
-        node = rclpy.create_node(f'_robot_lab_tf_{os.getpid()}', context=sess.context,
-                                 start_parameter_services=False, enable_rosout=False)
+        node = sess.hidden_node(f'tf_{os.getpid()}')
         buffer = SessionBuffer(node=None)
         listener = TransformListener(buffer, node)
         sess.add_node(node)

@@ -203,7 +203,6 @@ class Plot(LiveView):
         messages in batches; the plot draws at `fps` anyway. Samples keep the time each
         message was received, not when it was taken.
         """
-        import rclpy
         from rclpy.qos import qos_profile_sensor_data
 
         from robot_lab.messages import message_class
@@ -211,9 +210,7 @@ class Plot(LiveView):
         by_topic: dict[str, list[Series]] = {}
         for series in self.series:
             by_topic.setdefault(series.topic, []).append(series)
-        self._node = rclpy.create_node(
-            f'_robot_lab_plot_{id(self):x}', context=self.session.context,
-            start_parameter_services=False, enable_rosout=False)
+        self._node = self.session.hidden_node(f'plot_{id(self):x}')
         for topic, group in by_topic.items():
             cls = message_class(group[0].type_name)
             # Best effort matches reliable and best-effort publishers alike.

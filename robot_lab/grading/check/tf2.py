@@ -50,8 +50,6 @@ class _Tree:
     subscriptions to /tf and /tf_static (the last transform per child frame)."""
 
     def __init__(self) -> None:
-        import rclpy
-        import rclpy.time
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from tf2_msgs.msg import TFMessage
 
@@ -60,9 +58,7 @@ class _Tree:
         from robot_lab.tf2.listener import TransformListener
 
         self.session = session()
-        self.node = rclpy.create_node(f'_robot_lab_check_tf_{next(_COUNT)}',
-                                      context=self.session.context,
-                                      start_parameter_services=False, enable_rosout=False)
+        self.node = self.session.hidden_node(f'check_tf_{next(_COUNT)}')
         self.edges: dict[str, _Edge] = {}
         self._lock = threading.Lock()
         static = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL,
@@ -299,7 +295,6 @@ def follows(follower: str = 'turtle2', leader: str = 'turtle1',
             target: str | None = None, hint: str | None = None) -> None:
     """`follower` (a turtlesim turtle) drives to within `near` m of `leader`'s position (plus
     `offset`, in the leader's frame: the carrot), read from their /pose topics, not from TF."""
-    import rclpy
     from turtlesim.msg import Pose
 
     from robot_lab.rclpy_session import session
@@ -309,8 +304,7 @@ def follows(follower: str = 'turtle2', leader: str = 'turtle1',
     poses: dict[str, Any] = {}
     first: list[float] = []
     sess = session()
-    node = rclpy.create_node(f'_robot_lab_check_follow_{next(_COUNT)}', context=sess.context,
-                             start_parameter_services=False, enable_rosout=False)
+    node = sess.hidden_node(f'check_follow_{next(_COUNT)}')
 
     def _keep(turtle: str) -> Callable[[Any], None]:
         def keep(msg: Any) -> None:
