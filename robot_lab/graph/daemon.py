@@ -35,8 +35,9 @@ from typing import IO, Any
 
 from robot_lab.env import switched_on
 from robot_lab.errors import GraphError, RobotLabError
-from robot_lab.graph.expected import graph_dir, process_alive
+from robot_lab.graph.expected import graph_dir
 from robot_lab.graph.stale_names import StaleNames
+from robot_lab.linux.procfs import process_running
 from robot_lab.shared_memory import HEARING_CHECK, lost_ports
 
 __all__ = [
@@ -247,7 +248,7 @@ def start_for_later(env: Mapping[str, str] | None = None,
         owner = _named_owner()
         if owner in (os.getpid(), 1):
             return None  # nobody to outlive: a daemon started now would only exit again
-    if owner is None or not process_alive(owner):
+    if owner is None or not process_running(owner):
         return None
     listener = Listener.bind(env)
     if listener is None:
@@ -373,7 +374,7 @@ class _Server:
         from robot_lab.graph.nodes import node_instances
 
         ended = {(name, pid & 0xFFFF) for (name, pid) in self.announced
-                 if not process_alive(pid)}
+                 if not process_running(pid)}
         live: dict[str, int] = {}
         gone: dict[str, int] = {}
         for name, pids in node_instances(self.session).items():
@@ -489,7 +490,7 @@ class _Server:
             while not self.stopping.is_set():
                 if time.monotonic() - self.last_request > self.idle_timeout:
                     break
-                if self.owner is not None and not process_alive(self.owner):
+                if self.owner is not None and not process_running(self.owner):
                     break
                 if time.monotonic() - heard_at >= HEARING_CHECK:
                     heard_at = time.monotonic()

@@ -21,8 +21,7 @@ from pathlib import Path
 
 from robot_lab.linux.procfs import process_running
 
-__all__ = ['LaunchAnnouncement', 'announced_nodes', 'expected_nodes', 'graph_dir', 'graph_key',
-           'process_alive']
+__all__ = ['LaunchAnnouncement', 'announced_nodes', 'expected_nodes', 'graph_dir', 'graph_key']
 
 # What decides whether two processes share a graph (and so a daemon and these files).
 _GRAPH_VARIABLES = (
@@ -78,11 +77,6 @@ def graph_dir(env: Mapping[str, str] | None = None, create: bool = False) -> Pat
         path.mkdir(mode=0o700, parents=True, exist_ok=True)
         base.chmod(0o700)
     return path
-
-
-def process_alive(pid: int) -> bool:
-    """True for a running process (a zombie, dead but not yet reaped, is not running)."""
-    return process_running(pid)
 
 
 class LaunchAnnouncement:
@@ -153,12 +147,12 @@ def expected_nodes(directory: Path) -> set[str] | None:
     names: set[str] = set()
     starting = False
     for path, launcher, nodes in _announcements(directory):
-        if not process_alive(launcher):
+        if not process_running(launcher):
             with contextlib.suppress(OSError):
                 path.unlink()  # the launcher was killed; its children died with it
             continue
         if nodes is None:
             starting = True
         else:
-            names.update(name for name, pid in nodes if process_alive(pid))
+            names.update(name for name, pid in nodes if process_running(pid))
     return None if starting else names
