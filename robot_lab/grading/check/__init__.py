@@ -6,7 +6,7 @@ otherwise raises CheckError: what was expected, what was seen, what to try. A fa
 check is a failing cell, so nbval fails with it. Checks return nothing: a check cell's
 output is only its ✓ lines, the same on every run (nbval compares it).
 
-One module per thing checked (`graph`, `parameters`, `package`, `output`, `description`,
+One module per thing checked (`graph`, `parameters`, `package`, `output`, `description`, `sim`,
 `tf2`, `unit_tests` with its pytest plugin `wrong_node`; `base` holds the error and the
 bounded wait);
 notebooks use them all as `check.<name>`. The grader loads this package afresh from the
@@ -62,6 +62,7 @@ from robot_lab.grading.check.parameters import (
     param_file_accepted,
     param_refused,
 )
+from robot_lab.grading.check.sim import bridged, gazebo_tags, reacts_to_scan
 from robot_lab.grading.check.tf2 import (
     echo_prints,
     follows,
@@ -76,6 +77,7 @@ __all__ = [
     'answer_is',
     'answered',
     'bag_contains',
+    'bridged',
     'command_drives',
     'command_prints',
     'echo_prints',
@@ -84,6 +86,7 @@ __all__ = [
     'first_time',
     'follows',
     'full_marks',
+    'gazebo_tags',
     'graph_matches',
     'launch_file_nodes',
     'logs_contain',
@@ -101,6 +104,7 @@ __all__ = [
     'param_refused',
     'plot_shows',
     'point_in_frame',
+    'reacts_to_scan',
     'readme_explains',
     'responds',
     'setup_py',
