@@ -28,6 +28,11 @@ def _sim_ns(message: dict[str, object]) -> int:
     return int(sim['sec']) * 1_000_000_000 + int(sim['nsec'])
 
 
+def _ns(stamp: object) -> int:
+    assert isinstance(stamp, dict)
+    return int(stamp['sec']) * 1_000_000_000 + int(stamp['nsec'])
+
+
 def _messages(topic: str, count: int) -> list[dict[str, object]]:
     """The next `count` messages the simulator publishes on its own (gz) `topic`."""
     connection = connect()
@@ -65,6 +70,7 @@ def test_without_r_it_waits_paused_and_says_how_to_start_it(paused_world: Proc) 
     assert [_sim_ns(c) for c in clocks] == [0, 0, 0]
     stats = _messages('/world/room/stats', 2)
     assert all(s['paused'] is True and s['iterations'] == 0 for s in stats)
+    assert all(_ns(s['real_time']) == 0 for s in stats)  # Gazebo's real time: running only
 
     done = subprocess.run([str(BIN / 'gz'), *shlex.split(command)[1:]], capture_output=True,
                           text=True, timeout=30, check=False)
@@ -73,6 +79,15 @@ def test_without_r_it_waits_paused_and_says_how_to_start_it(paused_world: Proc) 
     first_ns = _sim_ns(_messages('/clock', 1)[0])
     later = _messages('/world/room/stats', 2)[-1]
     assert later['paused'] is False and _sim_ns(later) > first_ns  # time moves now
+
+    # a reset while running rewinds real time with sim time (Gazebo's rewind), and the
+    # schedule starts afresh from it: no burst of steps the old one still owed
+    while int(str((before := _messages('/world/room/stats', 1)[0])['iterations'])) < 500:
+        pass
+    world_control(reset=True)
+    after = _messages('/world/room/stats', 1)[0]
+    assert _ns(after['real_time']) < _ns(before['real_time'])
+    assert int(str(after['iterations'])) <= _ns(after['real_time']) / 1e6 + 50, after
     world_control(pause=True)
 
 
