@@ -39,7 +39,7 @@ def _messages(topic: str, count: int) -> list[dict[str, object]]:
     assert connection is not None
     try:
         connection.send({'op': 'sub', 'topic': topic})
-        out = []
+        out: list[dict[str, object]] = []
         while len(out) < count:
             frame = connection.receive()
             assert frame is not None, 'the simulator closed the connection'
