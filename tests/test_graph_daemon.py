@@ -231,8 +231,8 @@ def test_a_dead_node_is_no_longer_expected(start) -> None:  # type: ignore[no-un
     launch.wait_for(r'Robot node started', timeout=30)
     assert _wait(lambda: len(expected_nodes(graph_dir())) == 3)
     assert _daemon_children(launch.popen.pid) == []  # ROBOT_LAB_NO_DAEMON=1
-    sensor = next(p for p in psutil.Process(launch.popen.pid).children()
-                  if '__node:=sensor' in p.cmdline())
+    sensor = next(p for p in psutil.Process(launch.popen.pid).children(recursive=True)
+                  if '__node:=sensor' in p.cmdline())  # a forked node: the fork server's
     sensor.kill()
     launch.wait_for(r'\[sensor_node-1\]: process has died', timeout=10)
     assert expected_nodes(graph_dir()) == {'/controller', '/robot'}

@@ -6,8 +6,10 @@ A node goes through the server only if it is a package's `#!<this interpreter>` 
 kit's nodes and a student's ament_python ones alike), not run through a shell, and its
 environment matches the server's in everything the interpreter reads when it starts (only
 ROS's own variables, read at `rclpy.init`, may differ). Anything else, and any failure of
-the server, is exec'd as before. A forked node is this process's child, as an exec'd one
-is; the handle waits for it through a pidfd (polling where there is none), in Popen's terms.
+the server, is exec'd as before. A forked node is the server's child: the server sends its
+exit status over the socket, and the handle (Popen's terms) reports it as Popen would an
+exec'd child's; it signals the node through a pidfd (by pid where there is none: the node
+is not reaped, so its pid is not reused, until the server has sent its status).
 
 The server is started before the first node and imports what the nodes will; every node
 waits for it rather than being exec'd meanwhile. For the kit's own package it starts before
@@ -21,7 +23,8 @@ three bare rclpy processes: exec 1.35-1.51x; the first node exec'd while the ser
 and the rest forked 1.02-1.07x, 78 MB USS; all forked 0.78-0.80x, 61 MB. With two busy
 loops: exec 1.37-1.90x, first exec'd 1.76x, all forked 1.27x. An exec'd node importing
 beside the server takes CPU from it, and the first Status needs all three nodes.
-What still differs from exec: forked nodes share the server's str hash seed.
+What still differs from exec: forked nodes share the server's str hash seed, and their
+parent is the server (`ps`, psutil's children(): the launcher's grandchildren).
 """
 
 from __future__ import annotations
@@ -39,7 +42,7 @@ from collections.abc import Mapping
 from typing import IO, Any
 
 from robot_lab.launch.plan import ProcessSpec
-from robot_lab.linux import capabilities
+from robot_lab.linux import capabilities, procfs
 from robot_lab.linux.pidfd import open_pidfd, send_signal
 from robot_lab.process import spawn
 
@@ -53,8 +56,8 @@ EARLY_PACKAGES = frozenset({'robot_lab'})
 _RUNTIME = ('ROS_', 'RMW_', 'RCUTILS_', 'RCL_', 'FASTRTPS_', 'FASTDDS_', 'AMENT_', 'COLCON_')
 _READY_TIMEOUT = 120.0  # the server's imports, on a host as loaded as a class hub gets
 _MESSAGE = 1 << 16
-_POLL = 0.05  # a forked node's exit, looked for without a pidfd
 _REPLY_TIMEOUT = 30.0  # a loaded host's fork takes well under a second
+_GONE_POLL = 0.05  # a node whose server has ended, looked for without a pidfd
 
 
 def enabled(environ: Mapping[str, str] | None = None) -> bool:
@@ -109,36 +112,25 @@ def interpreter_of(spec: ProcessSpec) -> str | None:
 
 
 class ForkedProcess:
-    """A node the server forked as this process's child: the parts of subprocess.Popen the
-    supervisor uses, waiting through a pidfd (never a reused pid), or where pidfds are
-    missing (Linux before 5.3, a seccomp filter, `pidfd` switched off) by polling
-    waitid: the child is ours, so its pid is ours until we reap it."""
+    """A node the server forked: the parts of subprocess.Popen the supervisor uses. Its
+    exit status comes from the server's socket (`ForkServer.pump`)."""
 
-    def __init__(self, pid: int, args: list[str], stdout: IO[bytes],
+    def __init__(self, server: ForkServer, pid: int, args: list[str], stdout: IO[bytes],
                  stderr: IO[bytes]) -> None:
         self.pid = pid
         self.args = args
         self.stdout: IO[bytes] | None = stdout
         self.stderr: IO[bytes] | None = stderr
         self.returncode: int | None = None
-        self._pidfd = open_pidfd(pid)
+        self._server = server
+        self._pidfd: int | None = None
+        with contextlib.suppress(ProcessLookupError):  # gone already: its status will say
+            self._pidfd = open_pidfd(pid)
 
     def poll(self) -> int | None:
         if self.returncode is None:
-            try:
-                result = (os.waitid(os.P_PID, self.pid, os.WEXITED | os.WNOHANG)
-                          if self._pidfd is None else
-                          os.waitid(os.P_PIDFD, self._pidfd, os.WEXITED | os.WNOHANG))
-            except ChildProcessError:  # reaped by someone else: as Popen, code 0
-                result, self.returncode = None, 0
-            except OSError:  # Linux 5.3 has pidfd_open, not waitid(P_PIDFD): poll by pid
-                assert self._pidfd is not None
-                os.close(self._pidfd)
-                self._pidfd = None
-                return self.poll()
-            if result is not None and result.si_pid:
-                exited = result.si_code == os.CLD_EXITED
-                self.returncode = result.si_status if exited else -result.si_status
+            self._server.pump(0.0)
+            self.returncode = self._server.exit_code(self.pid, self._pidfd)
             if self.returncode is not None and self._pidfd is not None:
                 os.close(self._pidfd)
                 self._pidfd = None
@@ -150,31 +142,42 @@ class ForkedProcess:
             left = None if deadline is None else deadline - time.monotonic()
             if left is not None and left <= 0:
                 raise subprocess.TimeoutExpired(self.args, timeout or 0.0)
-            if self._pidfd is not None:
-                select.select([self._pidfd], [], [], left)
-            else:  # no pidfd: poll, as Popen.wait(timeout) does
-                time.sleep(_POLL if left is None else min(left, _POLL))
+            if self._server.error is None:
+                self._server.pump(left)  # until its exit status (or another message)
+            else:  # the server is gone: wait for the node to die with it
+                waited = [self._pidfd] if self._pidfd is not None else []
+                select.select(waited, [], [], _GONE_POLL if left is None
+                              else min(left, _GONE_POLL))
         return code
 
     def send_signal(self, sig: int) -> None:
         if self.poll() is None:
             if self._pidfd is not None:
                 send_signal(self._pidfd, sig)
-            else:  # not reaped yet: the pid is still this child's
-                os.kill(self.pid, sig)
+            else:  # not reaped until the server has sent its status: the pid is the node's
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(self.pid, sig)
 
     def kill(self) -> None:
         self.send_signal(signal.SIGKILL)
 
 
+def _gone(pid: int, pidfd: int | None) -> bool:
+    """Whether a node whose server has ended is gone (killed by its parent-death signal)."""
+    if pidfd is not None:
+        return bool(select.select([pidfd], [], [], 0)[0])
+    return not procfs.process_running(pid)  # a zombie until init reaps it: gone
+
+
 class ForkServer:
-    """One fork server for one launch, started from the supervisor's thread (the nodes it
-    forks are that thread's children, as exec'd ones are)."""
+    """One fork server for one launch, started from the supervisor's thread (its
+    parent-death signal, and so its nodes', is tied to that thread, as an exec'd node's)."""
 
     def __init__(self, env: Mapping[str, str]) -> None:
         self._env = _startup(env)
         self._ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         self._replies: list[dict[str, Any]] = []
+        self._exits: dict[int, int] = {}  # pid -> exit status, until its handle takes it
         self.error: str | None = None
         self._ready = False
         try:
@@ -187,6 +190,19 @@ class ForkServer:
     @property
     def pid(self) -> int:
         return self._proc.pid
+
+    def fileno(self) -> int:
+        """Readable when the server has sent something (an exit status): for a selector."""
+        return self._ours.fileno()
+
+    def exit_code(self, pid: int, pidfd: int | None) -> int | None:
+        """Node `pid`'s exit status once the server has sent it (taken: asked once), or,
+        the server gone, -SIGKILL once the node has died with it."""
+        if pid in self._exits:
+            return self._exits.pop(pid)
+        if self.error is not None and _gone(pid, pidfd):
+            return -signal.SIGKILL
+        return None
 
     def accepts(self, env: Mapping[str, str]) -> bool:
         return self.error is None and _startup(env) == self._env
@@ -215,7 +231,7 @@ class ForkServer:
             if 'error' in reply:
                 self.error = str(reply['error'])
             return None
-        return ForkedProcess(reply['pid'], list(spec.cmd), os.fdopen(out_r, 'rb'),
+        return ForkedProcess(self, reply['pid'], list(spec.cmd), os.fdopen(out_r, 'rb'),
                              os.fdopen(err_r, 'rb'))
 
     def _warm(self) -> bool:
@@ -241,7 +257,8 @@ class ForkServer:
         return self._replies.pop(0) if self._replies else {}
 
     def pump(self, timeout: float | None) -> None:
-        """Take the server's messages: readiness and replies (waiting up to timeout)."""
+        """Take the server's messages: readiness, replies, exit statuses (waiting up to
+        timeout for the first)."""
         while self.error is None:
             ready, _, _ = select.select([self._ours], [], [], timeout)
             if not ready:
@@ -252,7 +269,9 @@ class ForkServer:
                 self.error = 'the fork server ended'
                 return
             message = json.loads(data)
-            if 'ready' in message:
+            if 'exit' in message:
+                self._exits[int(message['exit'])] = int(message['code'])
+            elif 'ready' in message:
                 self._ready = True
             elif not self._ready:  # an error before it was ready: it cannot fork
                 self.error = str(message.get('error', 'not ready'))
@@ -268,7 +287,8 @@ class ForkServer:
         self._proc.wait()
 
     def close(self) -> None:
-        """The server exits once its socket closes (the nodes are ours, not its)."""
+        """The server exits once its socket closes (after its nodes: the supervisor
+        closes it once every node has ended; one left would die with the server)."""
         with contextlib.suppress(OSError):
             self._ours.close()
         try:

@@ -13,16 +13,19 @@ node's script as `python SCRIPT ARGS` would:
 - takes the node's stdin/stdout/stderr, cwd and environment (os.environ, so C sees it too),
   closes every other descriptor, and resets SIGINT/SIGTERM/SIGCHLD as a fresh process has
   them; it stays in the launcher's process group and session;
-- is the launcher's child, not the server's (clone with CLONE_PARENT): `ps`, its parent
-  pid, the launcher's wait for its exit status are an exec'd node's; and it dies with the
-  launcher (PR_SET_PDEATHSIG, tied to the launcher's thread as an exec'd node's is): no
-  node outlives its launcher, even after `kill -9`;
+- dies with the server (PR_SET_PDEATHSIG), which dies with the launcher: no node outlives
+  its launcher, even after `kill -9`;
 - exits as the interpreter would: the exit code of SystemExit, 1 after a traceback, or
   killed by SIGINT after an uncaught KeyboardInterrupt.
 
+A node is the server's child (a plain os.fork, linux/fork.py says why), so the server reaps
+it (woken by SIGCHLD, no thread: a thread would make the next fork unsafe) and sends its
+exit status to the launcher, which reports it as it would an exec'd child's.
+
 The server ignores SIGINT/SIGTERM (a terminal's Ctrl-C reaches the whole process group,
-and the nodes must outlive it to shut down cleanly) and answers each request with the
-node's pid; it exits when the launcher closes its socket. Run as
+and the nodes must outlive it to shut down cleanly). It answers each request with
+{"pid": N} and each exit with {"exit": N, "code": C} (C as Popen's returncode: negative for
+a signal), and exits when the launcher closes its socket. Run as
 `python -m robot_lab.launch.fork_server FD`, FD a SOCK_SEQPACKET socket to the launcher
 (robot_lab/launch/fork_client.py speaks to it).
 """
@@ -36,18 +39,19 @@ import importlib
 import io
 import json
 import os
+import select
 import signal
 import socket
 import sys
 import threading
 import traceback
 import types
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from importlib.machinery import SourceFileLoader
 from types import TracebackType
 from typing import Any
 
-from robot_lab.linux.clone import Forker, native_threads
+from robot_lab.linux.fork import fork, native_threads
 from robot_lab.linux.prctl import set_name, set_parent_death_signal, set_process_image
 
 __all__ = ['PRELOAD', 'main']
@@ -123,14 +127,14 @@ def _run_script(cmdline: list[str], script: str, argv: list[str]) -> int:
     return status
 
 
-def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
-    """In the forked child (the launcher's): turn into the node the request describes, run
-    it, exit."""
+def _become(request: dict[str, Any], fds: list[int], server: int) -> None:
+    """In the forked child: turn into the node the request describes, run it, exit."""
     code = 1
     try:
         set_parent_death_signal(signal.SIGKILL)
-        if os.getppid() != launcher:
-            os._exit(1)  # the launcher died before the parent-death signal was armed
+        if os.getppid() != server:
+            os._exit(1)  # the server died before the parent-death signal was armed
+        signal.set_wakeup_fd(-1)  # the server's, closed below
         for target, fd in enumerate(fds):
             os.dup2(fd, target)
         os.closerange(3, os.sysconf('SC_OPEN_MAX'))
@@ -153,20 +157,46 @@ def _become(request: dict[str, Any], fds: list[int], launcher: int) -> None:
 
 
 class _Server:
-    def __init__(self, sock: socket.socket, forker: Forker) -> None:
+    def __init__(self, sock: socket.socket, fork: Callable[[], int] = fork) -> None:
         self.sock = sock
-        self.forker = forker
+        self.fork = fork
         # The threads the preload left (this one, LTTng-UST's listeners): any other, from
         # Python or a library, could hold a lock the child would then never see released.
         self.threads = native_threads()
+        # SIGCHLD wakes the loop through this pipe (the C handler writes to it at once).
+        self.wake, wake_w = os.pipe()
+        for fd in (self.wake, wake_w):
+            os.set_blocking(fd, False)
+        signal.set_wakeup_fd(wake_w)
+        signal.signal(signal.SIGCHLD, lambda *_: None)
 
     def send(self, message: dict[str, Any]) -> None:
         self.sock.send(json.dumps(message).encode())
 
     def serve(self) -> None:
+        """Fork and reap until the launcher closes its end; the nodes still running then
+        die with this process (their parent-death signal)."""
         self.send({'ready': os.getpid()})
-        while self.request():
-            pass
+        while True:
+            ready, _, _ = select.select([self.sock.fileno(), self.wake], [], [])
+            if self.wake in ready:
+                with contextlib.suppress(BlockingIOError):
+                    while os.read(self.wake, 4096):
+                        pass
+                self.reap()
+            if self.sock.fileno() in ready and not self.request():
+                return
+
+    def reap(self) -> None:
+        """Send the exit status of each child that has ended."""
+        while True:
+            try:
+                pid, status = os.waitpid(-1, os.WNOHANG)
+            except ChildProcessError:
+                return
+            if pid == 0:
+                return
+            self.send({'exit': pid, 'code': os.waitstatus_to_exitcode(status)})
 
     def request(self) -> bool:
         """Fork one node; False once the launcher has closed its end."""
@@ -177,10 +207,10 @@ class _Server:
             request = json.loads(data)
             if threading.active_count() != 1 or native_threads() != self.threads:
                 raise RuntimeError('the fork server has threads: forking it is unsafe')
-            launcher = os.getppid()
-            pid = self.forker.fork()
+            server = os.getpid()
+            pid = self.fork()
             if pid == 0:
-                _become(request, fds, launcher)
+                _become(request, fds, server)
             self.send({'pid': pid})
         except Exception as exc:  # the launcher execs the node instead
             self.send({'error': f'{type(exc).__name__}: {exc}'})
@@ -219,12 +249,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     sock = socket.socket(fileno=int(args[0]))
     try:
         set_process_image(list(sys.orig_argv), dict(os.environ))  # the kernel allows it
-        forker = Forker()
         preload()
     except Exception as exc:  # the launcher execs every node instead
         sock.send(json.dumps({'error': f'{type(exc).__name__}: {exc}'}).encode())
         return 1
-    _Server(sock, forker).serve()
+    _Server(sock).serve()
     return 0
 
 

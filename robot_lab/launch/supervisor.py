@@ -191,8 +191,11 @@ class Supervisor:
 
     def _next_timeout(self) -> float:
         live = [s for s in self._schedule if not s.cancelled]
-        # Without pidfds, exits are noticed by polling; keep that latency short.
-        cap = 0.5 if all(r.pidfd is not None for r in self.records if r.state == 'running') else 0.1
+        # Without pidfds, exits are noticed by polling; keep that latency short. A forked
+        # node's exit comes on the fork server's socket, while the server lives.
+        evented = self._forks is not None and self._forks.error is None
+        cap = 0.5 if all(r.pidfd is not None or (evented and isinstance(r.popen, ForkedProcess))
+                         for r in self.records if r.state == 'running') else 0.1
         if not live:
             return cap
         return max(0.0, min(cap, min(s.due for s in live) - time.monotonic()))
@@ -210,10 +213,21 @@ class Supervisor:
                 self._read(record, stream, key.fd)
             elif kind == 'exit':
                 self._reap(record)
+            elif kind == 'forks':
+                self._forks_message()
         for record in self.records:
             if record.state == 'running' and record.popen is not None \
                     and record.popen.poll() is not None:
                 self._reap(record)
+
+    def _forks_message(self) -> None:
+        """The fork server has sent exit statuses (taken here, reaped by `_wait`), or
+        ended: its socket is then read no more (its nodes died with it, see ForkedProcess)."""
+        assert self._forks is not None
+        self._forks.pump(0.0)
+        if self._forks.error is not None:
+            with contextlib.suppress(KeyError, ValueError):
+                self._selector.unregister(self._forks.fileno())
 
     def _drain_requests(self) -> None:
         with self._requests_lock:
@@ -303,6 +317,8 @@ class Supervisor:
                 if self._forks is not None:
                     self.output.launcher('DEBUG', 'launch',
                                          f'fork server [pid {self._forks.pid}] started {when}')
+                    self._selector.register(self._forks.fileno(), selectors.EVENT_READ,
+                                            ('forks', None, ''))
                 break
         if early is not None:
             early.discard()
@@ -343,8 +359,9 @@ class Supervisor:
             self._selector.register(pipe.fileno(), selectors.EVENT_READ, ('pipe', record, stream))
             record.open_streams += 1
         record.pidfd = None
-        with contextlib.suppress(OSError):  # no pidfd (or gone already): exits are polled
-            record.pidfd = open_pidfd(popen.pid)
+        if not isinstance(popen, ForkedProcess):  # whose exit comes from the fork server
+            with contextlib.suppress(OSError):  # no pidfd (or gone already): exits are polled
+                record.pidfd = open_pidfd(popen.pid)
         if record.pidfd is not None:
             self._selector.register(record.pidfd, selectors.EVENT_READ, ('exit', record, ''))
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')

@@ -41,13 +41,13 @@ class Capability(NamedTuple):
 
 
 CAPABILITIES: dict[str, Capability] = {c.name: c for c in (
-    Capability('fork_server', 'launch forks Python nodes from a warm server (clone)',
-               'execs each Python node (slower start, more memory)', 'clone:probe'),
+    Capability('fork_server', 'launch forks Python nodes from a warm server',
+               'execs each Python node (slower start, more memory)', 'fork:probe'),
     Capability('sock_diag', 'netlink sock_diag reads the host UDP socket table',
                'reads /proc/net/udp (can miss a socket while others come and go)',
                'sock_diag:probe'),
-    Capability('pidfd', 'pidfd_open waits for a forked node without a pid race',
-               'polls each forked node with waitpid every 50 ms', 'pidfd:probe'),
+    Capability('pidfd', 'pidfd_open: waits and signals without a pid race',
+               "polls each exec'd node with waitpid every 100 ms", 'pidfd:probe'),
     Capability('namespaces', 'unshare: user, mount, PID, network and IPC namespaces',
                'refuses to grade, saying why and how (--no-sandbox: no containment)',
                'namespaces:probe'),

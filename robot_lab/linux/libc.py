@@ -10,16 +10,15 @@ import ctypes
 import os
 import threading
 
-__all__ = ['check', 'holding_gil', 'libc', 'load_global', 'loaded']
+__all__ = ['check', 'libc', 'load_global', 'loaded']
 
 _lock = threading.Lock()
 _libc: ctypes.CDLL | None = None
-_pylibc: ctypes.PyDLL | None = None
 _failed: OSError | None = None
 
 
 def _load() -> None:
-    global _libc, _pylibc, _failed
+    global _libc, _failed
     with _lock:
         if _libc is not None or _failed is not None:
             return
@@ -34,14 +33,11 @@ def _load() -> None:
 
                 name = find_library('c') or name
                 library = ctypes.CDLL(name, use_errno=True)
-            pylibrary = ctypes.PyDLL(name, use_errno=True)  # holds the GIL across a call
             library.sbrk.restype = ctypes.c_void_p
-            library.pthread_self.restype = ctypes.c_void_p
-            pylibrary.syscall.restype = ctypes.c_long
         except (OSError, AttributeError) as exc:
             _failed = OSError(f'cannot load the C library: {exc}')
             return
-        _pylibc, _libc = pylibrary, library
+        _libc = library
 
 
 def libc() -> ctypes.CDLL:
@@ -51,13 +47,6 @@ def libc() -> ctypes.CDLL:
         if _libc is None:
             raise _failed or OSError('no C library')
     return _libc
-
-
-def holding_gil() -> ctypes.PyDLL:
-    """The C library through a handle whose calls keep the GIL (as os.fork does)."""
-    libc()
-    assert _pylibc is not None
-    return _pylibc
 
 
 def loaded() -> ctypes.CDLL | None:

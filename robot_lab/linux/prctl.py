@@ -13,14 +13,15 @@ from robot_lab.linux import capabilities, procfs
 from robot_lab.linux.libc import check, libc, loaded
 
 __all__ = ['PR_SET_DUMPABLE', 'PR_SET_NAME', 'PR_SET_NO_NEW_PRIVS', 'PR_SET_PDEATHSIG', 'probe',
-           'set_dumpable', 'set_name', 'set_no_new_privs', 'set_parent_death_signal',
-           'set_process_image']
+           'process_image_probe', 'set_dumpable', 'set_name', 'set_no_new_privs',
+           'set_parent_death_signal', 'set_process_image']
 
 PR_SET_PDEATHSIG = 1
 PR_SET_DUMPABLE = 4
 PR_SET_NAME = 15
 PR_SET_MM = 35
 PR_SET_MM_MAP = 14
+PR_SET_MM_MAP_SIZE = 15
 PR_SET_NO_NEW_PRIVS = 38
 _KEEP: list[Any] = []  # a process image's argv/environ block lives as long as the process
 
@@ -68,6 +69,18 @@ class _MmMap(ctypes.Structure):
 
 def _block(parts: Sequence[str]) -> bytes:
     return b''.join(os.fsencode(p) + b'\0' for p in parts)
+
+
+def process_image_probe() -> str | None:
+    """The kernel lets a process set its own image (asks only for struct prctl_mm_map's
+    size, changing nothing)."""
+    size = ctypes.c_uint()
+    if libc().prctl(PR_SET_MM, PR_SET_MM_MAP_SIZE, ctypes.byref(size), 0, 0) != 0:
+        return (f'prctl(PR_SET_MM_MAP): {os.strerror(ctypes.get_errno())} (a kernel '
+                'without CONFIG_CHECKPOINT_RESTORE)')
+    if size.value != ctypes.sizeof(_MmMap):
+        return f'prctl(PR_SET_MM_MAP): a struct of {size.value} bytes, not {ctypes.sizeof(_MmMap)}'
+    return None
 
 
 def set_process_image(cmdline: Sequence[str], environ: Mapping[str, str]) -> None:
