@@ -10,7 +10,9 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+import threading
 from pathlib import Path
+from typing import Any
 
 import pytest
 import rclpy.time
@@ -331,6 +333,30 @@ def test_buffer_debug_tuple_timeout_and_transform() -> None:
     point.point.x = 2.0
     moved = buffer.transform(point, 'world')
     assert (moved.header.frame_id, moved.point.x) == ('world', 3.0)
+
+
+def test_a_waiting_lookup_wakes_when_its_transform_arrives() -> None:
+    """The wait is on a condition set_transform notifies, not a poll: the transform is
+    set only once the waiter has checked (under the condition's lock), so the waiter
+    gets it by the notify; without one it would sit out its 60 s."""
+    checked = threading.Event()
+
+    class Watched(Buffer):
+        def can_transform_core(self, *args: Any) -> Any:
+            result = super().can_transform_core(*args)
+            checked.set()
+            return result
+
+    buffer = Watched()
+    got: list[TransformStamped] = []
+    waiter = threading.Thread(target=lambda: got.append(buffer.lookup_transform(
+        'world', 'robot', T(0), timeout=Duration(seconds=60.0))), daemon=True)
+    waiter.start()
+    assert checked.wait(10.0)
+    buffer.set_transform(tf('world', 'robot', 1.0, x=1.0), 'u')
+    waiter.join(10.0)
+    assert not waiter.is_alive()
+    assert xyz(got[0]) == (1.0, 0.0, 0.0)
 
 
 def test_the_frames_picture_names_every_frame_without_graphviz() -> None:

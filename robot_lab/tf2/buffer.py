@@ -1,16 +1,18 @@
 """tf2_ros's Buffer: the BufferCore plus ROS time, waits and the `tf2_frames` service
 (tf2_ros_py/tf2_ros/buffer.py and buffer_interface.py, with their signatures).
 
-A lookup with a timeout re-checks every 20 ms on the caller's thread, as upstream does (so
-a node's own executor thread must not be the one waiting: the listener's callbacks run in a
-reentrant group, or the tutorials' timer would block them). `wait_for_transform_async`
-resolves a Future when new data makes the transform possible.
+A lookup with a timeout waits on the caller's thread, as upstream's does (so a node's own
+executor thread must not be the one waiting: the listener's callbacks run in a reentrant
+group, or the tutorials' timer would block them). Upstream re-checks every 20 ms; here the
+wait is on a condition each new transform notifies, so an answer comes as soon as the data
+does and a long wait costs no CPU. The timeout is still measured on the system clock, and a
+jump back of over 3 s (a bag looping) still ends it. `wait_for_transform_async` resolves a
+Future when new data makes the transform possible.
 """
 
 from __future__ import annotations
 
 import threading
-import time as _time
 from collections.abc import Callable
 from copy import deepcopy
 from typing import Any, ClassVar
@@ -161,6 +163,7 @@ class Buffer(BufferCore, BufferInterface):
     service answers the frames as YAML, and a jump back in time clears the buffer."""
 
     def __init__(self, cache_time: Duration | None = None, node: Any = None) -> None:
+        self._new_data = threading.Condition()  # notified for every transform set
         BufferCore.__init__(self, cache_time)
         BufferInterface.__init__(self)
         self._new_data_callbacks: list[Callable[[], None]] = []
@@ -188,11 +191,27 @@ class Buffer(BufferCore, BufferInterface):
 
     def set_transform(self, transform: Any, authority: str) -> None:
         super().set_transform(transform, authority)
-        self._call_new_data_callbacks()
+        self._new_data_arrived()
 
     def set_transform_static(self, transform: Any, authority: str) -> None:
         super().set_transform_static(transform, authority)
+        self._new_data_arrived()
+
+    def _new_data_arrived(self) -> None:
+        with self._new_data:
+            self._new_data.notify_all()
         self._call_new_data_callbacks()
+
+    def _wait_until(self, ready: Callable[[], bool], seconds_left: Callable[[], float]) -> None:
+        """Until `ready()`, re-checked whenever a transform is set, or `seconds_left()` is
+        no longer positive. `ready` runs under the condition's lock, so a transform set
+        between a check and the wait still wakes it."""
+        with self._new_data:
+            while not ready():
+                left = seconds_left()
+                if left <= 0:
+                    return
+                self._new_data.wait(left)
 
     def _call_new_data_callbacks(self) -> None:
         if not self._new_data_callbacks:
@@ -239,16 +258,22 @@ class Buffer(BufferCore, BufferInterface):
         return self.lookup_transform_full_core(target_frame, target_time, source_frame,
                                                source_time, fixed_frame)
 
-    @staticmethod
-    def _wait(check: Callable[[], Any], timeout: Duration) -> None:
-        """Re-check every 20 ms until `timeout` (on the system clock, as upstream)."""
+    def _wait(self, check: Callable[[], tuple[int, str]], timeout: Duration) -> None:
+        """Until `check()` succeeds or `timeout` passes on the system clock, as upstream's
+        loop; a jump back of over 3 s ends it (upstream: big jumps are likely bag loops)."""
         if timeout == Duration():
             return
         clock = Clock()
         start = clock.now()
-        while (clock.now() < start + timeout and not check()[0]
-               and clock.now() + Duration(seconds=3.0) >= start):
-            _time.sleep(0.02)
+        end = start + timeout
+
+        def seconds_left() -> float:
+            now = clock.now()
+            if now + Duration(seconds=3.0) < start:
+                return 0.0
+            return float((end - now).nanoseconds) / 1e9
+
+        self._wait_until(lambda: bool(check()[0]), seconds_left)
 
     def can_transform(self, target_frame: str, source_frame: str, time: Any,
                       timeout: Duration = NO_WAIT, return_debug_tuple: bool = False) -> Any:

@@ -3,9 +3,10 @@ process over the `tf2_msgs/action/LookupTransform` action (tf2_ros/src/buffer_se
 buffer_server_main.cpp; tf2_ros_py/tf2_ros/buffer_client.py).
 
 The server (node `tf_buffer`, parameter `buffer_size`, default 120 s) answers a goal at once
-when the transform is there or the goal's timeout is zero, else re-checks every 10 ms until
-it is or the timeout passes. An error travels in the result's `error` (TF2Error), and the
-client raises the matching exception with the server's text.
+when the transform is there or the goal's timeout is zero, else waits until it is or the
+timeout passes (upstream re-checks every 10 ms; here each new transform wakes the wait).
+An error travels in the result's `error` (TF2Error), and the client raises the matching
+exception with the server's text.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from typing import Any
 from rclpy.duration import Duration
 from rclpy.time import Time
 
-from robot_lab.tf2.buffer import NO_WAIT, BufferInterface
+from robot_lab.tf2.buffer import NO_WAIT, Buffer, BufferInterface
 from robot_lab.tf2.exceptions import (
     ConnectivityException,
     ExtrapolationException,
@@ -37,13 +38,12 @@ _CODES: tuple[tuple[type[TransformException], str], ...] = (
     (ExtrapolationException, 'EXTRAPOLATION_ERROR'),
     (InvalidArgumentException, 'INVALID_ARGUMENT_ERROR'), (TimeoutException, 'TIMEOUT_ERROR'),
     (TransformException, 'TRANSFORM_ERROR'))
-CHECK_PERIOD = 0.01  # BufferServer's default check_period
 
 
 class BufferServer:
     """tf2_ros::BufferServer: the LookupTransform action over `buffer`."""
 
-    def __init__(self, buffer: Any, node: Any, ns: str = 'tf2_buffer_server') -> None:
+    def __init__(self, buffer: Buffer, node: Any, ns: str = 'tf2_buffer_server') -> None:
         from rclpy.action.server import ActionServer, GoalResponse
         from rclpy.callback_groups import ReentrantCallbackGroup
         from tf2_msgs.action import LookupTransform
@@ -85,11 +85,10 @@ class BufferServer:
             result = self._result(goal)
             handle.succeed()
             return result
-        while not self._can(goal):
-            if time.monotonic() > end:
-                handle.abort()
-                return self._action.Result()
-            time.sleep(CHECK_PERIOD)
+        self.buffer._wait_until(lambda: self._can(goal), lambda: end - time.monotonic())
+        if not self._can(goal):
+            handle.abort()
+            return self._action.Result()
         result = self._result(goal)
         if result.error.error:
             handle.abort()
@@ -206,7 +205,6 @@ class BufferClient(BufferInterface):
 def main(argv: Sequence[str] | None = None) -> None:
     """The buffer_server program: node `tf_buffer`, a listener, the action server."""
     from robot_lab.nodes.base import run_node
-    from robot_lab.tf2.buffer import Buffer
     from robot_lab.tf2.listener import TransformListener
     from robot_lab.tf2.static_publisher import version_line
 
