@@ -408,6 +408,9 @@ class SceneView(LiveView):
             displays = list(self.displays.values())
             poses = self.tree.resolve(fixed) if (tf_dirty or every_pose) else None
             version = self.tree.version
+            # the tree's edges change under _on_tf: copied here, under the lock
+            tree = (self.tree.tree() if poses is not None
+                    and (full or version != self._sent_version) else None)
         if full:
             msg.update(kind='reset', fixed=fixed, displays=[d.spec() for d in displays])
         else:
@@ -429,8 +432,8 @@ class SceneView(LiveView):
             if changed:
                 msg['poses'] = {k: None if v is None else list(v) for k, v in changed.items()}
                 self._sent_poses = poses
-            if full or version != self._sent_version:
-                msg['tree'] = self.tree.tree()
+            if tree is not None:
+                msg['tree'] = tree
                 self._sent_version = version
         data = {}
         for display in displays:
@@ -508,7 +511,9 @@ class SceneView(LiveView):
             self._node.destroy_node()
 
     def __repr__(self) -> str:
-        return (f'<SceneView fixed_frame={self._fixed!r}: {len(self.tree.frames())} frames, '
+        with self._lock:
+            frames = len(self.tree.frames())
+        return (f'<SceneView fixed_frame={self._fixed!r}: {frames} frames, '
                 f'displays {", ".join(self.displays)}>')
 
 
