@@ -219,6 +219,22 @@ def test_a_broadcasters_mistakes_are_named(spin: Callable[[Node], Node], mistake
             check.transform_broadcast('odom', 'base_link', timeout=10)
 
 
+@pytest.mark.no_ros
+@pytest.mark.parametrize(('roll', 'pitch'), [(0.0, 0.0), (0.3, 0.0), (0.3, 0.2), (0.6, 0.5)])
+@pytest.mark.parametrize('yaw', [1.0, -2.5, 3.0])
+def test_the_heading_is_the_yaw_even_when_the_base_tilts(roll: float, pitch: float,
+                                                         yaw: float) -> None:
+    """A base on a slope (roll and pitch) faces its yaw, as tf2_echo prints it; the planar
+    2·atan2(z, w) is 0.16 rad off at roll 0.6, pitch 0.5."""
+    from geometry_msgs.msg import Quaternion
+
+    from robot_lab.grading.check.description import _yaw
+    from robot_lab.tf2.linear_math import quaternion_from_euler
+
+    x, y, z, w = quaternion_from_euler(roll, pitch, yaw)
+    assert _yaw(Quaternion(x=x, y=y, z=z, w=w)) == pytest.approx(yaw, abs=1e-9)
+
+
 def _static(parent: str, child: str, x: float, z: float) -> TransformStamped:
     t = TransformStamped()
     t.header.frame_id, t.child_frame_id = parent, child

@@ -27,6 +27,7 @@ from robot_lab.grading.check.base import (
     passed,
     student_frames,
 )
+from robot_lab.tf2.linear_math import euler_from_quaternion
 
 __all__ = ['point_in_frame', 'transform_broadcast', 'translation_is', 'urdf_tree',
            'xacro_expands']
@@ -166,6 +167,13 @@ def _wrap(angle: float) -> float:
     return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
+def _yaw(q: Any) -> float:
+    """The heading of a rotation (geometry_msgs Quaternion): the yaw tf2_echo prints, so
+    a base tilted by roll and pitch (a slope) still faces where its x axis points; the
+    planar 2·atan2(z, w) holds only when both are zero."""
+    return euler_from_quaternion((q.x, q.y, q.z, q.w))[2]
+
+
 def _heading_error(samples: list[tuple[float, float, float]]) -> float | None:
     """The largest angle between the yaw a transform says and the way the frame moved.
 
@@ -227,8 +235,8 @@ def transform_broadcast(parent: str, child: str, timeout: float = 5.0,
                             f'{t.header.stamp.nanosec:09d}): listeners drop it (TF_OLD_DATA) or '
                             'wait for it', 'stamp each transform as you send it: '
                             't.header.stamp = self.get_clock().now().to_msg()')
-                    yaw = 2.0 * math.atan2(q.z, q.w)
-                    samples.append((t.transform.translation.x, t.transform.translation.y, yaw))
+                    samples.append((t.transform.translation.x, t.transform.translation.y,
+                                    _yaw(q)))
                 # long enough for a heading built from the whole angle to show (0.5 rad/s)
                 if (len(samples) >= 10 and time.monotonic() > start + 1.5) \
                         or time.monotonic() > stop:
