@@ -150,6 +150,8 @@ class Trial:
         self.failure = ''
         self.connection: Connection | None = None
         self.runs = 0
+        # GZ_PARTITION of the trial's simulator: give it to a bridge the caller starts
+        self.partition = ''
         self._finalizer: weakref.finalize[Any, Any] | None = None
 
     # -- life ------------------------------------------------------------------------
@@ -187,8 +189,8 @@ class Trial:
                     'iterations': 0, 'speed': self.speed}
             spec_file = Path(self.folder) / 'trial.json'
             spec_file.write_text(json.dumps(spec))
-            env = ros_environment({'GZ_PARTITION': f'robot_lab_trial_{os.getpid()}_'
-                                                   f'{next(_COUNTER)}',
+            self.partition = f'robot_lab_trial_{os.getpid()}_{next(_COUNTER)}'
+            env = ros_environment({'GZ_PARTITION': self.partition,
                                    'ROS_DOMAIN_ID': str(self.session.domain_id)})
             self.env = env
             referee = _Child([sys.executable, '-m', 'robot_lab.sim.referee', str(spec_file)],

@@ -11,9 +11,9 @@ it runs once its stage is done: 'files' (the package's files), 'build' (colcon),
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal, TypeVar
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 if TYPE_CHECKING:
     from robot_lab.grading.package.rubric import RubricCheck
@@ -24,6 +24,9 @@ __all__ = ['STAGES', 'RegisteredCheck', 'Stage', 'check_ids', 'register', 'regis
 Stage = Literal['files', 'build', 'run']
 STAGES: tuple[Stage, ...] = ('files', 'build', 'run')
 CheckFunction = Callable[['JobState', 'RubricCheck'], 'Verdict']
+# A rubric entry's options -> None, or (the option at fault ('' for the entry), what is
+# wrong, how to fix it) for load_rubric's one-line error at that option's line.
+OptionsCheck = Callable[[Mapping[str, Any]], 'tuple[str, str, str] | None']
 F = TypeVar('F', bound=CheckFunction)
 _CHECKS_PACKAGE = 'robot_lab.grading.package.checks'
 _REGISTRY: dict[str, RegisteredCheck] = {}
@@ -34,10 +37,13 @@ class RegisteredCheck:
     id: str
     stage: Stage
     run: CheckFunction
+    validate: OptionsCheck | None = None
 
 
-def register(check_id: str, stage: Stage) -> Callable[[F], F]:
-    """Register the decorated function as the check `check_id`, scored after `stage`."""
+def register(check_id: str, stage: Stage,
+             validate: OptionsCheck | None = None) -> Callable[[F], F]:
+    """Register the decorated function as the check `check_id`, scored after `stage`;
+    `validate` judges a rubric entry's options when the rubric is loaded."""
     if stage not in STAGES:
         raise ValueError(f'stage {stage!r} is not one of {STAGES}')
 
@@ -45,7 +51,7 @@ def register(check_id: str, stage: Stage) -> Callable[[F], F]:
         known = _REGISTRY.get(check_id)
         if known is not None and known.run is not func:
             raise ValueError(f'check {check_id!r} is registered twice')
-        _REGISTRY[check_id] = RegisteredCheck(check_id, stage, func)
+        _REGISTRY[check_id] = RegisteredCheck(check_id, stage, func, validate)
         return func
 
     return decorate

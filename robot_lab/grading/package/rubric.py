@@ -15,7 +15,7 @@ from typing import Any
 import yaml
 
 from robot_lab.errors import RobotLabError
-from robot_lab.grading.package.registry import check_ids
+from robot_lab.grading.package.registry import registered_checks
 
 __all__ = ['Limits', 'Rubric', 'RubricCheck', 'load_rubric', 'rubric_path']
 
@@ -72,15 +72,33 @@ def rubric_path(lab: str) -> Path:
     return path
 
 
-def _fail(path: Path, message: str, fix: str) -> RobotLabError:
-    return RobotLabError(message, file=path, fix=fix)
+def _fail(path: Path, message: str, fix: str, line: int | None = None) -> RobotLabError:
+    return RobotLabError(message, file=path, line=line, fix=fix)
+
+
+def _entry_lines(text: str) -> list[dict[str, int]]:
+    """Per entry of `checks:`, the line of each of its keys and ('') of the entry itself."""
+    try:
+        root = yaml.compose(text)
+    except yaml.YAMLError:
+        return []
+    if not isinstance(root, yaml.MappingNode):
+        return []
+    for key, value in root.value:
+        if key.value == 'checks' and isinstance(value, yaml.SequenceNode):
+            return [{'': item.start_mark.line + 1,
+                     **({str(k.value): k.start_mark.line + 1 for k, _ in item.value}
+                        if isinstance(item, yaml.MappingNode) else {})}
+                    for item in value.value]
+    return []
 
 
 def load_rubric(path: str | Path) -> Rubric:
     """Read and validate a rubric file; errors name the file and the fix."""
     file = Path(path)
     try:
-        data = yaml.safe_load(file.read_text())
+        text = file.read_text()
+        data = yaml.safe_load(text)
     except OSError as err:
         raise _fail(file, f'cannot read the rubric: {err.strerror}',
                     'give the path of a rubric YAML file') from None
@@ -93,16 +111,25 @@ def load_rubric(path: str | Path) -> Rubric:
         raise _fail(file, 'a rubric is a mapping with a `checks:` list',
                     'copy a shipped rubric (robot_lab/grading/package/rubrics/) and edit it')
     checks = []
-    known = check_ids()
-    for item in data['checks']:
+    registered = registered_checks()
+    known = sorted(registered)
+    lines = _entry_lines(text)
+    for index, item in enumerate(data['checks']):
+        where = lines[index] if index < len(lines) else {}
+        at = where.get('')
         if not isinstance(item, dict) or item.get('id') not in known:
             got = item.get('id') if isinstance(item, dict) else item
-            raise _fail(file, f'unknown check {got!r}', f'use one of: {", ".join(known)}')
+            raise _fail(file, f'unknown check {got!r}', f'use one of: {", ".join(known)}', at)
         points = item.get('points', 1)
         if not isinstance(points, int | float) or points < 0:
             raise _fail(file, f'check {item["id"]}: points must be a number >= 0',
-                        'write e.g. `points: 2`')
+                        'write e.g. `points: 2`', where.get('points', at))
         options = {k: v for k, v in item.items() if k not in ('id', 'name', 'points')}
+        validate = registered[item['id']].validate
+        problem = validate(options) if validate is not None else None
+        if problem is not None:
+            key, what, fix = problem
+            raise _fail(file, f'check {item["id"]}: {what}', fix, where.get(key, at))
         checks.append(RubricCheck(item['id'], str(item.get('name', item['id'])),
                                   float(points), options))
     raw_limits = data.get('limits') or {}

@@ -1,0 +1,77 @@
+"""The package grader's `sim_behaviour` check (issue 50, Deliver 7): the student's controller
+drives a robot in the kit's simulator, graded by the simulator's ground truth.
+
+The fixture, tests/data/sim_controller/wall_stopper, is the Module 2 exercise handed in:
+a controller against /scan with a launch file that sets use_sim_time. One class run grades
+it and a copy that never stops, on a wall, in two parallel jobs; the rubric's options are
+validated on load, each error at the option's own line.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+from conftest import REPO
+
+FIXTURE = REPO / 'tests' / 'data' / 'sim_controller' / 'wall_stopper'
+
+
+@pytest.mark.no_ros
+@pytest.mark.parametrize(('old', 'new', 'says'), [
+    ('tolerance: 0.05', 'tolerance: -1',
+     r':45: check sim_behaviour: tolerance must be a number > 0 \(got -1\) — fix: write e\.g\. '
+     r'`tolerance: 0\.05`$'),
+    ('behaviour: stop_before_obstacle', 'behaviour: follow_wall',
+     r":43: check sim_behaviour: behaviour 'follow_wall' is not one the kit grades — fix: "
+     r'write `behaviour: stop_before_obstacle`$'),
+    ('target: 0.3', 'targte: 0.3', r':44: check sim_behaviour: unknown option\(s\) targte'),
+    ('obstacle_distance: 1.0', 'obstacle_distance: 0.2',
+     r':47: check sim_behaviour: obstacle_distance must be more than target'),
+])
+def test_a_wrong_option_is_named_at_its_line(tmp_path: Path, old: str, new: str,
+                                             says: str) -> None:
+    from robot_lab.errors import RobotLabError
+    from robot_lab.grading.package.rubric import load_rubric, rubric_path
+
+    text = rubric_path('ch8-sim').read_text()
+    assert old in text
+    wrong = tmp_path / 'rubric.yaml'
+    wrong.write_text(text.replace(old, new))
+    with pytest.raises(RobotLabError) as caught:
+        load_rubric(wrong)
+    assert str(caught.value).startswith(str(wrong))
+    assert re.search(says, str(caught.value)), str(caught.value)
+
+
+@pytest.mark.timeout(300)
+def test_a_class_run_grades_the_behaviour_in_the_simulator(tmp_path: Path) -> None:
+    """Real jobs: colcon build, the student's launch file, the simulator, the referee."""
+    from robot_lab.grading.package.grade import grade_class, resolve_rubric
+
+    shutil.copytree(FIXTURE, tmp_path / 'class' / 'ada')
+    bob = tmp_path / 'class' / 'bob'
+    shutil.copytree(FIXTURE, bob)
+    launch = bob / 'launch' / 'stopper.launch.py'  # never stops, on the wall clock
+    launch.write_text(launch.read_text().replace(
+        "{'use_sim_time': True, 'stop_distance': 0.3}", "{'stop_distance': -5.0}"))
+    run = grade_class(tmp_path / 'class', resolve_rubric('ch8-sim', None), tmp_path / 'out',
+                      jobs=2, progress=False)
+    reports = {r.student: r for r in run.reports}
+    ada = {c.id: c for c in reports['ada'].checks}
+    assert reports['ada'].status == 'graded', reports['ada'].markdown()
+    assert {i: c.score for i, c in ada.items()} == {
+        'builds': 1, 'launch_file': 1, 'sim_behaviour': 4, 'readme': 1}, \
+        reports['ada'].markdown()
+    assert re.search(r'stopped 0\.(2[5-9]|3[0-5]) m from the obstacle at t=\d+\.\d s '
+                     r'\(sim time\) \(target 0\.30 ± 0\.05\)', ada['sim_behaviour'].output), \
+        ada['sim_behaviour'].output
+    bob_checks = {c.id: c for c in reports['bob'].checks}
+    sim = bob_checks['sim_behaviour']
+    assert reports['bob'].status == 'graded', reports['bob'].markdown()
+    assert sim.score == 0, sim.output
+    assert re.search(r'hit the obstacle at 0\.[23]\d m/s at t=\d+\.\d s \(sim time\); '
+                     r'/stopper runs without use_sim_time', sim.output), sim.output
+    assert 'slow down as the obstacle nears' in sim.output
