@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import subprocess
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from conftest import BIN, Proc
@@ -93,3 +94,24 @@ def test_an_unbridged_topic_gets_the_bridge_argument_that_would_bridge_it(
                     'with: ros2 run ros_gz_bridge parameter_bridge '
                     '/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan')
     assert bridge_hint('/no_such_topic') is None
+
+
+def test_create_spawns_an_sdf_model_from_a_file_and_refuses_another_world(
+        simulation: Proc, tmp_path: Path) -> None:
+    from robot_lab.sim.world import KIT_RESOURCES
+
+    model = KIT_RESOURCES / 'models' / 'box_obstacle' / 'model.sdf'
+    assert create_main(['-file', str(model), '-x', '1.5', '-y', '-0.5']) == 0  # its own name
+    simulation.wait_for(r"Spawned SDF model 'box_obstacle' at \[1.5, -0.5, 0.0\]")
+    crate = tmp_path / 'crate.sdf'
+    crate.write_text('<sdf version="1.9"><model name="crate"><link name="body"><collision '
+                     'name="c"><geometry><box><size>0.2 0.2 0.2</size></box></geometry>'
+                     '</collision></link></model></sdf>')
+    assert create_main(['-file', str(crate), '-name', 'crate_1', '-z', '0.5']) == 0
+    simulation.wait_for(r"Spawned SDF model 'crate_1'")
+    assert create_main(['-file', str(crate), '-name', 'crate_1']) == 1  # the name is taken
+    assert create_main(['-file', str(crate), '-name', 'crate_2', '-world', 'maze']) == 1
+    simulation.wait_for(r"no world 'maze' here: the simulation runs 'room'")
+    world = KIT_RESOURCES / 'worlds' / 'empty.sdf'
+    assert create_main(['-file', str(world)]) == 1  # a world is gz sim's, not create's
+    simulation.wait_for(r'no <sdf><model> in it')

@@ -296,3 +296,25 @@ def test_a_urdf_mesh_beside_its_file_collides(tmp_path: Path) -> None:
     sim.spawn(source.read_text(), 'block', (0.0, 0.0, 0.5), source=str(source))
     sim.step(500)
     assert sim.data.xpos[sim.model.body('block::base_link').id][2] == pytest.approx(0.1, abs=0.01)
+
+
+def test_a_dynamic_sdf_model_falls_and_rests_on_the_ground(tmp_path: Path) -> None:
+    """A model without <static> is dynamic (each link free), in a world file or spawned by
+    `create -file model.sdf`: dropped from 0.5 m, a 0.2 m crate comes to rest on the floor."""
+    crate = ('<model name="{}"><pose>0 0 9 0 0 0</pose><link name="body"><inertial><mass>'
+             '2</mass></inertial><collision name="c"><geometry><box><size>0.2 0.2 0.2</size>'
+             '</box></geometry></collision></link></model>')
+    world = tmp_path / 'drop.sdf'
+    world.write_text('<sdf version="1.9"><world name="drop"><include><uri>model://ground_plane'
+                     '</uri></include>' + crate.format('first').replace('0 0 9', '1 0 0.5')
+                     + '</world></sdf>')
+    sim = Simulation(world, warn=print)
+    # create's pose replaces the model's own (0 0 9), as gz-sim's create does
+    assert sim.spawn_model(f'<sdf version="1.9">{crate.format("second")}</sdf>', '',
+                           (-1.0, 0.0, 0.5)) == 'second'
+    sim.step(1500)
+    heights = [float(sim.data.xpos[sim.model.body(f'{n}::body').id][2])
+               for n in ('first', 'second')]
+    assert heights == pytest.approx([0.1, 0.1], abs=0.005)
+    with pytest.raises(SimulationError, match="'second' already exists"):
+        sim.spawn_model(f'<sdf version="1.9">{crate.format("second")}</sdf>')

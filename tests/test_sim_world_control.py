@@ -13,9 +13,11 @@ import shlex
 import subprocess
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
+import yaml
 from conftest import BIN, Proc
 
 from robot_lab.sim.control import world_control
@@ -141,3 +143,32 @@ def _call(client: Any, request: Any) -> Any:
     future.add_done_callback(lambda _: answered.set())
     assert answered.wait(timeout=20), 'no reply within 20 s'
     return future.result()
+
+
+def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
+                                                           tmp_path: Path) -> None:
+    """Upstream's `-param P` (the XML in the create node's parameter P, as a launch file's
+    `parameters=[{'robot_description': ...}]` gives it) and its ROS-parameter form
+    (`-p file:=... -p name:=...`, which wins over the flags)."""
+    from robot_lab.sim.sample_robot import diffbot_urdf
+
+    params = tmp_path / 'create.yaml'
+    params.write_text(yaml.safe_dump({'ros_gz_sim': {'ros__parameters': {
+        'robot_description': diffbot_urdf()}}}))
+
+    def create(*args: str) -> str:
+        done = subprocess.run([str(BIN / 'ros2'), 'run', 'ros_gz_sim', 'create', *args],
+                              capture_output=True, text=True, timeout=60, check=False)
+        assert done.returncode == 0, done.stdout + done.stderr
+        return done.stdout
+
+    assert 'Entity creation successful.' in create(
+        '-param', 'robot_description', '-name', 'by_param', '-z', '0.051',
+        '--ros-args', '--params-file', str(params))
+    paused_world.wait_for(r"Spawned 'by_param' \(\d+ links\) at \[0.0, 0.0, 0.051\]")
+    sdf = tmp_path / 'crate.sdf'
+    sdf.write_text('<sdf version="1.9"><model name="crate"><static>true</static><link '
+                   'name="l"/></model></sdf>')
+    create('-name', 'ignored', '--ros-args', '-p', f'file:={sdf}', '-p', 'name:=by_parameter',
+           '-p', 'x:=2.0')
+    paused_world.wait_for(r"Spawned SDF model 'by_parameter' at \[2.0, 0.0, 0.0\]")

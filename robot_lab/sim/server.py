@@ -128,12 +128,7 @@ class Server:
         elif op == 'create':
             reply: Frame = {'op': 'reply', 'id': frame.get('id'), 'ok': True}
             try:
-                robot = self.sim.spawn(str(frame['urdf']), str(frame['name']),
-                                       tuple(frame.get('xyz', (0, 0, 0))),
-                                       tuple(frame.get('rpy', (0, 0, 0))),
-                                       str(frame.get('source', 'robot_description')))
-                print(f'[Msg] Spawned {robot.name!r} ({len(robot.bodies)} links) at '
-                      f'{frame.get("xyz")}', flush=True)
+                self.create(frame)
             except RobotLabError as error:
                 reply.update(ok=False, error=str(error))
                 print(f'[Err] {error}', flush=True)
@@ -152,6 +147,27 @@ class Server:
         elif op == 'topics':
             topics = {**self.types, **{t: self.types.get(t, '') for t in self.sim.subscriptions}}
             connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True, 'data': topics})
+
+    def create(self, frame: Frame) -> None:
+        """`/world/<name>/create`: a URDF robot (with its systems) or an SDF model."""
+        from robot_lab.sim.xml_tree import parse
+
+        world = str(frame.get('world') or self.sim.info.name)
+        if world != self.sim.info.name:
+            raise RobotLabError(f'no world {world!r} here: the simulation runs '
+                                f'{self.sim.info.name!r}', fix=f'drop -world, or give -world '
+                                                               f'{self.sim.info.name}')
+        text, source = str(frame['urdf']), str(frame.get('source', 'robot_description'))
+        xyz, rpy = tuple(frame.get('xyz', (0, 0, 0))), tuple(frame.get('rpy', (0, 0, 0)))
+        root = parse(text, source)
+        if root.tag == 'robot':  # unnamed: the URDF's robot name, as gz-sim names the model
+            name = str(frame.get('name') or root.attrib.get('name') or 'robot')
+            robot = self.sim.spawn(text, name, xyz, rpy, source)
+            print(f'[Msg] Spawned {robot.name!r} ({len(robot.bodies)} links) at {list(xyz)}',
+                  flush=True)
+        else:
+            name = self.sim.spawn_model(text, str(frame.get('name') or ''), xyz, rpy, source)
+            print(f'[Msg] Spawned SDF model {name!r} at {list(xyz)}', flush=True)
 
     def control(self, request: Frame) -> None:
         """gz.msgs.WorldControl, as `/world/<name>/control` takes it: pause, (multi_)step,

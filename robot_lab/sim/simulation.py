@@ -30,7 +30,7 @@ from robot_lab.sim.systems import (
     header,
 )
 from robot_lab.sim.transport import topic_name
-from robot_lab.sim.world import WorldInfo, find_world, load_world
+from robot_lab.sim.world import WorldInfo, add_model, find_world, load_world
 from robot_lab.sim.xml_tree import Warn
 
 __all__ = ['CLOCK_RATE', 'Simulation']
@@ -119,6 +119,19 @@ class Simulation:
             system.bind(self.model)
         self.robots[name] = robot
         return robot
+
+    def spawn_model(self, sdf: str, name: str = '',
+                    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                    source: str = '<string>') -> str:
+        """`ros_gz_sim create` of an SDF model (no systems: its plugins get a warning)."""
+        name = add_model(self.spec, self.info, sdf, source, name, xyz, rpy, self.warn)
+        self._speak()
+        self.model, self.data = self.spec.recompile(self.model, self.data)
+        mujoco.mj_forward(self.model, self.data)
+        for system in self.systems:
+            system.bind(self.model)
+        return name
 
     def step(self, count: int = 1) -> None:
         """Advance `count` fixed steps, running every system around each."""

@@ -20,7 +20,8 @@ from robot_lab.sim.meshes import add_mesh, resolve_mesh
 from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
 from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
 
-__all__ = ['KIT_RESOURCES', 'WorldInfo', 'find_world', 'load_world', 'resource_path']
+__all__ = ['KIT_RESOURCES', 'WorldInfo', 'add_model', 'find_world', 'load_world',
+           'resource_path']
 
 KIT_RESOURCES = Path(__file__).resolve().parents[1] / 'data' / 'ament_packages' / 'ros_gz_sim'
 # Elements a renderer or GUI reads: no physics effect, so no warning.
@@ -171,12 +172,14 @@ class _Builder:
                                   "the kit's: " + ', '.join(
                                       sorted(p.name for p in (KIT_RESOURCES / 'models').iterdir())))
 
-    def model(self, model: Node, parent: mujoco.MjsBody | None) -> None:
+    def model(self, model: Node, parent: mujoco.MjsFrame | None) -> mujoco.MjsFrame:
+        """A model is a frame, not a body: its links stay top-level bodies, so a dynamic
+        link's free joint compiles (MuJoCo allows one only on a child of the world)."""
         name = model.attrib.get('name', f'model_{len(self.info.models)}')
         self.info.models.append(name)
         static = model.value('static', 'false').lower() in ('1', 'true')
         xyz, rpy = _pose(model)
-        frame = (parent or self.spec.worldbody).add_body()
+        frame = (parent or self.spec.worldbody).add_frame()
         frame.name = name
         frame.pos = list(xyz)
         frame.quat = quat_from_rpy(*rpy)
@@ -192,8 +195,9 @@ class _Builder:
             elif child.tag == 'plugin':
                 self.warn(f'{child.where}: model plugin {child.attrib.get("name", "")!r} in an '
                           f'SDF world is not supported yet; spawn the robot from URDF instead')
+        return frame
 
-    def link(self, link: Node, frame: mujoco.MjsBody, static: bool, model: str) -> None:
+    def link(self, link: Node, frame: mujoco.MjsFrame, static: bool, model: str) -> None:
         xyz, rpy = _pose(link)
         body = frame.add_body()
         body.name = f'{model}::{link.attrib.get("name", "link")}'
@@ -218,6 +222,32 @@ class _Builder:
                     add_shape(body, shape, f'{body.name}::{child.attrib.get("name", index)}')
             elif child.tag not in RENDERING | {'pose', 'inertial', 'kinematic', 'gravity'}:
                 self.unsupported(child, 'link')
+
+
+def add_model(spec: mujoco.MjSpec, info: WorldInfo, text: str, source: str, name: str,
+              xyz: tuple[float, float, float], rpy: tuple[float, float, float],
+              warn: Warn) -> str:
+    """`create -file model.sdf` (or `-string '<sdf><model>...'`): an SDF model joins the
+    world at create's pose, which replaces the model's own (as gz-sim's create does); its
+    name is `name` if given. Returns the name it got."""
+    root = parse(text, source)
+    model = root if root.tag == 'model' else root.find('model')
+    if model is None or root.tag not in ('sdf', 'model'):
+        raise SimulationError(f'no <sdf><model> in it (the root is <{root.tag}>)', file=source,
+                              line=root.line, fix='create takes a URDF <robot> or an SDF '
+                                                  '<model>; a world goes to gz sim')
+    if name:
+        model.attrib['name'] = name
+    name = model.attrib.get('name', '')
+    if not name or any(b.name == name or str(b.name).startswith(f'{name}::')
+                       for b in spec.bodies):
+        raise SimulationError(f'an entity named {name!r} already exists in the world'
+                              if name else 'the model has no name', file=source,
+                              line=model.line, fix='give the model another -name')
+    frame = _Builder(spec, info, warn).model(model, None)
+    frame.pos = list(xyz)
+    frame.quat = quat_from_rpy(*rpy)
+    return name
 
 
 def load_world(path: Path, warn: Warn) -> tuple[mujoco.MjSpec, WorldInfo]:
