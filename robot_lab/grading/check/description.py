@@ -49,30 +49,32 @@ def _robot(text: str, source: str, what: str) -> Any:
 def _tree_errors(robot: Any, parents: Mapping[str, str],
                  joint_types: Mapping[str, str]) -> tuple[str, str] | None:
     """(what is seen, what to try) for the first way `robot` differs; None if it doesn't."""
-    for child, parent in parents.items():
-        if child not in robot.links:
-            return (f'no link {child!r} (links: {", ".join(robot.links)})',
-                    f'add <link name="{child}"> and a joint that joins it to {parent}')
-        joint = robot.parent_joint(child)
-        if joint is None:
-            return (f'{child!r} is the root: no joint has it as its child',
-                    f'add a joint with <parent link="{parent}"/> <child link="{child}"/>')
-        if joint.parent != parent:
-            return (f"{child}'s parent link is {joint.parent!r} (joint {joint.name!r}, "
-                    f'line {joint.line})',
-                    f'in joint {joint.name!r}, write <parent link="{parent}"/>: the parent '
-                    'is the link it is fixed to, the child the one it carries')
-    for name, kind in joint_types.items():
-        joint = robot.joints.get(name)
-        if joint is None:
-            return (f'no joint {name!r} (joints: {", ".join(robot.joints) or "none"})',
-                    f'name the joint {name!r}')
-        if joint.type != kind:
-            why = (' (a wheel turns without end: continuous needs no limits)'
-                   if kind == 'continuous' else '')
-            return (f'joint {name!r} is {joint.type} (line {joint.line})',
-                    f'make it type="{kind}"{why}')
-    return None
+    from robot_lab.urdf.compare import differences
+
+    found = differences(robot, parents=parents, joint_types=joint_types)
+    if not found:
+        return None
+    first = found[0]
+    name, wanted, joint = first.name, first.wanted, first.joint
+    if first.kind == 'no_link':
+        return (f'no link {name!r} (links: {", ".join(robot.links)})',
+                f'add <link name="{name}"> and a joint that joins it to {wanted}')
+    if first.kind == 'parent' and joint is None:
+        return (f'{name!r} is the root: no joint has it as its child',
+                f'add a joint with <parent link="{wanted}"/> <child link="{name}"/>')
+    if first.kind == 'parent' and joint is not None:
+        return (f"{name}'s parent link is {joint.parent!r} (joint {joint.name!r}, "
+                f'line {joint.line})',
+                f'in joint {joint.name!r}, write <parent link="{wanted}"/>: the parent '
+                'is the link it is fixed to, the child the one it carries')
+    if first.kind == 'no_joint':
+        return (f'no joint {name!r} (joints: {", ".join(robot.joints) or "none"})',
+                f'name the joint {name!r}')
+    assert joint is not None  # joint_type: the joint is there, of another type
+    why = (' (a wheel turns without end: continuous needs no limits)'
+           if wanted == 'continuous' else '')
+    return (f'joint {name!r} is {joint.type} (line {joint.line})',
+            f'make it type="{wanted}"{why}')
 
 
 @judged

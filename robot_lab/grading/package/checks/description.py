@@ -150,22 +150,25 @@ def _where(joint: Any, rel: str, package: Path) -> str:
 
 def _differences(robot: Any, links: list[str], parents: dict[str, str],
                  joints: dict[str, str], root: str, where: Callable[[Any], str]) -> list[str]:
-    wrong = [f'no link `{name}`' for name in links if name not in robot.links]
-    if root and robot.root != root:
-        wrong.append(f'the root link is `{robot.root}`, not `{root}` (every other link hangs '
-                     f'from `{root}` through joints)')
-    for child, parent in parents.items():
-        joint = robot.parent_joint(child)
-        if child in robot.links and (joint is None or joint.parent != parent):
+    from robot_lab.urdf.compare import differences
+
+    wrong = []
+    for found in differences(robot, links=links, parents=parents, joint_types=joints,
+                             root=root):
+        name, wanted, joint = found.name, found.wanted, found.joint
+        if found.kind == 'no_link':
+            wrong.append(f'no link `{name}`')
+        elif found.kind == 'root':
+            wrong.append(f'the root link is `{name}`, not `{wanted}` (every other link hangs '
+                         f'from `{wanted}` through joints)')
+        elif found.kind == 'parent':
             has = 'no parent (it is the root)' if joint is None else \
                 f'parent `{joint.parent}` (joint `{joint.name}`, {where(joint)})'
-            wrong.append(f'`{child}` has {has}, not `{parent}`')
-    for name, kind in joints.items():
-        joint = robot.joints.get(name)
-        if joint is None:
+            wrong.append(f'`{name}` has {has}, not `{wanted}`')
+        elif found.kind == 'no_joint':
             wrong.append(f'no joint `{name}`')
-        elif joint.type != kind:
-            wrong.append(f'joint `{name}` is {joint.type}, not {kind} ({where(joint)})')
+        elif joint is not None:  # joint_type
+            wrong.append(f'joint `{name}` is {joint.type}, not {wanted} ({where(joint)})')
     return wrong
 
 
