@@ -184,3 +184,22 @@ def test_a_class_run_grades_the_description_package(tmp_path: Path) -> None:
         report.markdown()
     # the four joints, the fixed ones from the one transient-local /tf_static message
     assert 'the TF tree heard: 4 edges' in checks['tf_tree'].output, report.markdown()
+
+
+@pytest.mark.no_ros
+def test_one_job_expands_the_xacro_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """urdf_describes (files) and tf_tree (run) read the same model: one xacro run."""
+    import subprocess
+
+    real = subprocess.run
+    programs: list[str] = []
+
+    def counted(args: Any, *rest: Any, **kwargs: Any) -> Any:
+        programs.append(Path(args[0]).name)
+        return real(args, *rest, **kwargs)
+
+    state = _run_state(tmp_path, EDGES)
+    monkeypatch.setattr(subprocess, 'run', counted)
+    assert _verdict(state, 'urdf_describes').earned
+    assert _verdict(state, 'tf_tree').earned
+    assert programs.count('xacro') == 1, programs

@@ -176,6 +176,9 @@ class JobState:
     blocked: list[str] = field(default_factory=list)  # what the sandbox refused, for feedback
     _parsed: dict[str, dict[str, dict[str, Any]] | ParamFileError] = field(
         default_factory=dict, repr=False)
+    # checks/description: the robot description (file wanted -> the robot and its path, or
+    # the student's error), read once per job: a .xacro is expanded by one xacro run
+    descriptions: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def time_left(self) -> float:
         """Seconds of the job's wall-clock budget (the rubric's limits) not used yet."""

@@ -100,7 +100,25 @@ def _xacro(path: Path, state: JobState) -> str:
 def read_description(state: JobState, wanted: str | None) -> tuple[Any, str]:
     """(the parsed robot, its path in the package); UrdfError when there is none or it is
     refused, NoDescriptionError when the package has none; OSError and TimeoutExpired are the
-    grader's (its copy unreadable, its xacro missing or starved)."""
+    grader's (its copy unreadable, its xacro missing or starved).
+
+    Read once per job (`urdf_describes` at the files stage, `tf_tree` at the run stage ask
+    for the same file): xacro runs once. The grader's own failures are not kept, so a later
+    stage tries again."""
+    key = wanted or ''
+    if key not in state.descriptions:
+        try:
+            state.descriptions[key] = _read_description(state, wanted)
+        except (NoDescriptionError, UrdfError) as err:
+            state.descriptions[key] = err
+    found = state.descriptions[key]
+    if isinstance(found, (NoDescriptionError, UrdfError)):
+        raise found
+    robot, rel = found
+    return robot, str(rel)
+
+
+def _read_description(state: JobState, wanted: str | None) -> tuple[Any, str]:
     from robot_lab.urdf.model import parse_urdf
 
     assert state.package is not None
