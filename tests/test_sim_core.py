@@ -318,3 +318,68 @@ def test_a_dynamic_sdf_model_falls_and_rests_on_the_ground(tmp_path: Path) -> No
     assert heights == pytest.approx([0.1, 0.1], abs=0.005)
     with pytest.raises(SimulationError, match="'second' already exists"):
         sim.spawn_model(f'<sdf version="1.9">{crate.format("second")}</sdf>')
+
+
+def test_what_the_world_and_urdf_ask_for_is_simulated_or_said(tmp_path: Path) -> None:
+    """Deliver 1's "nothing is silently ignored", for the elements a lab's files carry: a
+    link's <gravity>false floats, surface friction and an inertial's pose are used,
+    gz-sim's `type="ignored"` physics is quiet, and each of ODE's solver block, a bounce,
+    an include's plugin, a kinematic link, ODE contact tuning, a mimic and an unknown
+    JointStatePublisher parameter is one line naming its file and line."""
+    world = tmp_path / 'lab.sdf'
+    world.write_text("""<sdf version="1.9"><world name="lab">
+<physics name="1ms" type="ignored"><max_step_size>0.001</max_step_size>
+  <real_time_factor>1.0</real_time_factor><ode><solver><iters>50</iters></solver></ode></physics>
+<include><uri>model://ground_plane</uri><plugin name="x" filename="y"/></include>
+<model name="float"><pose>0 0 1 0 0 0</pose><link name="l"><gravity>false</gravity>
+  <inertial><pose>0.1 0 0 0 0 0</pose><mass>1</mass></inertial>
+  <collision name="c"><geometry><sphere><radius>0.1</radius></sphere></geometry>
+    <surface><friction><ode><mu>0.3</mu></ode></friction><bounce/></surface>
+    <laser_retro>1</laser_retro></collision></link></model>
+<model name="k"><static>true</static><link name="l"><kinematic>true</kinematic></link></model>
+</world></sdf>""")
+    warnings: list[str] = []
+    sim = Simulation(world, warn=warnings.append)
+    assert warnings == [
+        f"{world}:3: <ode> solver settings: robot_lab's simulator runs MuJoCo with its own; "
+        f'ignored',
+        f"{world}:4: <plugin> in <include> is not supported by robot_lab's simulator; ignored",
+        f"{world}:8: <surface> <bounce> not supported by robot_lab's simulator (friction is); "
+        f'ignored',
+        f"{world}:10: <kinematic> links are not supported by robot_lab's simulator; "
+        f'simulated as dynamic']
+    sim.step(500)
+    body = sim.model.body('float::l')
+    assert sim.data.xpos[body.id][2] == pytest.approx(1.0, abs=1e-6)  # no gravity on it
+    assert list(body.ipos) == pytest.approx([0.1, 0.0, 0.0])
+    assert sim.model.geom('float::l::c').friction[0] == pytest.approx(0.3)
+
+    urdf = diffbot_urdf().replace('</robot>', """
+  <link name="arm"><inertial><mass value="0.1"/>
+    <inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="arm_joint" type="revolute"><parent link="base_link"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <dynamics damping="0.7" friction="0.2"/><mimic joint="left_wheel_joint"/></joint>
+  <gazebo reference="arm"><gravity>false</gravity><kp>1e6</kp><kd>1</kd></gazebo>
+  <gazebo><plugin filename="gz-sim-joint-state-publisher-system"
+    name="gz::sim::systems::JointStatePublisher"><update_rate>5</update_rate></plugin></gazebo>
+</robot>""")
+    source = tmp_path / 'arm.urdf'
+    source.write_text(urdf)
+    warnings.clear()
+    sim.spawn(urdf, 'armbot', (0.0, -1.0, WHEEL_RADIUS + 0.001), source=str(source))
+    lines = urdf.splitlines()
+
+    def line(text: str) -> int:
+        return next(i for i, t in enumerate(lines, 1) if text in t)
+
+    assert sorted(warnings) == sorted([
+        f"{source}:{line('<mimic')}: <mimic> is not simulated by robot_lab's simulator; the "
+        f'joint moves on its own',
+        f"{source}:{line('<kp>')}: <kp>, <kd>: ODE's contact tuning, which robot_lab's "
+        f'simulator (MuJoCo) has no equivalent of; ignored',
+        f"{source}:{line('<update_rate>5')}: JointStatePublisher parameter <update_rate> is "
+        f"not supported by robot_lab's simulator; ignored"])
+    joint = sim.model.joint('armbot::arm_joint')
+    assert (joint.damping[0], joint.frictionloss[0]) == pytest.approx((0.7, 0.2))
+    assert sim.model.body_gravcomp[sim.model.body('armbot::arm').id] == pytest.approx(1.0)

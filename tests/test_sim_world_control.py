@@ -172,3 +172,21 @@ def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
     create('-name', 'ignored', '--ros-args', '-p', f'file:={sdf}', '-p', 'name:=by_parameter',
            '-p', 'x:=2.0')
     paused_world.wait_for(r"Spawned SDF model 'by_parameter' at \[2.0, 0.0, 0.0\]")
+
+
+def test_a_ros_world_control_converts_as_ros_gz_bridge_does() -> None:
+    """pause always goes (left out, it asks to run); steps end paused; what the kit does
+    not simulate is named, for the bridge's one warning line."""
+    from ros_gz_interfaces.msg import WorldControl
+
+    from robot_lab.sim.conversions import world_control_request
+
+    stepping = WorldControl()
+    stepping.multi_step = 5
+    assert world_control_request(stepping) == ({'pause': True, 'multi_step': 5,
+                                                'reset': False}, [])
+    odd = WorldControl()
+    odd.seed, odd.run_to_sim_time.sec = 3, 2
+    odd.reset.model_only = True
+    assert world_control_request(odd) == ({'pause': False, 'multi_step': 0, 'reset': True},
+                                          ['reset.model_only', 'seed', 'run_to_sim_time'])

@@ -112,6 +112,7 @@ class GazeboTags:
     imus: list[ImuSettings] = field(default_factory=list)
     joint_positions: list[JointPositionSettings] = field(default_factory=list)
     friction: dict[str, float] = field(default_factory=dict)  # link -> min(mu1, mu2)
+    no_gravity: set[str] = field(default_factory=set)  # <gravity>false / <turnGravityOff>
 
 
 _DIFF_DRIVE_NUMBERS = ('wheel_separation', 'wheel_radius', 'odom_publish_frequency',
@@ -120,10 +121,12 @@ _DIFF_DRIVE_NUMBERS = ('wheel_separation', 'wheel_radius', 'odom_publish_frequen
                        'min_linear_acceleration', 'max_angular_acceleration',
                        'min_angular_acceleration')
 _DIFF_DRIVE_TEXTS = ('topic', 'odom_topic', 'tf_topic', 'frame_id', 'child_frame_id')
-# Link-level tags sdformat reads that change nothing the kit simulates (rendering, ODE tuning)
-_QUIET = {'material', 'selfCollide', 'self_collide', 'gravity', 'turnGravityOff', 'kp', 'kd',
-          'maxVel', 'minDepth', 'fdir1', 'maxContacts', 'visual', 'provideFeedback',
-          'implicitSpringDamper', 'stopCfm', 'stopErp', 'springStiffness', 'springReference'}
+# Link-level tags sdformat reads that only a renderer uses (no warning)
+_QUIET = {'material', 'selfCollide', 'self_collide', 'visual', 'provideFeedback'}
+# ODE's contact and joint tuning: no MuJoCo equivalent; one line per <gazebo> block
+_ODE_TUNING = {'kp', 'kd', 'maxVel', 'minDepth', 'fdir1', 'maxContacts',
+               'implicitSpringDamper', 'stopCfm', 'stopErp', 'springStiffness',
+               'springReference'}
 
 
 def _system_name(plugin: Node) -> str:
@@ -261,6 +264,11 @@ def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
                 elif system in ('JointStatePublisher', 'gz-sim-joint-state-publisher-system'):
                     tags.joint_states.append(JointStateSettings(
                         [c.text for c in child.findall('joint_name')], child.value('topic')))
+                    for extra in child.children:
+                        if extra.tag not in ('joint_name', 'topic'):
+                            warn(f'{extra.where}: JointStatePublisher parameter '
+                                 f"<{extra.tag}> is not supported by robot_lab's simulator; "
+                                 f'ignored')
                 else:
                     warn(f'{child.where}: plugin {child.attrib.get("name", system)!r} is not '
                          f"supported by robot_lab's simulator; ignored")
@@ -273,7 +281,16 @@ def read_gazebo_tags(robot: Node, warn: Warn) -> GazeboTags:
                 else:
                     warn(f'{child.where}: sensor type {kind!r} is not supported by '
                          f"robot_lab's simulator yet; ignored")
-            elif child.tag not in ('mu1', 'mu2') and child.tag not in _QUIET:
+            elif child.tag in ('gravity', 'turnGravityOff') and link:
+                off = child.text.strip().lower() in ('1', 'true')
+                if off == (child.tag == 'turnGravityOff'):
+                    tags.no_gravity.add(link)
+            elif child.tag not in ('mu1', 'mu2') and child.tag not in _QUIET | _ODE_TUNING:
                 warn(f'{child.where}: <gazebo> element <{child.tag}> is not supported by '
                      f"robot_lab's simulator; ignored")
+        tuning = [c for c in block.children if c.tag in _ODE_TUNING]
+        if tuning:
+            warn(f"{tuning[0].where}: {', '.join(f'<{c.tag}>' for c in tuning)}: ODE's "
+                 f"contact tuning, which robot_lab's simulator (MuJoCo) has no equivalent "
+                 f'of; ignored')
     return tags

@@ -91,6 +91,21 @@ def _collision_shape(spec: mujoco.MjSpec, collision: Node, link: str, warn: Warn
     return None
 
 
+def _dynamics(joint: mujoco.MjsJoint, node: Node | None, warn: Warn) -> None:
+    """A URDF joint's <dynamics> damping and friction (as sdformat carries them into
+    Gazebo); a <mimic> is one line: Gazebo needs a plugin for it, the kit has none."""
+    dynamics = node.find('dynamics') if node is not None else None
+    if dynamics is not None:
+        damping = float(dynamics.attrib.get('damping', '0') or 0)
+        current = joint.damping  # MuJoCo 4: (linear, ...) coefficients; 3.x: one number
+        joint.damping = [damping, *list(current)[1:]] if hasattr(current, '__len__') else damping
+        joint.frictionloss = float(dynamics.attrib.get('friction', '0') or 0)
+    mimic = node.find('mimic') if node is not None else None
+    if mimic is not None:
+        warn(f"{mimic.where}: <mimic> is not simulated by robot_lab's simulator; the joint "
+             f'moves on its own')
+
+
 def _inertial(body: mujoco.MjsBody, link: Node, moves: bool, warn: Warn) -> None:
     inertial = link.find('inertial')
     if inertial is None:
@@ -136,6 +151,8 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
             warn(f"{element.where}: <{element.tag}> is not simulated by robot_lab's simulator "
                  f'(DiffDrive and the other <gazebo> systems drive joints); ignored')
     links = {n.attrib.get('name', ''): n for n in root.findall('link')}
+    joint_nodes = {n.attrib.get('name', ''): n for n in root.findall('joint')}
+    driven = {j for d in tags.diff_drives for j in d.left_joints + d.right_joints}
     bodies: dict[str, str] = {}
     joints: dict[str, str] = {}
 
@@ -144,6 +161,8 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
         bodies[link] = body.name
         node = links[link]
         _inertial(body, node, moves, warn)
+        if moves and link in tags.no_gravity:
+            body.gravcomp = 1.0  # <gravity>false: gravity cancelled on this link
         friction = tags.friction.get(link)
         for index, collision in enumerate(node.findall('collision')):
             shape = _collision_shape(spec, collision, link, warn, folder)
@@ -163,6 +182,8 @@ def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
                 if joint.type != 'continuous' and joint.limit is not None:
                     mj_joint.limited = mujoco.mjtLimited.mjLIMITED_TRUE
                     mj_joint.range = [joint.limit.lower, joint.limit.upper]
+                if joint.name not in driven:  # Gazebo sets a driven wheel's velocity
+                    _dynamics(mj_joint, joint_nodes.get(joint.name), warn)
                 joints[joint.name] = mj_joint.name
             elif joint.type != 'fixed':
                 warn(f'{source}:{joint.line}: joint {joint.name!r} of type {joint.type!r} is '

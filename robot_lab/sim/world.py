@@ -99,6 +99,35 @@ def _geometry(collision: Node, warn: Warn, spec: mujoco.MjSpec, owner: str) -> S
     return None
 
 
+def _inertial(body: mujoco.MjsBody, inertial: Node | None) -> None:
+    """SDF's <inertial>: mass (default 1), its pose (the centre of mass) and the full
+    inertia matrix (default: the unit diagonal)."""
+    mass = inertial.number('mass', 1.0) if inertial is not None else 1.0
+    inertia = inertial.find('inertia') if inertial is not None else None
+    body.mass = mass
+    body.fullinertia = [inertia.number(k, 1.0 if k in ('ixx', 'iyy', 'izz') else 0.0)
+                        if inertia is not None else (1.0 if k in ('ixx', 'iyy', 'izz') else 0.0)
+                        for k in ('ixx', 'iyy', 'izz', 'ixy', 'ixz', 'iyz')]
+    if inertial is not None:
+        xyz, rpy = _pose(inertial)
+        body.ipos = list(xyz)
+        body.iquat = quat_from_rpy(*rpy)
+    body.explicitinertial = True
+
+
+def _friction(collision: Node) -> float | None:
+    """A collision's <surface><friction> mu (ODE's, else Bullet's), or None."""
+    surface = collision.find('surface')
+    friction = surface.find('friction') if surface is not None else None
+    if friction is None:
+        return None
+    for engine in ('ode', 'bullet'):
+        block = friction.find(engine)
+        if block is not None and block.find('mu' if engine == 'ode' else 'friction') is not None:
+            return block.number('mu' if engine == 'ode' else 'friction', 1.0)
+    return None
+
+
 class _Builder:
     def __init__(self, spec: mujoco.MjSpec, info: WorldInfo, warn: Warn) -> None:
         self.spec, self.info, self.warn = spec, info, warn
@@ -125,14 +154,17 @@ class _Builder:
                 self.unsupported(child, 'world')
 
     def physics(self, node: Node) -> None:
+        """max_step_size and real_time_factor, all gz-sim reads here (its `type` attribute
+        and real_time_update_rate it ignores too; the engine is the Physics system's)."""
         self.info.step = node.number('max_step_size', 0.001)
         self.info.real_time_factor = node.number('real_time_factor', 1.0)
         for child in node.children:
-            if child.tag not in ('max_step_size', 'real_time_factor', 'real_time_update_rate',
-                                 'max_contacts', 'dart', 'ode', 'bullet', 'simbody'):
+            if child.tag in ('dart', 'ode', 'bullet', 'simbody') and child.children:
+                self.warn(f"{child.where}: <{child.tag}> solver settings: robot_lab's "
+                          f'simulator runs MuJoCo with its own; ignored')
+            elif child.tag not in ('max_step_size', 'real_time_factor',
+                                   'real_time_update_rate', 'dart', 'ode', 'bullet', 'simbody'):
                 self.unsupported(child, 'physics')
-        if node.attrib.get('type', 'ode') not in ('ode', 'dart', 'bullet', 'bullet-featherstone'):
-            self.unsupported(node, 'world')
 
     def world_plugin(self, node: Node) -> None:
         filename = node.attrib.get('filename', '').lower()
@@ -144,6 +176,9 @@ class _Builder:
                       f"not supported by robot_lab's simulator; ignored")
 
     def include(self, node: Node) -> None:
+        for child in node.children:
+            if child.tag not in ('uri', 'name', 'pose', 'static'):
+                self.unsupported(child, 'include')
         uri = node.value('uri')
         model_name = uri.removeprefix('model://').rstrip('/').split('/')[-1]
         for folder in resource_path():
@@ -205,23 +240,34 @@ class _Builder:
         body.quat = quat_from_rpy(*rpy)
         if not static:
             body.add_freejoint()
-            inertial = link.find('inertial')
-            mass = inertial.number('mass', 1.0) if inertial is not None else 1.0
-            body.mass = mass
-            inertia = inertial.find('inertia') if inertial is not None else None
-            if inertia is not None:
-                body.inertia = [inertia.number('ixx', 1.0), inertia.number('iyy', 1.0),
-                                inertia.number('izz', 1.0)]
-            else:
-                body.inertia = [mass / 6, mass / 6, mass / 6]  # SDF's default: unit diagonal
-            body.explicitinertial = True
+            _inertial(body, link.find('inertial'))
+            if link.value('gravity', 'true').lower() in ('0', 'false'):
+                body.gravcomp = 1.0  # gravity cancelled on this body, as <gravity>false
+        kinematic = link.find('kinematic')
+        if kinematic is not None and kinematic.text.strip().lower() in ('1', 'true'):
+            self.warn(f"{kinematic.where}: <kinematic> links are not supported by robot_lab's "
+                      f'simulator; simulated as dynamic')
         for index, child in enumerate(link.children):
             if child.tag == 'collision':
+                self.collision_children(child)
                 shape = _geometry(child, self.warn, self.spec, f'model {model!r}')
                 if shape is not None:
-                    add_shape(body, shape, f'{body.name}::{child.attrib.get("name", index)}')
+                    add_shape(body, shape, f'{body.name}::{child.attrib.get("name", index)}',
+                              _friction(child))
             elif child.tag not in RENDERING | {'pose', 'inertial', 'kinematic', 'gravity'}:
                 self.unsupported(child, 'link')
+
+    def collision_children(self, collision: Node) -> None:
+        """Say what a collision holds that the kit does not simulate: anything but its
+        geometry, pose and surface friction."""
+        for child in collision.children:
+            if child.tag == 'surface':
+                extra = [c.tag for c in child.children if c.tag != 'friction']
+                if extra:
+                    self.warn(f"{child.where}: <surface> {', '.join(f'<{t}>' for t in extra)} "
+                              f"not supported by robot_lab's simulator (friction is); ignored")
+            elif child.tag not in ('geometry', 'pose', 'laser_retro', 'max_contacts'):
+                self.unsupported(child, 'collision')
 
 
 def add_model(spec: mujoco.MjSpec, info: WorldInfo, text: str, source: str, name: str,
