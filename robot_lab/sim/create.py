@@ -65,16 +65,16 @@ def _ros_node(ros_args: list[str]) -> Any:
 
 def _from_topic(topic: str, node: Any) -> str:
     import rclpy
-    from rclpy.qos import DurabilityPolicy, QoSProfile
     from std_msgs.msg import String
 
+    from robot_lab.urdf.state_publisher import description_qos
+
     received: list[str] = []
-    qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
     def take(msg: Any) -> None:
         received.append(str(msg.data))
 
-    node.create_subscription(String, topic, take, qos)
+    node.create_subscription(String, topic, take, description_qos())
     node.get_logger().info(f'Waiting messages on topic [{topic}].')
     while not received:
         rclpy.spin_once(node, timeout_sec=0.5)
