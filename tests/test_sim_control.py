@@ -115,3 +115,21 @@ def test_create_spawns_an_sdf_model_from_a_file_and_refuses_another_world(
     world = KIT_RESOURCES / 'worlds' / 'empty.sdf'
     assert create_main(['-file', str(world)]) == 1  # a world is gz sim's, not create's
     simulation.wait_for(r'no <sdf><model> in it')
+
+
+def test_options_and_fields_the_kit_has_nothing_for_are_one_line_each(
+        simulation: Proc) -> None:
+    from robot_lab.sim.server import _ignored_options, _parser
+
+    args = _parser().parse_args(['-r', '--render-engine', 'ogre2', '--physics-engine',
+                                 'gz-physics-bullet-featherstone-plugin', 'room.sdf'])
+    assert _ignored_options(args) == [
+        "[Wrn] gz sim --render-engine ogre2: robot_lab's simulator has no renderer; ignored",
+        "[Wrn] gz sim --physics-engine gz-physics-bullet-featherstone-plugin: robot_lab's "
+        'simulator runs MuJoCo; ignored']
+    done = subprocess.run([str(BIN / 'gz'), 'service', '-s', '/world/room/control', '--req',
+                           'pause: false, seed: 3, reset {time_only: true}'],
+                          capture_output=True, text=True, timeout=30, check=False)
+    assert done.returncode == 0
+    assert done.stderr == ("gz service: seed, reset.time_only not supported by robot_lab's "
+                           'simulator (pause, step, multi_step and reset.all are); ignored\n')

@@ -144,6 +144,11 @@ def _service(argv: Sequence[str]) -> int:
         return 1
     request = parse_text_format(args.req)
     reset = request.get('reset', {})
+    unsupported = [k for k in request if k not in ('pause', 'step', 'multi_step', 'reset')] + [
+        f'reset.{k}' for k in (reset if isinstance(reset, dict) else {}) if k != 'all']
+    if unsupported:
+        print(f"gz service: {', '.join(unsupported)} not supported by robot_lab's simulator "
+              f'(pause, step, multi_step and reset.all are); ignored', file=sys.stderr)
     world_control(pause=request.get('pause'),
                   step=int(request.get('multi_step', 0)) or (1 if request.get('step') else 0),
                   reset=bool(reset.get('all') if isinstance(reset, dict) else reset),

@@ -70,7 +70,26 @@ def _parser() -> argparse.ArgumentParser:
                         help="steps per wall-clock second (0: the world's real-time factor)")
     parser.add_argument('--seed', type=int, default=0, help='the random seed (sensor noise)')
     parser.add_argument('--version', action='store_true')
+    parser.add_argument('--headless-rendering', action='store_true', help='no renderer: ignored')
+    for option in _ENGINE_OPTIONS:
+        parser.add_argument(option, default='', help='not available: ignored, with a line')
     return parser
+
+
+_ENGINE_OPTIONS = ('--render-engine', '--render-engine-gui', '--render-engine-server',
+                   '--physics-engine')
+
+
+def _ignored_options(args: argparse.Namespace) -> list[str]:
+    """One line for each gz sim option given that the kit has nothing for."""
+    lines = [f"[Wrn] gz sim {option} {getattr(args, option[2:].replace('-', '_'))}: "
+             f"robot_lab's simulator {'runs MuJoCo' if 'physics' in option else 'has no renderer'}"
+             f'; ignored' for option in _ENGINE_OPTIONS
+             if getattr(args, option[2:].replace('-', '_'))]
+    if args.headless_rendering:
+        lines.append("[Wrn] gz sim --headless-rendering: robot_lab's simulator has no "
+                     'renderer (its lidar casts rays in MuJoCo); ignored')
+    return lines
 
 
 class Server:
@@ -280,6 +299,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(identity())
         return 0
     print(f'[Msg] {identity()}', flush=True)
+    for line in _ignored_options(args):
+        print(line, flush=True)
     if args.gui:
         print('[Err] gz sim -g (the GUI alone) is not available: robot_lab draws the world in '
               'robot_lab.scene_view() instead', flush=True)
