@@ -149,7 +149,7 @@ def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
                                                            tmp_path: Path) -> None:
     """Upstream's `-param P` (the XML in the create node's parameter P, as a launch file's
     `parameters=[{'robot_description': ...}]` gives it) and its ROS-parameter form
-    (`-p file:=... -p name:=...`, which wins over the flags)."""
+    (`file`, `name`, `x` ...: what upstream's gz_spawn_model.launch.py passes)."""
     from robot_lab.sim.sample_robot import diffbot_urdf
 
     params = tmp_path / 'create.yaml'
@@ -169,8 +169,12 @@ def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
     sdf = tmp_path / 'crate.sdf'
     sdf.write_text('<sdf version="1.9"><model name="crate"><static>true</static><link '
                    'name="l"/></model></sdf>')
-    create('-name', 'ignored', '--ros-args', '-p', f'file:={sdf}', '-p', 'name:=by_parameter',
-           '-p', 'x:=2.0')
+    # upstream's gz_spawn_model.launch.py passes them so, as a launch file's parameters
+    launched = subprocess.run(
+        [str(BIN / 'ros2'), 'launch', 'ros_gz_sim', 'gz_spawn_model.launch.py', f'file:={sdf}',
+         'entity_name:=by_parameter', 'x:=2.0'],
+        capture_output=True, text=True, timeout=60, check=False)
+    assert 'Entity creation successful.' in launched.stdout, launched.stdout + launched.stderr
     paused_world.wait_for(r"Spawned SDF model 'by_parameter' at \[2.0, 0.0, 0.0\]")
 
 
