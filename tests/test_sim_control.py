@@ -133,3 +133,28 @@ def test_options_and_fields_the_kit_has_nothing_for_are_one_line_each(
     assert done.returncode == 0
     assert done.stderr == ("gz service: seed, reset.time_only not supported by robot_lab's "
                            'simulator (pause, step, multi_step and reset.all are); ignored\n')
+
+
+def test_gz_service_create_spawns_as_gazebos_spawn_tutorial_types_it(
+        simulation: Proc, tmp_path: Path) -> None:
+    urdf = tmp_path / 'robot.urdf'
+    urdf.write_text(diffbot_urdf())
+
+    def create(request: str) -> str:
+        done = subprocess.run([str(BIN / 'gz'), 'service', '-s', '/world/room/create',
+                               '--reqtype', 'gz.msgs.EntityFactory', '--reptype',
+                               'gz.msgs.Boolean', '--timeout', '1000', '--req', request],
+                              capture_output=True, text=True, timeout=30, check=False)
+        assert done.returncode == 0, done.stderr
+        return done.stdout
+
+    assert create(f'sdf_filename: "{urdf}", name: "urdf_model", pose: {{position: '
+                  f'{{x: -1, y: 1, z: 0.051}}}}') == 'data: true\n\n'
+    simulation.wait_for(r"Spawned 'urdf_model' \(\d+ links\) at \[-1.0, 1.0, 0.051\]")
+    sdf = ('<?xml version=\\"1.0\\" ?><sdf version=\\"1.6\\"><model name=\\"cube\\"><static>'
+           'true</static><link name=\\"l\\"/></model></sdf>')
+    assert create(f'sdf: "{sdf}", pose: {{position: {{x: 1, y: 1}}}}') == 'data: true\n\n'
+    simulation.wait_for(r"Spawned SDF model 'cube' at \[1.0, 1.0, 0.0\]")
+    assert create(f'sdf: "{sdf}"') == 'data: false\n\n'  # the name is taken
+    assert create(f'sdf: "{sdf}", name: "cube", allow_renaming: true') == 'data: true\n\n'
+    simulation.wait_for(r"Spawned SDF model 'cube_1'")

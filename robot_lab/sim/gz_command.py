@@ -2,7 +2,8 @@
 
 The Jazzy tutorials type `gz sim -v 4 -r visualize_lidar.sdf`, `gz topic -l`,
 `gz topic -e -t /scan`, `gz topic -t /cmd_vel -m gz.msgs.Twist -p 'linear: {x: 0.5}'` and
-`gz service -s /world/<name>/control --reqtype gz.msgs.WorldControl ... --req 'pause: true'`.
+`gz service -s /world/<name>/control --reqtype gz.msgs.WorldControl ... --req 'pause: true'`
+(and `/world/<name>/create` with a gz.msgs.EntityFactory, as Gazebo's spawn tutorial).
 Each does the same against robot_lab's simulator of this partition; messages print as
 protobuf text format (`key: value`, nested `key { ... }`), as gz does.
 """
@@ -10,6 +11,7 @@ protobuf text format (`key: value`, nested `key { ... }`), as gz does.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Sequence
@@ -21,6 +23,7 @@ __all__ = ['main', 'parse_text_format', 'text_format']
 
 _TOKEN = re.compile(r'\s*(?:([A-Za-z_][\w.]*)|(-?[\d.]+(?:[eE][-+]?\d+)?)|("(?:[^"\\]|\\.)*")'
                     r'|([:{},;]))')
+_ESCAPES = {'n': '\n', 't': '\t'}
 
 
 def parse_text_format(text: str) -> dict[str, Any]:
@@ -40,8 +43,8 @@ def parse_text_format(text: str) -> dict[str, Any]:
     def value(token: str) -> Any:
         if token == '{':
             return fields()
-        if token.startswith('"'):
-            return token[1:-1]
+        if token.startswith('"'):  # protobuf's escapes: \" \\ \n \t
+            return re.sub(r'\\(.)', lambda m: _ESCAPES.get(m[1], m[1]), token[1:-1])
         if token in ('true', 'false'):
             return token == 'true'
         try:
@@ -138,9 +141,11 @@ def _service(argv: Sequence[str]) -> int:
     parser.add_argument('--timeout', type=int, default=1000)
     parser.add_argument('-r', '--req', default='')
     args = parser.parse_args(argv)
+    if re.fullmatch(r'/world/[^/]+/create', args.service):
+        return _create(args.service.split('/')[2], parse_text_format(args.req))
     if not re.fullmatch(r'/world/[^/]+/control', args.service):
-        print(f"robot_lab's simulator offers /world/<name>/control only, not {args.service}",
-              file=sys.stderr)
+        print(f"robot_lab's simulator offers /world/<name>/control and /world/<name>/create "
+              f'only, not {args.service}', file=sys.stderr)
         return 1
     request = parse_text_format(args.req)
     reset = request.get('reset', {})
@@ -157,6 +162,52 @@ def _service(argv: Sequence[str]) -> int:
     return 0
 
 
+def _rpy(q: dict[str, Any]) -> list[float]:
+    """Roll, pitch, yaw of a gz.msgs.Quaternion (absent: the identity)."""
+    x, y, z, w = (float(q.get(k, 1.0 if k == 'w' else 0.0)) for k in 'xyzw')
+    return [math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)),
+            math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x)))),
+            math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))]
+
+
+def _create(world: str, request: dict[str, Any]) -> int:
+    """gz.msgs.EntityFactory on /world/<name>/create, as Gazebo's spawn tutorial sends it
+    (`sdf_filename` or `sdf`, `name`, `allow_renaming`, `pose`); prints the gz.msgs.Boolean."""
+    from pathlib import Path
+
+    from robot_lab.sim.transport import connect
+
+    unsupported = [k for k in request
+                   if k not in ('sdf', 'sdf_filename', 'name', 'allow_renaming', 'pose')]
+    if unsupported:
+        print(f"gz service: {', '.join(unsupported)} not supported by robot_lab's simulator "
+              f'(sdf, sdf_filename, name, allow_renaming and pose are); ignored',
+              file=sys.stderr)
+    filename = str(request.get('sdf_filename', ''))
+    text = Path(filename).expanduser().read_text() if filename else str(request.get('sdf', ''))
+    pose = request.get('pose', {})
+    position = pose.get('position', {})
+    connection = connect()
+    if connection is None:
+        print('no simulation runs in this partition', file=sys.stderr)
+        return 1
+    name = str(request.get('name', ''))
+    for attempt in range(100 if request.get('allow_renaming') and name else 1):
+        connection.send({'op': 'create', 'id': attempt + 1, 'urdf': text,
+                         'name': name if attempt == 0 else f'{name}_{attempt}',
+                         'source': filename or 'robot_description', 'world': world,
+                         'xyz': [float(position.get(k, 0.0)) for k in 'xyz'],
+                         'rpy': _rpy(pose.get('orientation', {}))})
+        reply = connection.receive() or {}
+        if reply.get('ok') or 'already exists' not in str(reply.get('error', '')):
+            break
+    connection.close()
+    if not reply.get('ok'):
+        print(reply.get('error', 'the simulation closed the connection'), file=sys.stderr)
+    print(f"data: {'true' if reply.get('ok') else 'false'}\n")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     from robot_lab.sim.about import identity
 
@@ -164,7 +215,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not args or args[0] in ('--version', '-v', 'help', '--help', '-h'):
         print(identity())
         print('commands: gz sim [-r] [-s] [-v N] WORLD.sdf | gz topic -l|-e|-i|-p | '
-              'gz service -s /world/<name>/control --req ...')
+              'gz service -s /world/<name>/control|create --req ...')
         return 0
     command, rest = args[0], args[1:]
     try:
