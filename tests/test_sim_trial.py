@@ -1,8 +1,10 @@
 """A controller driven against a world and judged by the simulator's ground truth.
 
 Real processes: the trial's simulator and bridge, and controllers as nodes of this
-process (as a notebook's check cell runs the student's). One simulator serves the two
-bridged cases (a run resets the world), at 4x real time; the unbridged case has its own.
+process (as a notebook's check cell runs the student's). One simulator serves the
+bridged cases (a run resets the world), in lockstep (each scan waits for the controller's
+answer: deterministic, and as fast as the controller answers); the unbridged case has its
+own, free-running at 10x real time.
 The judgement's words are tested on samples alone.
 """
 
@@ -75,7 +77,8 @@ def test_without_a_bridge_the_result_says_what_to_bridge() -> None:
 
 @pytest.fixture(scope='module')
 def trial() -> Iterator[Trial]:
-    with Trial('wall', speed=4.0) as running:  # the wall's face 1 m ahead of the lidar
+    # the wall's face 1 m ahead of the lidar; each scan waits for its answer
+    with Trial('wall', speed=20.0, lockstep=True) as running:
         yield running
     assert all(child.proc.poll() is not None for child in running.children)
 
@@ -93,6 +96,15 @@ def test_a_controller_that_stops_in_time_is_measured_from_the_robots_front(
     passed, line = judge_stop(result, 0.3, 0.05, obstacle='the wall')
     assert passed, line
     assert line.startswith('stopped 0.') and '(target 0.30 ± 0.05)' in line
+
+
+def test_in_lockstep_the_same_controller_drives_the_same_trajectory(trial: Trial) -> None:
+    first = _run(trial, 'again_1', 0.5, True, sim_seconds=2.0, until_rest=0.0)
+    second = _run(trial, 'again_2', 0.5, True, sim_seconds=2.0, until_rest=0.0)
+    assert len(first.samples) == len(second.samples) == 200
+    assert first.samples == second.samples  # the world reset between: the same ground truth
+    assert first.commands == second.commands  # one answer per scan (10 Hz): the last
+    assert 19 <= first.commands <= 20         # scan's may come after the last sample
 
 
 def test_a_controller_that_never_stops_hits_the_wall(trial: Trial) -> None:

@@ -10,14 +10,17 @@ systems took. The trial reads these lines; odometry never enters the judgement.
 
 Run by the trial only: `python -m robot_lab.sim.referee SPEC.json`. It prints `@ready
 {json}` once the robot stands in the world (paused), and steps once a client sends
-`control pause: false`, until `iterations` steps have run.
+`control pause: false`, until `iterations` steps have run. With `lockstep` it waits, after
+each scan, for the controller's command (see `RefereeSimulation`).
 """
 
 from __future__ import annotations
 
 import json
+import queue
 import signal
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -29,11 +32,13 @@ from robot_lab.errors import RobotLabError
 from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.server import Server, _listen
 from robot_lab.sim.simulation import Simulation
-from robot_lab.sim.transport import partition, socket_path
+from robot_lab.sim.systems import DiffDrive, Lidar, Publish
+from robot_lab.sim.transport import partition, socket_path, topic_name
 
 __all__ = ['main']
 
 _FAR = 100.0  # metres: beyond this the gap is reported as this
+_MISSES = 3  # scans in a row without a command before lockstep runs on
 
 
 def _geoms_of(model: Any, prefixes: Sequence[str]) -> list[int]:
@@ -94,22 +99,75 @@ def _ground_gap(sim: RefereeSimulation, robot: str) -> float:
 
 class RefereeSimulation(Simulation):
     """The world, counting the commands its systems take and printing `@truth` samples
-    every `every` steps (`Server.run` steps one at a time)."""
+    every `every` steps (`Server.run` steps one at a time).
+
+    In lockstep (`server` set), each step that published a scan waits until a command
+    comes back (≤ `patience` wall seconds), so a controller that answers each scan drives
+    the same trajectory whatever the host's load; after `_MISSES` scans in a row without
+    an answer (no controller yet, or none that answers scans) it runs on, until one comes.
+    """
 
     truth: Truth | None = None
     every = 10
     commands = 0
+    server: Server | None = None  # set: lockstep
+    relay: Publish = staticmethod(lambda topic, kind, message: None)
+    patience = 0.5
+    scan_topics: frozenset[str] = frozenset()
+    cmd_topics: frozenset[str] = frozenset()
+    scanned = False
+    misses = 0
 
     def command(self, topic: str, message: dict[str, Any]) -> bool:
         taken = super().command(topic, message)
         self.commands += int(taken)
+        if taken and topic_name(topic) in self.cmd_topics:
+            self.misses = 0
         return taken
 
     def step(self, count: int = 1) -> None:
         for _ in range(count):
+            self.scanned = False
             super().step()
             if self.truth is not None and self.steps % self.every == 0:
                 _emit('truth', self.truth.sample())
+            if self.scanned and self.server is not None and self.misses < _MISSES:
+                self._await_command(self.server)
+
+    def published(self, topic: str, kind: str, message: dict[str, Any]) -> None:
+        """What the systems publish goes to the server's clients; a scan is noted."""
+        if topic in self.scan_topics:
+            self.scanned = True
+        self.relay(topic, kind, message)
+
+    def _await_command(self, server: Server) -> None:
+        """Serve the clients' frames until a command for the robot arrives."""
+        deadline = time.monotonic() + self.patience
+        while (left := deadline - time.monotonic()) > 0:
+            try:
+                connection, frame = server.inbox.get(timeout=left)
+            except queue.Empty:
+                break
+            server.handle(connection, frame)
+            if server.paused:  # the trial ended the run
+                return
+            if frame.get('op') == 'pub' and topic_name(str(frame.get('topic'))) in \
+                    self.cmd_topics:
+                return
+        self.misses += 1
+
+
+class RefereeServer(Server):
+    """The kit's server, marking each pause and resume with the commands taken so far: a
+    run counts the commands since its start, not a previous run's late answers."""
+
+    sim: RefereeSimulation
+
+    def control(self, request: dict[str, Any]) -> None:
+        super().control(request)
+        if 'pause' in request:
+            _emit('mark', {'paused': self.paused, 'commands': self.sim.commands,
+                           't': self.sim.time_ns / 1e9})
 
 
 def _spawned(spec: dict[str, Any]) -> tuple[RefereeSimulation, SpawnedRobot]:
@@ -137,17 +195,18 @@ def _run(spec: dict[str, Any]) -> int:
         sim, robot = _spawned(spec)
         sim.truth = truth = Truth(sim, robot.name, spec.get('obstacles') or [])
         sim.every = max(1, round(float(spec.get('sample', 0.01)) / sim.info.step))
-        server = Server(sim, listener)
+        server = RefereeServer(sim, listener)
         server.paused = True
+        sim.scan_topics = frozenset(s.topic for s in sim.systems if isinstance(s, Lidar))
+        sim.cmd_topics = frozenset(s.cmd_topic for s in sim.systems if isinstance(s, DiffDrive))
+        sim.relay, sim.on_publish = server.publish, sim.published
+        if spec.get('lockstep'):
+            sim.server = server
         _emit('ready', {
             'partition': partition(), 'socket': str(path), 'step': sim.info.step,
             'world': sim.info.name, 'robot_geoms': len(truth.robot_geoms),
             'obstacle_geoms': len(truth.obstacle_geoms),
-            'scan_topics': [lidar.topic or f'/world/{sim.info.name}/model/{robot.name}/link/'
-                            f'{lidar.link}/sensor/{lidar.name}/scan'
-                            for lidar in robot.tags.lidars],
-            'cmd_topics': [drive.topic or f'/model/{robot.name}/cmd_vel'
-                           for drive in robot.tags.diff_drives],
+            'scan_topics': sorted(sim.scan_topics), 'cmd_topics': sorted(sim.cmd_topics),
             'first': truth.sample()})
         rate = float(spec.get('speed') or sim.info.real_time_factor) / sim.info.step
         server.run(rate, int(spec['iterations']))

@@ -9,8 +9,10 @@ touched the obstacle. The robot is the package's own URDF/xacro when it has one 
 a path picks one; `robot: sample` the kit's sample robot), else the kit's sample robot.
 The grader bridges /scan, /cmd_vel, /odom and /clock unless `bridge: false`: then the
 student's launch must start its parameter_bridge (it gets the simulator's GZ_PARTITION).
-A simulator that fails to start, or a job out of time, is the grader's error, never the
-student's loss.
+The simulation runs in lockstep (`lockstep: false` to run it free): after each scan it waits
+for the controller's answer, so a loaded grading host does not turn a student's latency
+into a crash. A simulator that fails to start, or a job out of time, is the grader's
+error, never the student's loss.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ BEHAVIOURS = ('stop_before_obstacle',)
 _NUMBERS = {'target': 0.3, 'tolerance': 0.05, 'obstacle_distance': 1.0, 'sim_seconds': 15.0,
             'wall_seconds': 60.0, 'speed': 1.0}
 _TEXTS = ('behaviour', 'world', 'robot', 'launch', 'executable')
-_OPTIONS = {*_NUMBERS, *_TEXTS, 'obstacle', 'spawn', 'bridge', 'require_sim_time'}
+_OPTIONS = {*_NUMBERS, *_TEXTS, 'obstacle', 'spawn', 'bridge', 'require_sim_time', 'lockstep'}
 _RESERVE = 20.0  # job seconds kept for writing the report after this check
 
 
@@ -62,7 +64,7 @@ def validate(options: Mapping[str, Any]) -> tuple[str, str, str] | None:
     if 'launch' in options and 'executable' in options:
         return ('executable', 'give `launch` or `executable`, not both',
                 'keep the one the controller runs by')
-    for key in ('bridge', 'require_sim_time'):
+    for key in ('bridge', 'require_sim_time', 'lockstep'):
         if not isinstance(options.get(key, True), bool):
             return key, f'{key} must be true or false', f'write `{key}: true`'
     spawn = options.get('spawn', [0.0, 0.0, 0.0])
@@ -183,7 +185,8 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
     folder = Path(tempfile.mkdtemp(prefix='robot_lab_sim_check_'))
     trial = Trial(world, urdf, obstacles=[obstacle] if isinstance(obstacle, str) else obstacle,
                   xy=(x, y), yaw=yaw, bridge=bridged,
-                  speed=float(check.option('speed', _NUMBERS['speed'])))
+                  speed=float(check.option('speed', _NUMBERS['speed'])),
+                  lockstep=bool(check.option('lockstep', True)))
     handle = None
     try:
         try:
