@@ -128,11 +128,12 @@ def test_options_and_fields_the_kit_has_nothing_for_are_one_line_each(
         "[Wrn] gz sim --physics-engine gz-physics-bullet-featherstone-plugin: robot_lab's "
         'simulator runs MuJoCo; ignored']
     done = subprocess.run([str(BIN / 'gz'), 'service', '-s', '/world/room/control', '--req',
-                           'pause: false, seed: 3, reset {time_only: true}'],
+                           'pause: false, seed: 3, reset {model_only: true}, speed: 2'],
                           capture_output=True, text=True, timeout=30, check=False)
     assert done.returncode == 0
-    assert done.stderr == ("gz service: seed, reset.time_only not supported by robot_lab's "
-                           'simulator (pause, step, multi_step and reset.all are); ignored\n')
+    assert done.stderr == ('gz service: reset.model_only, seed: Gazebo does not honour it '
+                           'either; ignored\n'
+                           'gz service: speed: not a gz.msgs.WorldControl field; ignored\n')
 
 
 def test_gz_service_create_spawns_as_gazebos_spawn_tutorial_types_it(

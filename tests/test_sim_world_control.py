@@ -121,7 +121,7 @@ def test_ros_service_call_runs_and_pauses_the_world(control_bridge: Proc) -> Non
 
     node = session().node
     request = ControlWorld.Request()
-    request.world_control.multi_step = 50  # steps end paused, as Gazebo's do
+    request.world_control.pause, request.world_control.multi_step = True, 50  # then paused
     for name, succeeds in (('/world/room/control', True), ('/world/default/control', False)):
         client = node.create_client(ControlWorld, name)
         try:
@@ -179,18 +179,46 @@ def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
 
 
 def test_a_ros_world_control_converts_as_ros_gz_bridge_does() -> None:
-    """pause always goes (left out, it asks to run); steps end paused; what the kit does
-    not simulate is named, for the bridge's one warning line."""
+    """As gz-sim processes it: pause always applies (left out, it runs); steps only when
+    pausing; what Gazebo itself ignores is named, for the bridge's one warning line."""
     from ros_gz_interfaces.msg import WorldControl
 
     from robot_lab.sim.conversions import world_control_request
 
     stepping = WorldControl()
-    stepping.multi_step = 5
+    stepping.pause, stepping.multi_step = True, 5
     assert world_control_request(stepping) == ({'pause': True, 'multi_step': 5,
                                                 'reset': False}, [])
+    stepping.pause = False  # Gazebo steps only when pausing: this one just runs
+    assert world_control_request(stepping)[0] == {'pause': False, 'multi_step': 0,
+                                                  'reset': False}
     odd = WorldControl()
     odd.seed, odd.run_to_sim_time.sec = 3, 2
-    odd.reset.model_only = True
-    assert world_control_request(odd) == ({'pause': False, 'multi_step': 0, 'reset': True},
-                                          ['reset.model_only', 'seed', 'run_to_sim_time'])
+    odd.reset.model_only, odd.reset.time_only = True, True
+    assert world_control_request(odd) == (
+        {'pause': False, 'multi_step': 0, 'reset': True, 'run_to_sim_time': 2_000_000_000},
+        ['reset.model_only', 'seed'])
+
+
+def test_run_to_sim_time_runs_there_and_pauses(paused_world: Proc) -> None:
+    """Harmonic's WorldControl.run_to_sim_time: run, then pause at exactly that time."""
+    start = world_control(pause=True)['iterations'] * 1_000_000  # room.sdf: 1 ms steps
+    target = start + 200_000_000
+    done = subprocess.run(
+        [str(BIN / 'gz'), 'service', '-s', '/world/room/control', '--reqtype',
+         'gz.msgs.WorldControl', '--reptype', 'gz.msgs.Boolean', '--timeout', '3000', '--req',
+         f'pause: false, run_to_sim_time: {{sec: {target // 10**9}, nsec: {target % 10**9}}}'],
+        capture_output=True, text=True, timeout=30, check=False)
+    assert done.returncode == 0, done.stderr
+    connection = connect()
+    assert connection is not None
+    try:
+        connection.send({'op': 'sub', 'topic': '/world/room/stats'})
+        for _ in range(200):  # 10 a second: 20 s at most
+            frame = connection.receive()
+            assert frame is not None
+            if frame['msg']['paused']:
+                break
+        assert frame['msg']['paused'] and _sim_ns(frame['msg']) == target
+    finally:
+        connection.close()

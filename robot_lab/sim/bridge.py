@@ -110,11 +110,12 @@ def serve_world_control(node: Any, spec: ServiceSpec) -> Any:
         frame, unsupported = world_control_request(request.world_control)
         if unsupported:
             node.get_logger().warning(
-                f'{spec.name}: {", ".join(unsupported)} not supported by robot_lab\'s '
-                f'simulator: ignored (pause, step, multi_step and reset.all are)')
+                f'{spec.name}: {", ".join(unsupported)} not supported (by Gazebo either): '
+                f'ignored')
         try:
             world_control(pause=frame['pause'], step=frame['multi_step'], reset=frame['reset'],
-                          world=spec.name.split('/')[2])
+                          world=spec.name.split('/')[2],
+                          run_to=frame.get('run_to_sim_time', 0) / 1e9)
             response.success = True
         except SimulationError as error:
             node.get_logger().error(f'{spec.name}: {error}')

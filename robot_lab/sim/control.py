@@ -38,12 +38,15 @@ def _request(frame: dict[str, Any]) -> dict[str, Any]:
 
 
 def world_control(pause: bool | None = None, step: int = 0, reset: bool = False,
-                  world: str = '') -> dict[str, Any]:
-    """Pause or run, advance `step` steps (also while paused), reset to time 0; returns
-    `{'paused': ..., 'iterations': ...}` after the request. `world`, if given, must be the
-    one the simulation runs (as /world/<name>/control names it)."""
+                  world: str = '', run_to: float = 0.0) -> dict[str, Any]:
+    """Pause or run, advance `step` steps (also while paused), reset to time 0, run until
+    sim time `run_to` s and pause there; returns `{'paused': ..., 'iterations': ...}` after
+    the request. `world`, if given, must be the one the simulation runs (as
+    /world/<name>/control names it)."""
     request: dict[str, Any] = {'op': 'control', 'multi_step': step, 'reset': reset,
                                'world': world}
+    if run_to:
+        request['run_to_sim_time'] = round(run_to * 1e9)
     if pause is not None:
         request['pause'] = pause
     return _request(request)

@@ -11,7 +11,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ['PAIRS', 'SERVICES', 'from_gz', 'to_gz', 'world_control_request']
+__all__ = ['PAIRS', 'SERVICES', 'control_fields', 'from_gz', 'to_gz',
+           'world_control_request']
 
 Gz = dict[str, Any]
 
@@ -34,19 +35,32 @@ SERVICES: dict[str, tuple[str, str]] = {
 
 
 def world_control_request(msg: Any) -> tuple[Gz, list[str]]:
-    """A ros_gz_interfaces/msg/WorldControl as the kit's control frame (the fields
-    `Server.control` takes), and the fields set that the kit does not simulate.
+    """A ros_gz_interfaces/msg/WorldControl as the kit's control frame (`Server.control`'s
+    fields), and the fields set that Gazebo itself does not honour.
 
-    As ros_gz_bridge converts it, `pause` always goes (a request that leaves it out
-    asks to run); steps end paused ("Paused after stepping multi_step")."""
-    steps = int(msg.multi_step) or (1 if msg.step else 0)
-    reset = msg.reset
-    frame: Gz = {'pause': True if steps else bool(msg.pause), 'multi_step': steps,
-                 'reset': bool(reset.all or reset.time_only or reset.model_only)}
-    unsupported = [name for name, value in (
-        ('reset.time_only', reset.time_only), ('reset.model_only', reset.model_only),
-        ('seed', msg.seed), ('run_to_sim_time', msg.run_to_sim_time.sec
-                             or msg.run_to_sim_time.nanosec)) if value]
+    As gz-sim (Harmonic) processes it: `pause` always applies (left out, it runs); steps
+    happen only when pausing ("Paused after stepping multi_step"); reset.all and time_only
+    rewind; run_to_sim_time runs to that time and pauses; model_only resets and seed
+    Gazebo warns about and ignores.
+    """
+    return control_fields(bool(msg.pause), int(msg.multi_step), bool(msg.step),
+                          {'all': msg.reset.all, 'time_only': msg.reset.time_only,
+                           'model_only': msg.reset.model_only},
+                          int(msg.seed), int(msg.run_to_sim_time.sec) * 1_000_000_000
+                          + int(msg.run_to_sim_time.nanosec))
+
+
+def control_fields(pause: bool, multi_step: int, step: bool, reset: dict[str, Any],
+                   seed: int, run_to_ns: int) -> tuple[Gz, list[str]]:
+    """WorldControl's fields (from ROS or `gz service`) -> the control frame, and what of
+    them is not honoured (by Gazebo either)."""
+    steps = (multi_step or (1 if step else 0)) if pause else 0
+    frame: Gz = {'pause': pause, 'multi_step': steps,
+                 'reset': bool(reset.get('all') or reset.get('time_only'))}
+    if run_to_ns:
+        frame['run_to_sim_time'] = run_to_ns
+    unsupported = [name for name, value in (('reset.model_only', reset.get('model_only')),
+                                            ('seed', seed)) if value]
     return frame, unsupported
 
 

@@ -133,6 +133,7 @@ def _topic(argv: Sequence[str]) -> int:
 
 def _service(argv: Sequence[str]) -> int:
     from robot_lab.sim.control import world_control
+    from robot_lab.sim.conversions import control_fields
 
     parser = argparse.ArgumentParser(prog='gz service')
     parser.add_argument('-s', '--service', required=True)
@@ -149,15 +150,23 @@ def _service(argv: Sequence[str]) -> int:
         return 1
     request = parse_text_format(args.req)
     reset = request.get('reset', {})
-    unsupported = [k for k in request if k not in ('pause', 'step', 'multi_step', 'reset')] + [
-        f'reset.{k}' for k in (reset if isinstance(reset, dict) else {}) if k != 'all']
+    target = request.get('run_to_sim_time', {})
+    frame, unsupported = control_fields(
+        bool(request.get('pause', False)), int(request.get('multi_step', 0)),
+        bool(request.get('step', False)), reset if isinstance(reset, dict) else {},
+        int(request.get('seed', 0)),
+        int(target.get('sec', 0)) * 1_000_000_000 + int(target.get('nsec', 0)))
+    unknown = [k for k in request if k not in ('pause', 'step', 'multi_step', 'reset', 'seed',
+                                               'run_to_sim_time')]
     if unsupported:
-        print(f"gz service: {', '.join(unsupported)} not supported by robot_lab's simulator "
-              f'(pause, step, multi_step and reset.all are); ignored', file=sys.stderr)
-    world_control(pause=request.get('pause'),
-                  step=int(request.get('multi_step', 0)) or (1 if request.get('step') else 0),
-                  reset=bool(reset.get('all') if isinstance(reset, dict) else reset),
-                  world=args.service.split('/')[2])
+        print(f"gz service: {', '.join(unsupported)}: Gazebo does not honour it either; "
+              f'ignored', file=sys.stderr)
+    if unknown:
+        print(f"gz service: {', '.join(unknown)}: not a gz.msgs.WorldControl field; ignored",
+              file=sys.stderr)
+    world_control(pause=frame['pause'], step=frame['multi_step'], reset=frame['reset'],
+                  world=args.service.split('/')[2],
+                  run_to=frame.get('run_to_sim_time', 0) / 1e9)
     print('data: true\n')
     return 0
 

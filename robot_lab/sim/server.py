@@ -108,6 +108,7 @@ class Server:
         self.run_time = 0.0  # wall seconds spent running, up to run_since
         self.run_since = time.monotonic()
         self.last_stats = (time.monotonic(), 0, 0.0)  # wall, sim ns, running s
+        self.run_to: int | None = None  # sim ns at which to pause (WorldControl's target)
         sim.on_publish = self.publish
         threading.Thread(target=self._accept, daemon=True).start()
 
@@ -208,6 +209,15 @@ class Server:
         if steps:
             self.sim.step(steps)
             self._anchor()
+        if 'run_to_sim_time' in request:  # ns; run until then, then pause (0: no target)
+            target = int(request['run_to_sim_time'] or 0)
+            self.run_to = target if target > self.sim.time_ns else None
+
+    def _reached(self) -> None:
+        """Pause at a run_to_sim_time target, as Gazebo's runner does."""
+        if self.run_to is not None and self.sim.time_ns >= self.run_to:
+            self.run_to = None
+            self.control({'pause': True})
 
     def running_time(self, now: float) -> float:
         """Wall seconds spent running (Gazebo's real_time: its watch stops while paused)."""
@@ -258,6 +268,7 @@ class Server:
                 self._drain()
                 if not self.paused and self.sim.steps < self._due(now):
                     self.sim.step()
+                    self._reached()
             self._stats(now)
             if self.paused:
                 wait = STATS_PERIOD
