@@ -157,8 +157,10 @@ class Trial:
         self.failure = ''
         self.connection: Connection | None = None
         self.runs = 0
-        # GZ_PARTITION of the trial's simulator: give it to a bridge the caller starts
+        # GZ_PARTITION of the trial's simulator, and the environment of its processes
+        # (domain, partition, LOCALHOST): give them to a bridge the caller starts
         self.partition = ''
+        self.env: dict[str, str] = {}
         self._finalizer: weakref.finalize[Any, Any] | None = None
 
     # -- life ------------------------------------------------------------------------
