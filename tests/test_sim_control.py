@@ -159,3 +159,35 @@ def test_gz_service_create_spawns_as_gazebos_spawn_tutorial_types_it(
     assert create(f'sdf: "{sdf}"') == 'data: false\n\n'  # the name is taken
     assert create(f'sdf: "{sdf}", name: "cube", allow_renaming: true') == 'data: true\n\n'
     simulation.wait_for(r"Spawned SDF model 'cube_1'")
+
+
+def test_a_bridge_yaml_reads_as_upstreams_bridge_config(tmp_path: Path) -> None:
+    from robot_lab.sim.bridge import BridgeSpec, parse_bridge_config
+
+    config = tmp_path / 'bridge.yaml'
+    config.write_text("""\
+- ros_topic_name: "scan"
+  ros_type_name: "sensor_msgs/msg/LaserScan"
+  gz_type_name: "gz.msgs.LaserScan"
+  direction: GZ_TO_ROS
+- gz_topic_name: "/odom"
+  ros_type_name: "nav_msgs/msg/Odometry"
+  gz_type_name: "gz.msgs.Odometry"
+  publisher_queue: 5
+  lazy: true
+  qos_depth: 3
+""")
+    warnings: list[str] = []
+    assert parse_bridge_config(str(config), warnings.append) == [
+        BridgeSpec('scan', 'scan', 'sensor_msgs/msg/LaserScan', 'gz.msgs.LaserScan',
+                   'GZ_TO_ROS'),
+        BridgeSpec('/odom', '/odom', 'nav_msgs/msg/Odometry', 'gz.msgs.Odometry',
+                   'BIDIRECTIONAL', publisher_queue=5, lazy=True)]
+    assert warnings == [f"{config}:5: 'qos_depth' is not a ros_gz_bridge entry key "
+                        f'(direction, gz_topic_name, gz_type_name, lazy, publisher_queue, '
+                        f'ros_topic_name, ros_type_name, subscriber_queue, topic_name); ignored']
+    config.write_text('- topic_name: a\n  ros_topic_name: b\n  ros_type_name: x\n'
+                      '  gz_type_name: y\n')
+    with pytest.raises(SystemExit, match=f'{config}:1: topic_name and ros_topic_name are '
+                                         f'mutually exclusive'):
+        parse_bridge_config(str(config))

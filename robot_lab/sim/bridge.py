@@ -21,6 +21,7 @@ import sys
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import yaml
@@ -50,6 +51,9 @@ class BridgeSpec:
     ros_type: str
     gz_type: str
     direction: str  # BIDIRECTIONAL | GZ_TO_ROS | ROS_TO_GZ
+    publisher_queue: int = 10  # upstream's defaults
+    subscriber_queue: int = 10
+    lazy: bool = False  # no effect on what arrives; said in the log line, as upstream
 
     def check(self, where: str) -> None:
         """Refuse a pair or direction the kit does not convert, naming what it does."""
@@ -127,25 +131,51 @@ def serve_world_control(node: Any, spec: ServiceSpec) -> Any:
     return node.create_service(message_class(spec.ros_type), spec.name, call)
 
 
-def parse_bridge_config(path: str) -> list[BridgeSpec]:
-    """A ros_gz_bridge YAML config file's entries."""
-    with open(path) as stream:
-        entries = yaml.safe_load(stream) or []
+_ENTRY_KEYS = {'topic_name', 'ros_topic_name', 'gz_topic_name', 'ros_type_name',
+               'gz_type_name', 'direction', 'publisher_queue', 'subscriber_queue', 'lazy'}
+
+
+def parse_bridge_config(path: str, warn: Any = print) -> list[BridgeSpec]:
+    """A ros_gz_bridge YAML config file's entries, read as upstream's bridge_config.cpp
+    reads them: topic_name, or ros_topic_name and/or gz_topic_name (one given names both);
+    both types; direction; publisher_queue, subscriber_queue, lazy. A mistake stops it
+    with `file:line`; a key upstream does not read is one `warn` line."""
+    text = Path(path).read_text()
+    entries = yaml.safe_load(text) or []
+    root = yaml.compose(text)
+    lines = [n.start_mark.line + 1 for n in root.value] if isinstance(
+        root, yaml.SequenceNode) else []
+    if not isinstance(entries, list):
+        raise SystemExit(f'{path}:1: Could not parse config: top level must be a YAML '
+                         f'sequence (a list of entries, each "- topic_name: ...")')
     specs = []
     for index, entry in enumerate(entries):
-        where = f'{path}: entry {index + 1}'
-        ros_topic = entry.get('ros_topic_name') or entry.get('topic_name')
-        gz_topic = entry.get('gz_topic_name') or entry.get('topic_name')
-        if not ros_topic or not gz_topic or 'ros_type_name' not in entry or \
-                'gz_type_name' not in entry:
-            raise SystemExit(f'{where}: needs topic_name (or ros_topic_name and gz_topic_name), '
-                             f'ros_type_name and gz_type_name')
+        where = f'{path}:{lines[index] if index < len(lines) else 1}'
+        if not isinstance(entry, dict):
+            raise SystemExit(f'{where}: an entry is a mapping (topic_name: ..., '
+                             f'ros_type_name: ..., gz_type_name: ...)')
+        for other in ('ros_topic_name', 'gz_topic_name'):
+            if entry.get('topic_name') and entry.get(other):
+                raise SystemExit(f'{where}: topic_name and {other} are mutually exclusive')
+        ros_topic = entry.get('topic_name') or entry.get('ros_topic_name') or \
+            entry.get('gz_topic_name')
+        gz_topic = entry.get('topic_name') or entry.get('gz_topic_name') or \
+            entry.get('ros_topic_name')
+        if not ros_topic or not entry.get('ros_type_name') or not entry.get('gz_type_name'):
+            raise SystemExit(f'{where}: needs topic_name (or ros_topic_name and/or '
+                             f'gz_topic_name), ros_type_name and gz_type_name')
         direction = str(entry.get('direction', 'BIDIRECTIONAL')).upper()
         if direction not in _DIRECTIONS.values():
             raise SystemExit(f'{where}: direction {direction!r}: BIDIRECTIONAL, GZ_TO_ROS or '
                              f'ROS_TO_GZ')
+        for key in sorted(set(entry) - _ENTRY_KEYS):
+            warn(f'{where}: {key!r} is not a ros_gz_bridge entry key '
+                 f'({", ".join(sorted(_ENTRY_KEYS))}); ignored')
         specs.append(BridgeSpec(str(ros_topic), str(gz_topic), str(entry['ros_type_name']),
-                                str(entry['gz_type_name']), direction))
+                                str(entry['gz_type_name']), direction,
+                                int(entry.get('publisher_queue', 10)),
+                                int(entry.get('subscriber_queue', 10)),
+                                bool(entry.get('lazy', False))))
     return specs
 
 
@@ -165,14 +195,16 @@ class Bridge:
             ends = [f'{spec.gz_topic} ({spec.gz_type})', f'{spec.ros_topic} ({spec.ros_type})']
             if spec.direction == 'ROS_TO_GZ':
                 ends.reverse()
-            node.get_logger().info(f'Creating {arrow} Bridge: [{ends[0]} -> {ends[1]}] (Lazy 0)')
+            node.get_logger().info(f'Creating {arrow} Bridge: [{ends[0]} -> {ends[1]}] '
+                                   f'(Lazy {int(spec.lazy)})')
             if spec.direction in ('GZ_TO_ROS', 'BIDIRECTIONAL'):
-                qos = self._qos(spec.ros_topic)
+                qos = self._qos(spec.ros_topic, spec.publisher_queue)
                 publisher = node.create_publisher(cls, spec.ros_topic, qos)
                 self.to_ros.setdefault(topic_name(spec.gz_topic), []).append((spec, cls, publisher))
             if spec.direction in ('ROS_TO_GZ', 'BIDIRECTIONAL'):
                 node.create_subscription(cls, spec.ros_topic,
-                                         lambda msg, s=spec: self._to_gz(s, msg), 10)
+                                         lambda msg, s=spec: self._to_gz(s, msg),
+                                         spec.subscriber_queue)
         self.stopping = threading.Event()
         self.link = threading.Thread(target=self._link, daemon=True)
         self.link.start()
@@ -187,12 +219,12 @@ class Bridge:
         self.link.join(timeout=2.0)
 
     @staticmethod
-    def _qos(topic: str) -> Any:
+    def _qos(topic: str, depth: int) -> Any:
         from rclpy.qos import DurabilityPolicy, QoSProfile
 
         if topic.endswith('tf_static'):  # as upstream: latched for late listeners
             return QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        return QoSProfile(depth=10)
+        return QoSProfile(depth=depth)
 
     def _to_gz(self, spec: BridgeSpec, msg: Any) -> None:
         if self.last_sent.get(spec.ros_topic) is msg:
@@ -237,7 +269,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     node.get_logger().info(identity())
     config = node.declare_parameter('config_file', '').value
     if config:
-        specs += parse_bridge_config(str(config))
+        specs += parse_bridge_config(str(config), node.get_logger().warning)
     if not specs and not services:
         print(USAGE, file=sys.stderr)
         return 1
