@@ -16,6 +16,8 @@ from pathlib import Path
 import pytest
 from conftest import REPO
 
+from robot_lab.sim.sample_robot import diffbot_urdf
+
 FIXTURE = REPO / 'tests' / 'data' / 'sim_controller' / 'wall_stopper'
 
 
@@ -82,3 +84,51 @@ def test_a_class_run_grades_the_behaviour_in_the_simulator(tmp_path: Path) -> No
     assert re.search(r'hit the obstacle at 0\.[23]\d m/s at t=\d+\.\d s \(sim time\); '
                      r'/stopper runs without use_sim_time', sim.output), sim.output
     assert 'slow down as the obstacle nears' in sim.output
+
+
+_NO_TAGS = """<?xml version="1.0"?>
+<robot name="brick">
+  <link name="base_link">
+    <collision><geometry><box size="0.3 0.2 0.1"/></geometry></collision>
+    <inertial><mass value="1.0"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+</robot>
+"""
+_BROKEN = diffbot_urdf().replace(  # the sample robot, a joint to a link it has not
+    '</robot>', '<joint name="j" type="fixed"><parent link="base_link"/><child link="nowhere"/>'
+                '</joint>\n</robot>')
+
+
+@pytest.mark.parametrize(('option', 'urdf', 'grader_error', 'says'), [
+    # the rubric names a world the kit has not: the grader's fault (not the robot's, though
+    # the package has one), the points kept
+    ({'world': 'no_such_world.sdf'}, diffbot_urdf(), r'^the simulator: .*no_such_world\.sdf',
+     r'^not run$'),
+    # the student's own robot is refused by the simulator: theirs
+    ({}, _BROKEN, '', r'^your robot \(urdf/robot\.urdf\) could not be spawned: .*nowhere'),
+    ({}, _NO_TAGS, '', r'^your robot \(urdf/robot\.urdf\) has no lidar \(a gpu_lidar sensor\) '
+                       r'and no DiffDrive system$'),
+])
+def test_what_keeps_the_simulation_from_running_is_blamed_on_whose_fault_it_is(
+        tmp_path: Path, option: dict[str, str], urdf: str, grader_error: str,
+        says: str) -> None:
+    from robot_lab.grading.package.registry import registered_checks
+    from robot_lab.grading.package.rubric import RubricCheck, load_rubric, rubric_path
+    from robot_lab.grading.package.state import JobState
+
+    package = tmp_path / 'wall_stopper'
+    shutil.copytree(FIXTURE, package)
+    if urdf:
+        (package / 'urdf').mkdir()
+        (package / 'urdf' / 'robot.urdf').write_text(urdf)
+    rubric = load_rubric(rubric_path('ch8-sim'))
+    shipped = rubric.check('sim_behaviour')
+    assert shipped is not None
+    check = RubricCheck(shipped.id, shipped.name, shipped.points, {**shipped.options, **option})
+    state = JobState(rubric, package=package, package_name=package.name, built=True)
+    verdict = registered_checks()['sim_behaviour'].run(state, check)
+    assert re.search(grader_error, verdict.grader_error) if grader_error else \
+        not verdict.grader_error, verdict
+    assert verdict.earned is False
+    assert re.search(says, verdict.observed), verdict.observed

@@ -9,7 +9,8 @@ whether any of their geoms touch, the root link's pose, and how many commands th
 systems took. The trial reads these lines; odometry never enters the judgement.
 
 Run by the trial only: `python -m robot_lab.sim.referee SPEC.json`. It prints `@ready
-{json}` once the robot stands in the world (paused), and steps once a client sends
+{json}` once the robot stands in the world (paused), or `@error {"phase": "world" |
+"robot", "message"}` when one was refused, and steps once a client sends
 `control pause: false`, until `iterations` steps have run. With `lockstep` it waits, after
 each scan, for the controller's command (see `RefereeSimulation`).
 """
@@ -170,18 +171,28 @@ class RefereeServer(Server):
                            't': self.sim.time_ns / 1e9})
 
 
+class SpawnError(RobotLabError):
+    """The simulator refused the robot (its URDF), not the world: the `robot` phase."""
+
+
 def _spawned(spec: dict[str, Any]) -> tuple[RefereeSimulation, SpawnedRobot]:
     """The world with the robot spawned; at `z` None it rests on the ground (1 mm above,
     found by spawning it at z 0 and measuring), as a lab's `create -z` would place it."""
     x, y, z = spec['xyz']
+
+    def spawn(sim: RefereeSimulation, at: tuple[float, float, float]) -> SpawnedRobot:
+        try:
+            return sim.spawn(spec['urdf'], spec['name'], at, tuple(spec['rpy']),
+                             spec.get('source', 'robot_description'))
+        except RobotLabError as error:
+            raise SpawnError(str(error)) from error
+
     if z is None:
         probe = RefereeSimulation(spec['world'], seed=0, warn=lambda line: None)
-        probe.spawn(spec['urdf'], spec['name'], (x, y, 0.0), tuple(spec['rpy']))
+        spawn(probe, (x, y, 0.0))
         z = 0.001 - _ground_gap(probe, spec['name'])
     sim = RefereeSimulation(spec['world'], seed=int(spec.get('seed', 0)))
-    robot = sim.spawn(spec['urdf'], spec['name'], (x, y, z), tuple(spec['rpy']),
-                      spec.get('source', 'robot_description'))
-    return sim, robot
+    return sim, spawn(sim, (x, y, z))
 
 
 def _emit(tag: str, payload: dict[str, Any]) -> None:
@@ -224,7 +235,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         spec = json.loads(Path(args[0]).read_text())
         return _run(spec)
     except RobotLabError as error:
-        print(f'@error {json.dumps(str(error))}', flush=True)
+        phase = 'robot' if isinstance(error, SpawnError) else 'world'
+        _emit('error', {'phase': phase, 'message': str(error)})
         return 1
     except KeyboardInterrupt:
         return 0

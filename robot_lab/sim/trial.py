@@ -154,7 +154,8 @@ class Trial:
         self.samples: list[dict[str, Any]] = []
         self.marks: list[dict[str, Any]] = []  # the referee's pause/resume marks
         self.changed = threading.Condition()
-        self.failure = ''
+        self.failure = ''  # why the simulator refused to start, and what it refused:
+        self.failed = ''  # 'world' or 'robot' (the URDF)
         self.connection: Connection | None = None
         self.runs = 0
         # GZ_PARTITION of the trial's simulator, and the environment of its processes
@@ -250,7 +251,7 @@ class Trial:
             elif tag == '@mark':
                 self.marks.append(value)
             elif tag == '@error':
-                self.failure = str(value)
+                self.failure, self.failed = str(value['message']), str(value['phase'])
             self.changed.notify_all()
         return True
 

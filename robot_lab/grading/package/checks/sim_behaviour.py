@@ -40,6 +40,7 @@ _NUMBERS = {'target': 0.3, 'tolerance': 0.05, 'obstacle_distance': 1.0, 'sim_sec
             'wall_seconds': 60.0, 'speed': 1.0}
 _TEXTS = ('behaviour', 'world', 'robot', 'launch', 'executable')
 _OPTIONS = {*_NUMBERS, *_TEXTS, 'obstacle', 'spawn', 'bridge', 'require_sim_time', 'lockstep'}
+_SYSTEMS = ('lidar (a gpu_lidar sensor)', 'DiffDrive system')
 _RESERVE = 20.0  # job seconds kept for writing the report after this check
 
 
@@ -98,6 +99,22 @@ def _robot(state: JobState, check: RubricCheck) -> tuple[str | None, str]:
     rel = str(path.relative_to(state.package))
     text = _xacro(path, state) if path.name.endswith('.xacro') else path.read_text()
     return text, f'your robot ({rel})'
+
+
+def _missing_systems(urdf: str | None) -> list[str]:
+    """What the robot lacks to be driven against /scan, read from its `<gazebo>` tags (the
+    simulator says it again once it has spawned it; XML it cannot read is its to refuse)."""
+    from robot_lab.sim.gazebo_tags import read_gazebo_tags
+    from robot_lab.sim.xml_tree import SimulationError, parse
+
+    if urdf is None:
+        return []
+    try:
+        tags = read_gazebo_tags(parse(urdf, 'robot'), lambda line: None)
+    except SimulationError:
+        return []
+    return [what for what, has in zip(_SYSTEMS, (tags.lidars, tags.diff_drives), strict=True)
+            if not has]
 
 
 def _plan(state: JobState, check: RubricCheck, folder: Path) -> LaunchPlan:
@@ -172,6 +189,10 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
         urdf, robot = _robot(state, check)
     except RobotLabError as err:
         return Verdict(False, expected, f'the robot could not be read: {err}', err.fix or '')
+    missing = _missing_systems(urdf)
+    if missing:
+        return Verdict(False, expected, f'{robot} has no {" and no ".join(missing)}',
+                       'add the <gazebo> tags of Module 2 to the URDF')
     world: str = check.option('world', 'wall')
     distance = float(check.option('obstacle_distance', _NUMBERS['obstacle_distance']))
     obstacle = check.option('obstacle', None)
@@ -192,14 +213,13 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
         try:
             trial.start()
         except SimulationError as err:
-            if trial.failure and urdf is not None:  # the simulator refused the student's robot
+            if trial.failed == 'robot' and urdf is not None:  # it refused the student's robot
                 return Verdict(False, expected, f'{robot} could not be spawned: '
                                f'{trial.failure}', 'run it in the simulator yourself (`ros2 '
                                'run ros_gz_sim create -file ...`) and fix what it names')
             return Verdict(False, expected, 'not run', grader_error=f'the simulator: {err}')
-        missing = [what for what, topics in (('a lidar (gpu_lidar sensor)', 'scan_topics'),
-                                             ('a DiffDrive system', 'cmd_topics'))
-                   if not trial.ready.get(topics)]
+        missing = [what for what, topics in zip(_SYSTEMS, ('scan_topics', 'cmd_topics'),
+                                                strict=True) if not trial.ready.get(topics)]
         if missing:
             return Verdict(False, expected, f'{robot} has no {" and no ".join(missing)}',
                            'add the <gazebo> tags of Module 2 to the URDF')
