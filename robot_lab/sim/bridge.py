@@ -16,6 +16,7 @@ it restarts, as gz-transport's discovery would.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import re
 import sys
 import threading
@@ -268,13 +269,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     node = rclpy.create_node('ros_gz_bridge')
     node.get_logger().info(identity())
     config = node.declare_parameter('config_file', '').value
+    if node.declare_parameter('lazy', False).value:  # upstream's: for the command line's
+        specs = [dataclasses.replace(spec, lazy=True) for spec in specs]
+    from_arguments = len(specs)
     if config:
         specs += parse_bridge_config(str(config), node.get_logger().warning)
     if not specs and not services:
         print(USAGE, file=sys.stderr)
         return 1
     for index, spec in enumerate(specs):
-        spec.check(str(config) if index >= cut else 'parameter_bridge')
+        spec.check(str(config) if index >= from_arguments else 'parameter_bridge')
     for service in services:
         serve_world_control(node, service)
     bridge = Bridge(node, specs)
