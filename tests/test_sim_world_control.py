@@ -9,6 +9,7 @@ runs it from ROS, as ros_gz_bridge's README does it.
 
 from __future__ import annotations
 
+import os
 import shlex
 import subprocess
 import threading
@@ -222,3 +223,29 @@ def test_run_to_sim_time_runs_there_and_pauses(paused_world: Proc) -> None:
         assert frame['msg']['paused'] and _sim_ns(frame['msg']) == target
     finally:
         connection.close()
+
+
+def test_gz_server_launch_runs_a_world_string_at_once() -> None:
+    """ros_gz_sim's gz_server.launch.py (world_sdf_file or world_sdf_string): upstream's
+    gzserver runs its world unpaused, so this one runs without any -r."""
+    from robot_lab.sim.transport import socket_path
+
+    partition = f'gz_server_{os.getpid()}'
+    world = '<sdf version="1.9"><world name="from_string"></world></sdf>'
+    server = Proc([str(BIN / 'ros2'), 'launch', 'ros_gz_sim', 'gz_server.launch.py',
+                   f'world_sdf_string:={world}', 'use_composition:=True'],
+                  env={**os.environ, 'GZ_PARTITION': partition})
+    try:
+        server.wait_for(r'Serving partition', timeout=60)
+        assert not any('Paused' in line for line in server.lines)
+        server.wait_for(r'use_composition: .* runs as its own process')
+        connection = connect(socket_path({'GZ_PARTITION': partition}))
+        assert connection is not None
+        try:
+            connection.send({'op': 'sub', 'topic': '/world/from_string/stats'})
+            frame = connection.receive()
+            assert frame is not None and frame['msg']['paused'] is False
+        finally:
+            connection.close()
+    finally:
+        server.stop()

@@ -124,6 +124,7 @@ KIT_EXECUTABLES: dict[str, dict[str, str]] = {
     },
     'ros_gz_sim': {
         'gz_sim': 'robot_lab.sim.server:main',  # what gz_sim.launch.py runs for `gz sim`
+        'gzserver': 'robot_lab.sim.server:gzserver_main',  # gz_server.launch.py's
         'create': 'robot_lab.sim.create:main',
     },
     'ros_gz_bridge': {

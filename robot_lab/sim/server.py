@@ -35,7 +35,7 @@ from robot_lab.sim.transport import Connection, connect, partition, socket_path
 if TYPE_CHECKING:
     from robot_lab.sim.simulation import Simulation
 
-__all__ = ['identity', 'main', 'split_gz_args', 'start_command']  # identity: from about
+__all__ = ['gzserver_main', 'identity', 'main', 'split_gz_args', 'start_command']  # identity: about
 
 Frame = dict[str, Any]
 STATS_PERIOD = 0.1  # wall seconds between /world/<name>/stats messages (Gazebo: 10 a second)
@@ -351,6 +351,34 @@ def main(argv: Sequence[str] | None = None) -> int:
         listener.close()
         path.unlink(missing_ok=True)
     return 0
+
+
+def gzserver_main(argv: Sequence[str] | None = None) -> int:
+    """ros_gz_sim's `gzserver` (what gz_server.launch.py runs): the world from its ROS
+    parameter world_sdf_file or world_sdf_string, server only, running at once, as
+    upstream's runs its server unpaused."""
+    import tempfile
+
+    import rclpy
+    import rclpy.utilities
+
+    rclpy.init(args=['gzserver', *(sys.argv[1:] if argv is None else argv)])
+    node: Any = rclpy.create_node('gz_server',
+                                  automatically_declare_parameters_from_overrides=True)
+    values = {name: p.value for name, p in node.get_parameters_by_prefix('').items()}
+    node.destroy_node()
+    rclpy.utilities.try_shutdown()
+    if str(values.get('use_composition', '')).lower() == 'true':
+        print("[Wrn] use_composition: robot_lab's simulator runs as its own process, not a "
+              'component; ignored', flush=True)
+    world = str(values.get('world_sdf_file') or '')
+    text = str(values.get('world_sdf_string') or '')
+    if world or not text:
+        return main(['-r', '-s', world or 'empty.sdf'])
+    with tempfile.TemporaryDirectory() as folder:  # gz-sim reads the string; the kit a file
+        path = Path(folder) / 'world_sdf_string.sdf'
+        path.write_text(text)
+        return main(['-r', '-s', str(path)])
 
 
 if __name__ == '__main__':
