@@ -70,6 +70,13 @@ Measured 2026-11-28 later, the fork server started before the launch file is rea
 loops 1.34x (0.94 / 0.70 s, 5 runs), then 1.65x, 1.34x, 1.26x (9 runs each). USS launcher
 + fork server + 3 nodes 62-63 MB.
 
+Measured 2026-12-06, nodes forked with a plain os.fork as the fork server's children (exit
+statuses over its socket) against clone(CLONE_PARENT) as the launcher's (--quick --runs 5,
+3 A/B pairs interleaved, the old code bind-mounted over the tree in the bench's own mount
+namespace; load average 12-19 from other work): ratio to the bare trio 0.94, 0.45, 0.57x
+(clone) against 0.42, 0.64, 0.64x (fork); USS launcher + fork server + 3 nodes 63-64
+against 62-63 MB.
+
 Uses ROS_DOMAIN_ID (default 29) and loopback-only discovery, like everything in the kit.
 """
 
