@@ -63,7 +63,7 @@ def _run(trial: Trial, name: str, stop_at: float, sim_time: bool, **options: Any
 def test_without_a_bridge_the_result_says_what_to_bridge() -> None:
     # First in the module: the shared trial's bridge, once up, publishes /scan domain-wide.
     with Trial('wall', bridge=False, speed=10.0) as trial:
-        result = _run(trial, 'unbridged', 0.5, True, sim_seconds=0.5)
+        result = _run(trial, 'unbridged', 0.5, True, sim_seconds=0.5, controller_timeout=2.0)
         children = list(trial.children)
     assert all(child.proc.poll() is not None for child in children)  # nothing outlives it
     assert result.scan_publishers == () and not result.received_cmd_vel

@@ -34,7 +34,7 @@ from robot_lab.sim.robot import SpawnedRobot
 from robot_lab.sim.server import Server, _listen
 from robot_lab.sim.simulation import Simulation
 from robot_lab.sim.systems import DiffDrive, Lidar, Publish
-from robot_lab.sim.transport import partition, socket_path, topic_name
+from robot_lab.sim.transport import Connection, partition, socket_path, topic_name
 
 __all__ = ['main']
 
@@ -159,10 +159,20 @@ class RefereeSimulation(Simulation):
 
 
 class RefereeServer(Server):
-    """The kit's server, marking each pause and resume with the commands taken so far: a
-    run counts the commands since its start, not a previous run's late answers."""
+    """The kit's server, marking each pause and resume with the commands taken so far (a
+    run counts the commands since its start, not a previous run's late answers), and
+    saying how many clients subscribe to each topic (`{"op": "subscribers"}`: is a bridge
+    connected yet?)."""
 
     sim: RefereeSimulation
+
+    def handle(self, connection: Connection, frame: dict[str, Any]) -> None:
+        if frame.get('op') != 'subscribers':
+            super().handle(connection, frame)
+            return
+        with self.lock:
+            counts = {topic: len(clients) for topic, clients in self.subscribers.items()}
+        connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True, 'data': counts})
 
     def control(self, request: dict[str, Any]) -> None:
         super().control(request)

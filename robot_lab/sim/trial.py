@@ -42,6 +42,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from robot_lab.sim.transport import topic_name
 from robot_lab.sim.trial_result import TrialResult, TrialSample, judge_stop
 from robot_lab.sim.xml_tree import SimulationError
 
@@ -57,6 +58,7 @@ BRIDGED = ('/scan@sensor_msgs/msg/LaserScan[gz.msgs.LaserScan',
            '/odom@nav_msgs/msg/Odometry[gz.msgs.Odometry',
            '/clock@rosgraph_msgs/msg/Clock[gz.msgs.Clock')
 START_TIMEOUT = 60.0  # wall seconds for the simulator to load and the bridge to be seen
+BRIDGE_GRACE = 5.0  # wall seconds a run waits, once the controller is up, for its bridge
 _COUNTER = itertools.count(1)
 
 
@@ -101,6 +103,8 @@ class _Child:
             line = raw.decode(errors='replace').rstrip('\n')
             if self.on_line is None or not self.on_line(line):
                 self.lines.append(line)
+        if self.on_line is not None:
+            self.on_line('@eof {}')  # waiters on the process's lines see it has ended
 
     def tail(self, count: int = 6) -> str:
         return ' | '.join(list(self.lines)[-count:])
@@ -110,6 +114,14 @@ class _Child:
 
         stop(self.proc, sigint_timeout=3.0, sigterm_timeout=2.0)
         self.reader.join(timeout=2.0)
+
+
+def _gz_to_ros(arguments: Sequence[str]) -> list[str]:
+    """The gz topics a parameter_bridge's arguments bring into ROS."""
+    from robot_lab.sim.bridge import parse_bridge_arg
+
+    return [topic_name(spec.gz_topic) for spec in map(parse_bridge_arg, arguments)
+            if spec.direction != 'ROS_TO_GZ']
 
 
 def _stop_all(children: list[_Child], folder: str) -> None:
@@ -221,9 +233,11 @@ class Trial:
                 bridge = _Child([sys.executable, '-m', 'robot_lab.sim.bridge',
                                  *self.bridge_args], env)
                 self.children.append(bridge)
-                if not self._graph_wait(lambda: self.graph()['scan_publishers'],
+                gz_topics = _gz_to_ros(self.bridge_args)
+                if not self._graph_wait(lambda: self._bridged(gz_topics) and (
+                        '/scan' not in gz_topics or self.graph()['scan_publishers']),
                                         START_TIMEOUT):
-                    raise SimulationError(f'the bridge was not seen publishing /scan within '
+                    raise SimulationError(f'the bridge did not connect within '
                                           f'{START_TIMEOUT:g} s: {bridge.tail()}')
         except BaseException:
             self.close()
@@ -240,7 +254,7 @@ class Trial:
     # -- the referee's lines and socket ----------------------------------------------
     def _line(self, line: str) -> bool:
         tag, _, payload = line.partition(' ')
-        if tag not in ('@truth', '@ready', '@done', '@error', '@mark'):
+        if tag not in ('@truth', '@ready', '@done', '@error', '@mark', '@eof'):
             return False
         value = json.loads(payload)
         with self.changed:
@@ -261,8 +275,19 @@ class Trial:
 
     def _control(self, request: dict[str, Any]) -> dict[str, Any]:
         """A WorldControl-shaped request over the trial's own connection; its reply."""
+        return self._request({'op': 'control', **request})
+
+    def gz_subscribers(self) -> dict[str, int]:
+        """How many clients (bridges) subscribe to each of the simulator's topics."""
+        return {str(k): int(v) for k, v in self._request({'op': 'subscribers'}).items()}
+
+    def _bridged(self, topics: Sequence[str]) -> bool:
+        counts = self.gz_subscribers()
+        return all(counts.get(topic, 0) > 0 for topic in topics)
+
+    def _request(self, request: dict[str, Any]) -> dict[str, Any]:
         connection = self.connection
-        if connection is None or not connection.send({'op': 'control', 'id': 1, **request}):
+        if connection is None or not connection.send({'id': 1, **request}):
             raise SimulationError(f'the simulator has gone: {self.children[0].tail()}')
         while (reply := connection.receive()) is not None:
             if reply.get('op') == 'reply':
@@ -308,7 +333,8 @@ class Trial:
     def run(self, sim_seconds: float = 10.0, wall_seconds: float = 60.0, *,
             controller_timeout: float = 10.0, until_rest: float = 0.5,
             after_collision: float = 0.3, stop_speed: float = 0.02) -> TrialResult:
-        """Wait (≤ `controller_timeout` wall s) for a /cmd_vel publisher, then run until
+        """Wait (≤ `controller_timeout` wall s) for a /cmd_vel publisher (then as long again,
+        ≤ 5 s, for the scans to be bridged and its /scan subscription seen), then run until
         `sim_seconds` of sim time, `wall_seconds` of wall time, `until_rest` sim s at rest
         after moving (0: never), or `after_collision` sim s after a contact. A second run
         resets the world first (time 0, the robot at its spawn pose)."""
@@ -321,6 +347,14 @@ class Trial:
         seen = {k: set(v) for k, v in self.graph().items()}
         publishers = self._graph_wait(lambda: self.graph()['cmd_vel_publishers'],
                                       controller_timeout) or ()
+        # the scans bridged (the caller's bridge may still be starting) and the
+        # controller's subscription seen: in lockstep the first scan must find it
+        scans = [topic_name(t) for t in self.ready.get('scan_topics', ())]
+        grace = min(BRIDGE_GRACE, controller_timeout) if publishers else 0.0
+        deadline = time.monotonic() + grace
+        self._graph_wait(lambda: self._bridged(scans), deadline - time.monotonic())
+        self._graph_wait(lambda: set(self.graph()['scan_subscribers']) - set(
+            self.graph()['scan_publishers']), deadline - time.monotonic())
         sim_time = self.use_sim_time(publishers)
         with self.changed:
             first, marks = len(self.samples), len(self.marks)
