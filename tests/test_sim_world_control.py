@@ -21,7 +21,7 @@ import pytest
 import yaml
 from conftest import BIN, Proc
 
-from robot_lab.sim.control import world_control
+from robot_lab.sim.control import gz_topics, world_control
 from robot_lab.sim.transport import connect
 
 
@@ -163,10 +163,14 @@ def test_create_reads_the_description_from_ros_parameters(paused_world: Proc,
         assert done.returncode == 0, done.stdout + done.stderr
         return done.stdout
 
+    world_control(pause=True)
     assert 'Entity creation successful.' in create(
         '-param', 'robot_description', '-name', 'by_param', '-z', '0.051',
         '--ros-args', '--params-file', str(params))
     paused_world.wait_for(r"Spawned 'by_param' \(\d+ links\) at \[0.0, 0.0, 0.051\]")
+    # advertised at once, as gz-sim's systems do, though paused it has published none yet
+    assert gz_topics()['/scan'] == 'gz.msgs.LaserScan'
+    assert world_control()['paused'] is True
     sdf = tmp_path / 'crate.sdf'
     sdf.write_text('<sdf version="1.9"><model name="crate"><static>true</static><link '
                    'name="l"/></model></sdf>')

@@ -53,6 +53,9 @@ class Imu(System):
         self.frame = settings.frame_id or f'{robot.name}::{link}::{settings.name}'
         self.period_ns = round(1e9 / settings.update_rate) if settings.update_rate > 0 else 0
 
+    def advertised(self) -> dict[str, str]:
+        return {self.topic: 'gz.msgs.IMU'}
+
     def bind(self, model: mujoco.MjModel) -> None:
         self.addresses = [int(model.sensor(name).adr[0]) for name in self.sensors]
 

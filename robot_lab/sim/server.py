@@ -165,7 +165,10 @@ class Server:
             connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True,
                              'data': {'paused': self.paused, 'iterations': self.sim.steps}})
         elif op == 'topics':
-            topics = {**self.types, **{t: self.types.get(t, '') for t in self.sim.subscriptions}}
+            advertised = {t: k for system in self.sim.systems for t, k in
+                          system.advertised().items()}
+            topics = {**advertised, **self.types,
+                      **{t: self.types.get(t, '') for t in self.sim.subscriptions}}
             connection.send({'op': 'reply', 'id': frame.get('id'), 'ok': True, 'data': topics})
 
     def create(self, frame: Frame) -> None:

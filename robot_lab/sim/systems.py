@@ -51,6 +51,11 @@ class System:
     def bind(self, model: mujoco.MjModel) -> None:
         """Look up ids again: spawning a robot recompiles the model."""
 
+    def advertised(self) -> dict[str, str]:
+        """Topic -> gz type of what it publishes: advertised from its start, as gz-sim's
+        systems advertise in Configure (so `gz topic -l` lists them while paused)."""
+        return {}
+
     def reset(self) -> None:
         """The world went back to time 0 (Gazebo's world reset): start over."""
         self.next_ns = 0
@@ -146,6 +151,9 @@ class DiffDrive(System):
         self.command = (min(max(linear, s.min_linear_velocity), s.max_linear_velocity),
                         min(max(angular, s.min_angular_velocity), s.max_angular_velocity))
 
+    def advertised(self) -> dict[str, str]:
+        return {self.odom_topic: 'gz.msgs.Odometry', self.tf_topic: 'gz.msgs.Pose_V'}
+
     def bind(self, model: mujoco.MjModel) -> None:
         self.actuators = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f'{j}::velocity')
                           for j in self.left + self.right]
@@ -229,6 +237,9 @@ class JointStatePublisher(System):
         self.model_name = robot.name
         self.period_ns = _period(rate)
 
+    def advertised(self) -> dict[str, str]:
+        return {self.topic: 'gz.msgs.Model'}
+
     def bind(self, model: mujoco.MjModel) -> None:
         ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n) for n in self.mj_names]
         self.addresses = [(model.jnt_qposadr[i], model.jnt_dofadr[i]) for i in ids]
@@ -273,6 +284,9 @@ class Lidar(System):
         self.local = local @ self.offset_rot.T
         self.geomid = np.zeros(count, dtype=np.int32)
         self.dist = np.zeros(count, dtype=np.float64)
+
+    def advertised(self) -> dict[str, str]:
+        return {self.topic: 'gz.msgs.LaserScan'}
 
     def bind(self, model: mujoco.MjModel) -> None:
         self.body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, self.body_name)
