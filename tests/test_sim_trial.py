@@ -173,3 +173,24 @@ def test_commands_that_never_reach_the_simulator_name_the_missing_bridge() -> No
         '/cmd_vel never reached the simulator: it takes gz topic /cmd_vel; bridge it with: '
         'ros2 run ros_gz_bridge parameter_bridge /cmd_vel@geometry_msgs/msg/Twist]'
         'gz.msgs.Twist')
+
+
+@pytest.mark.no_ros
+def test_a_run_ends_at_the_sample_where_its_end_was_met() -> None:
+    """However late the watcher reads them, the run is cut at the same sample."""
+    from robot_lab.sim.trial_result import EndWatch, Speedometer
+
+    def end(raw: list[dict[str, Any]]) -> tuple[float, str]:
+        meter, watch = Speedometer(), EndWatch(0.5, 0.3, 0.02)
+        for item in raw:
+            found = watch.feed(meter.sample(item))
+            if found is not None:
+                return float(item['t']), found
+        raise AssertionError('no end met')
+
+    approach = [1.0 - 0.004 * i for i in range(150)]  # 0.4 m/s, then still from t=1.5 s
+    t, why = end(_samples(approach + [approach[-1]] * 100))
+    assert why == 'rest' and 2.0 <= t <= 2.1  # still (< 0.02 m/s over 50 ms) for 0.5 s
+    crash = _samples([1.0 - 0.004 * i for i in range(300)], touching_below=0.2)
+    t, why = end(crash)
+    assert why == 'collision' and t == pytest.approx(2.0 + 0.3, abs=0.011)  # 0.2 m at 2.0 s

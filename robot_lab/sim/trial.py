@@ -43,7 +43,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.sim.transport import topic_name
-from robot_lab.sim.trial_result import TrialResult, TrialSample, judge_stop
+from robot_lab.sim.trial_result import (
+    EndWatch,
+    Speedometer,
+    TrialResult,
+    TrialSample,
+    judge_stop,
+)
 from robot_lab.sim.xml_tree import SimulationError
 
 if TYPE_CHECKING:
@@ -362,9 +368,10 @@ class Trial:
         if not self._wait(lambda: len(self.marks) > marks, START_TIMEOUT):
             raise SimulationError(f'the simulator did not resume: {self.children[0].tail()}')
         before = int(self.marks[marks]['commands'])
-        ended, last_graph = 'sim_time', 0.0
+        ended, last_graph, taken = '', 0.0, first  # '' while the run goes on
         window: list[dict[str, Any]] = []
-        while True:
+        meter, watch = Speedometer(t0), EndWatch(until_rest, after_collision, stop_speed)
+        while not ended:
             now = time.monotonic()
             if now - last_graph > 0.25:
                 last_graph = now
@@ -377,20 +384,21 @@ class Trial:
                 raise SimulationError(f'the simulator stopped during the trial: '
                                       f'{self.failure or self.children[0].tail()}')
             with self.changed:
-                self.changed.wait(0.1)
-                window = [s for s in self.samples[first:] if s['t'] >= t0 - 1e-9]
-            result = TrialResult.from_samples(window, t0, stop_speed, until_rest, before)
-            if result.sim_seconds >= sim_seconds - 1e-9:
-                break
-            if result.collision and result.collision_time is not None and \
-                    result.sim_seconds - result.collision_time >= after_collision:
-                ended = 'collision'
-                break
-            if until_rest and result.moved and result.rest_seconds >= until_rest:
-                ended = 'rest'
-                break
+                if len(self.samples) == taken:  # wait for the next sample (or 0.1 s)
+                    self.changed.wait(0.1)
+                fresh, taken = self.samples[taken:], len(self.samples)
+            for item in fresh:  # each sample once: the watch keeps what it needs
+                if item['t'] < t0 - 1e-9:
+                    continue
+                if item['t'] - t0 > sim_seconds + 1e-9:
+                    ended = 'sim_time'
+                    break
+                window.append(item)
+                end = watch.feed(meter.sample(item))
+                if end is not None:  # cut at the sample it was met, not when noticed
+                    ended = end
+                    break
         self._control({'pause': True})
-        window = [s for s in window if s['t'] - t0 <= sim_seconds + 1e-9]
         for key, value in self.graph().items():
             seen[key].update(value)
         return TrialResult.from_samples(

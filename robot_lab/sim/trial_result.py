@@ -10,11 +10,13 @@ bridge, no command, a collision, still moving, the wrong distance, wall-clock ti
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ['TrialResult', 'TrialSample', 'bridge_command', 'judge_stop']
+__all__ = ['EndWatch', 'Speedometer', 'TrialResult', 'TrialSample', 'bridge_command',
+           'judge_stop']
 
 _MOVED = 0.02  # metres from the start: the robot was driven, not just settling
 _SPEED_WINDOW = 0.05  # sim seconds over which a sample's speed is measured
@@ -40,6 +42,58 @@ def bridge_command(gz_topic: str, kind: str) -> str:
     ros, gz, way = _TYPES[kind]
     name = gz_topic if gz_topic.startswith('/') else '/' + gz_topic
     return f'ros2 run ros_gz_bridge parameter_bridge {name}@{ros}{way}{gz}'
+
+
+class Speedometer:
+    """The referee's samples, one at a time, as TrialSamples: each one's speed is over the
+    samples of the last 50 ms of sim time (the one before it if none)."""
+
+    def __init__(self, t0: float = 0.0) -> None:
+        self.t0 = t0
+        self.recent: deque[tuple[float, float, float]] = deque()  # t, x, y
+
+    def sample(self, item: Mapping[str, Any]) -> TrialSample:
+        t, x, y = float(item['t']), float(item['x']), float(item['y'])
+        while len(self.recent) > 1 and t - self.recent[0][0] > _SPEED_WINDOW:
+            self.recent.popleft()  # keeping the one before, should all be older
+        earlier = self.recent[0] if self.recent else (t, x, y)
+        dt = t - earlier[0]
+        speed = math.hypot(x - earlier[1], y - earlier[2]) / dt if dt > 0 else 0.0
+        self.recent.append((t, x, y))
+        return TrialSample(t - self.t0, float(item['gap']), speed, bool(item['contact']), x, y,
+                           float(item['yaw']))
+
+
+class EndWatch:
+    """Which end a run met first, fed its samples in order: at rest for `until_rest` sim s
+    after it moved, or `after_collision` sim s after a contact. A run cut at that sample
+    ends there however late its watcher noticed, so one trajectory gives one result."""
+
+    def __init__(self, until_rest: float, after_collision: float, stop_speed: float) -> None:
+        self.until_rest, self.after_collision = until_rest, after_collision
+        self.stop_speed = stop_speed
+        self.start: TrialSample | None = None
+        self.moved = False
+        self.still_since: float | None = None
+        self.hit: float | None = None
+
+    def feed(self, sample: TrialSample) -> str | None:
+        """'rest', 'collision', or None while the run goes on."""
+        start = self.start = self.start or sample
+        self.moved = self.moved or math.hypot(sample.x - start.x,
+                                              sample.y - start.y) > _MOVED
+        if sample.speed >= self.stop_speed:
+            self.still_since = None
+        elif self.still_since is None:
+            self.still_since = sample.t
+        if (self.until_rest and self.moved and self.still_since is not None
+                and sample.t - self.still_since >= self.until_rest):
+            return 'rest'
+        if self.hit is None and sample.contact:
+            self.hit = sample.t
+        if self.hit is not None and sample.t - self.hit >= self.after_collision:
+            return 'collision'
+        return None
 
 
 @dataclass(frozen=True)
@@ -88,18 +142,8 @@ class TrialResult:
                      stop_speed: float = 0.02, until_rest: float = 0.5,
                      commands_before: int = 0, **extra: Any) -> TrialResult:
         """The figures of the referee's `@truth` samples taken since sim time `t0`."""
-        samples: list[TrialSample] = []
-        for index, item in enumerate(raw):
-            back = index
-            while back > 0 and float(item['t']) - float(raw[back - 1]['t']) <= _SPEED_WINDOW:
-                back -= 1
-            earlier = raw[back] if back < index else raw[index - 1] if index else item
-            dt = float(item['t']) - float(earlier['t'])
-            speed = math.hypot(float(item['x']) - float(earlier['x']),
-                               float(item['y']) - float(earlier['y'])) / dt if dt > 0 else 0.0
-            samples.append(TrialSample(float(item['t']) - t0, float(item['gap']), speed,
-                                       bool(item['contact']), float(item['x']),
-                                       float(item['y']), float(item['yaw'])))
+        meter = Speedometer(t0)
+        samples = [meter.sample(item) for item in raw]
         if not samples:
             return cls((), 0.0, math.nan, math.nan, math.nan, 0.0, False, 0.0, False, None,
                        False, None, None, 0, **extra)
