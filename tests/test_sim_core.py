@@ -383,3 +383,95 @@ def test_what_the_world_and_urdf_ask_for_is_simulated_or_said(tmp_path: Path) ->
     joint = sim.model.joint('armbot::arm_joint')
     assert (joint.damping[0], joint.frictionloss[0]) == pytest.approx((0.7, 0.2))
     assert sim.model.body_gravcomp[sim.model.body('armbot::arm').id] == pytest.approx(1.0)
+
+
+VEHICLE = """<model name="vehicle_blue">
+  <pose>-1 0 0.325 0 0 0</pose>
+  <link name="chassis"><pose>-0.15 0 0.175 0 0 0</pose>
+    <inertial><mass>1.14</mass><inertia><ixx>0.126</ixx><iyy>0.416</iyy><izz>0.481</izz>
+    </inertia></inertial>
+    <collision name="c"><geometry><box><size>2 1 0.57</size></box></geometry></collision>
+  </link>
+  <link name="lidar_link"><pose>0 0 0.5 0 0 0</pose>
+    <inertial><mass>0.1</mass></inertial>
+    <sensor name="gpu_lidar" type="gpu_lidar"><topic>lidar2</topic><update_rate>10</update_rate>
+      <lidar><scan><horizontal><samples>640</samples><min_angle>-1.396263</min_angle>
+        <max_angle>1.396263</max_angle></horizontal></scan>
+        <range><min>0.08</min><max>10.0</max></range></lidar><alwaysOn>1</alwaysOn></sensor>
+  </link>
+  <link name="left_wheel"><pose>0.554 0.625 -0.025 -1.5707 0 0</pose>
+    <inertial><mass>2</mass><inertia><ixx>0.145</ixx><iyy>0.145</iyy><izz>0.125</izz>
+    </inertia></inertial>
+    <collision name="c"><geometry><sphere><radius>0.3</radius></sphere></geometry></collision>
+  </link>
+  <link name="right_wheel"><pose>0.554 -0.625 -0.025 -1.5707 0 0</pose>
+    <inertial><mass>2</mass><inertia><ixx>0.145</ixx><iyy>0.145</iyy><izz>0.125</izz>
+    </inertia></inertial>
+    <collision name="c"><geometry><sphere><radius>0.3</radius></sphere></geometry></collision>
+  </link>
+  <link name="caster"><pose>-0.957 0 -0.125 0 0 0</pose>
+    <collision name="c"><geometry><sphere><radius>0.2</radius></sphere></geometry></collision>
+  </link>
+  <joint name="lidar_joint" type="fixed"><parent>chassis</parent><child>lidar_link</child></joint>
+  <joint name="left_wheel_joint" type="revolute"><parent>chassis</parent><child>left_wheel</child>
+    <axis><xyz>0 0 1</xyz><limit><lower>-1.79769e+308</lower><upper>1.79769e+308</upper>
+    </limit></axis></joint>
+  <joint name="right_wheel_joint" type="revolute"><parent>chassis</parent><child>right_wheel</child>
+    <axis><xyz>0 0 1</xyz><limit><lower>-1.79769e+308</lower><upper>1.79769e+308</upper>
+    </limit></axis></joint>
+  <joint name="caster_wheel" type="ball"><parent>chassis</parent><child>caster</child></joint>
+  <plugin filename="libignition-gazebo-diff-drive-system.so"
+          name="ignition::gazebo::systems::DiffDrive">
+    <left_joint>left_wheel_joint</left_joint><right_joint>right_wheel_joint</right_joint>
+    <wheel_separation>1.25</wheel_separation><wheel_radius>0.3</wheel_radius>
+  </plugin>
+</model>"""
+
+
+def test_an_sdf_robot_drives_and_scans_as_in_gazebos_lidar_tutorial(tmp_path: Path) -> None:
+    """A world's SDF model with joints, a DiffDrive and a gpu_lidar (the Jazzy tutorial's
+    vehicle_blue, in the shape gz-sim's visualize_lidar.sdf writes it) is a robot: its
+    lidar2 reads a wall's known distance, cmd_vel drives it; a Fuel include and the ball
+    caster are one line each; `create` of the same model places it at create's pose."""
+    world = tmp_path / 'lidar_world.sdf'
+    world.write_text(f"""<sdf version="1.6"><world name="lidar_world">
+<include><uri>model://ground_plane</uri></include>
+<include><uri>https://fuel.gazebosim.org/1.0/OpenRobotics/models/Playground</uri></include>
+<model name="wall"><static>true</static><pose>3 0 0.5 0 0 0</pose><link name="l"><collision
+  name="c"><geometry><box><size>0.2 6 1</size></box></geometry></collision></link></model>
+{VEHICLE}
+</world></sdf>""")
+    messages: Messages = {}
+    warnings: list[str] = []
+    sim = Simulation(world, warn=warnings.append,
+                     on_publish=lambda topic, kind, msg: messages.setdefault(topic, []).append(msg))
+    lines = world.read_text().splitlines()
+
+    def at(text: str) -> str:
+        return f'{world}:{next(i for i, t in enumerate(lines, 1) if text in t)}'
+
+    ball, caster = at('type="ball"'), at('<link name="caster">')
+    assert sorted(warnings) == sorted([
+        f"{at('fuel.gazebosim.org')}: <include> of 'https://fuel.gazebosim.org/1.0/"
+        f"OpenRobotics/models/Playground': robot_lab's simulator does not download models "
+        f'(no network); left out. Put the model on GZ_SIM_RESOURCE_PATH and include it as '
+        f'model://<name>',
+        f"{ball}: ball joint 'caster_wheel' is not supported by robot_lab's "
+        f'simulator; its child is fixed and frictionless (a caster)',
+        f"{caster}: link 'caster' has no <inertial>; the simulator "
+        f'gives it 0.1 kg and 0.0001 kg m² (Gazebo would drop it)'])
+    sim.step(500)
+    scan = messages['/lidar2'][-1]
+    assert len(scan['ranges']) == 640
+    assert scan['ranges'][320] == pytest.approx(3.9, abs=0.01)  # lidar at x -1, wall face 2.9
+    sim.command('/model/vehicle_blue/cmd_vel', {'linear': {'x': 0.5}})
+    sim.step(2000)
+    x, y, _ = sim.body_pose('vehicle_blue')
+    assert x - -1.15 == pytest.approx(0.9, abs=0.15) and abs(y) < 0.01  # accelerating to 0.5
+    assert sim.spawn_model(f'<sdf version="1.6">{VEHICLE}</sdf>', 'second',
+                           (0.0, 2.0, 0.325)) == 'second'
+    import mujoco
+
+    chassis = sim.model.body('second::chassis').id
+    mujoco.mj_forward(sim.model, sim.data)
+    assert list(sim.data.xpos[chassis]) == pytest.approx([-0.15, 2.0, 0.5], abs=1e-6)

@@ -202,7 +202,8 @@ def _lidar(sensor: Node, link: str, warn: Warn) -> LidarSettings:
     _place(sensor, settings, default_rate=10.0)
     for child in sensor.children:
         if child.tag not in ('lidar', 'ray', 'update_rate', 'topic', 'gz_frame_id', 'frame_id',
-                             'ignition_frame_id', 'pose', 'always_on', 'visualize'):
+                             'ignition_frame_id', 'pose', 'always_on', 'alwaysOn',
+                             'visualize', 'enable_metrics'):
             warn(f'{child.where}: <{child.tag}> in sensor {settings.name!r} is not supported '
                  f"by robot_lab's simulator; ignored")
     return settings
@@ -238,8 +239,8 @@ def _imu(sensor: Node, link: str, warn: Warn) -> ImuSettings:
                                                                 noise.number('stddev', 0.0))
     for child in sensor.children:
         if child.tag not in ('imu', 'update_rate', 'topic', 'gz_frame_id', 'frame_id',
-                             'ignition_frame_id', 'pose', 'always_on', 'visualize',
-                             'enable_metrics'):
+                             'ignition_frame_id', 'pose', 'always_on', 'alwaysOn',
+                             'visualize', 'enable_metrics'):
             warn(f'{child.where}: <{child.tag}> in sensor {settings.name!r} is not supported '
                  f"by robot_lab's simulator; ignored")
     return settings

@@ -137,10 +137,11 @@ def _inertial(body: mujoco.MjsBody, link: Node, moves: bool, warn: Warn) -> None
 
 def add_robot(spec: mujoco.MjSpec, urdf_text: str, name: str, source: str,
               xyz: tuple[float, float, float], rpy: tuple[float, float, float],
-              warn: Warn) -> SpawnedRobot:
-    """The URDF's links as bodies of `spec` under a body named `name`, posed at xyz/rpy."""
+              warn: Warn, root: Node | None = None) -> SpawnedRobot:
+    """The URDF's links as bodies of `spec` under a body named `name`, posed at xyz/rpy;
+    `root`, the text's element tree if given (an SDF robot's, with the SDF's lines)."""
     tree = parse_urdf(urdf_text, source)  # urdfdom's refusals, file:line
-    root = parse(urdf_text, source)
+    root = root if root is not None else parse(urdf_text, source)
     if any(str(b.name).startswith(f'{name}::') or b.name == name for b in spec.bodies):
         raise SimulationError(f'an entity named {name!r} already exists in the world',
                               fix='give the robot another -name')

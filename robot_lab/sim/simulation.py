@@ -31,7 +31,7 @@ from robot_lab.sim.systems import (
 )
 from robot_lab.sim.transport import topic_name
 from robot_lab.sim.world import WorldInfo, add_model, find_world, load_world
-from robot_lab.sim.xml_tree import Warn
+from robot_lab.sim.xml_tree import Node, Warn
 
 __all__ = ['CLOCK_RATE', 'Simulation']
 
@@ -64,6 +64,9 @@ class Simulation:
         self.subscriptions: dict[str, list[Callable[[Message], None]]] = {}
         self.on_publish: Publish = on_publish or (lambda topic, kind, message: None)
         self.clock_period = round(1e9 / CLOCK_RATE)
+        while self.info.robots:  # the world's SDF robots (vehicle_blue): as spawned
+            robot = self.info.robots.pop(0)
+            self.spawn(robot.urdf, robot.name, robot.xyz, robot.rpy, robot.source, robot.root)
 
     def _speak(self) -> None:
         """MuJoCo's warnings from the calls that follow name this world (see engine_log)."""
@@ -89,9 +92,10 @@ class Simulation:
 
     def spawn(self, urdf: str, name: str, xyz: tuple[float, float, float] = (0.0, 0.0, 0.0),
               rpy: tuple[float, float, float] = (0.0, 0.0, 0.0),
-              source: str = 'robot_description') -> SpawnedRobot:
-        """`ros_gz_sim create`: the URDF's robot at a pose, its `<gazebo>` systems running."""
-        robot = add_robot(self.spec, urdf, name, source, xyz, rpy, self.warn)
+              source: str = 'robot_description', root: Node | None = None) -> SpawnedRobot:
+        """`ros_gz_sim create`: the URDF's robot at a pose, its `<gazebo>` systems running
+        (`root`: an SDF robot's tree, see `sdf_robot`)."""
+        robot = add_robot(self.spec, urdf, name, source, xyz, rpy, self.warn, root)
         systems: list[System] = []
         for drive in robot.tags.diff_drives:
             missing = [j for j in drive.left_joints + drive.right_joints if j not in robot.joints]
@@ -124,8 +128,13 @@ class Simulation:
                     xyz: tuple[float, float, float] = (0.0, 0.0, 0.0),
                     rpy: tuple[float, float, float] = (0.0, 0.0, 0.0),
                     source: str = '<string>') -> str:
-        """`ros_gz_sim create` of an SDF model (no systems: its plugins get a warning)."""
+        """`ros_gz_sim create` of an SDF model; one with joints, plugins or sensors is a
+        robot (`sdf_robot`), spawned as a URDF one is."""
         name = add_model(self.spec, self.info, sdf, source, name, xyz, rpy, self.warn)
+        if self.info.robots:  # it was a robot: add_model queued it
+            robot = self.info.robots.pop()
+            return self.spawn(robot.urdf, robot.name, robot.xyz, robot.rpy, robot.source,
+                              robot.root).name
         self._speak()
         self.model, self.data = self.spec.recompile(self.model, self.data)
         mujoco.mj_forward(self.model, self.data)

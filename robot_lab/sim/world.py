@@ -17,10 +17,11 @@ from pathlib import Path
 import mujoco  # type: ignore[import-untyped]  # no stubs nor py.typed
 
 from robot_lab.sim.meshes import add_mesh, resolve_mesh
+from robot_lab.sim.sdf_robot import is_robot, sdf_robot
 from robot_lab.sim.shapes import Shape, add_shape, quat_from_rpy
 from robot_lab.sim.xml_tree import Node, SimulationError, Warn, parse, vector
 
-__all__ = ['KIT_RESOURCES', 'WorldInfo', 'add_model', 'find_world', 'load_world',
+__all__ = ['KIT_RESOURCES', 'SdfRobot', 'WorldInfo', 'add_model', 'find_world', 'load_world',
            'resource_path']
 
 KIT_RESOURCES = Path(__file__).resolve().parents[1] / 'data' / 'ament_packages' / 'ros_gz_sim'
@@ -35,6 +36,18 @@ WORLD_SYSTEMS = ('physics', 'user-commands', 'usercommands', 'scene-broadcaster'
 
 
 @dataclass
+class SdfRobot:
+    """A world's SDF model with joints, plugins or sensors, to spawn as a robot."""
+
+    urdf: str
+    root: Node
+    name: str
+    xyz: tuple[float, float, float]
+    rpy: tuple[float, float, float]
+    source: str
+
+
+@dataclass
 class WorldInfo:
     """What the simulation loop needs from the world file besides the bodies."""
 
@@ -43,6 +56,7 @@ class WorldInfo:
     real_time_factor: float = 1.0
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.8)
     models: list[str] = field(default_factory=list)
+    robots: list[SdfRobot] = field(default_factory=list)  # spawned once the world is built
 
 
 def resource_path() -> list[Path]:
@@ -145,7 +159,7 @@ class _Builder:
                 g = vector(child, 3)
                 self.info.gravity = (g[0], g[1], g[2])
             elif child.tag == 'model':
-                self.model(child, None)
+                self.top_model(child)
             elif child.tag == 'include':
                 self.include(child)
             elif child.tag == 'plugin':
@@ -195,17 +209,32 @@ class _Builder:
                     model.children.append(node.find('pose'))  # type: ignore[arg-type]
                 if node.find('static') is not None:
                     model.children.append(node.find('static'))  # type: ignore[arg-type]
-                self.model(model, None)
+                self.top_model(model)
                 return
             if (folder / model_name / 'model.config').is_file() and model_name == 'sun':
                 return
         if model_name == 'sun':  # a light: nothing to simulate
+            return
+        if uri.startswith(('http://', 'https://')):  # Gazebo would download it from Fuel
+            self.warn(f"{node.where}: <include> of {uri!r}: robot_lab's simulator does not "
+                      f'download models (no network); left out. Put the model on '
+                      f'GZ_SIM_RESOURCE_PATH and include it as model://<name>')
             return
         raise SimulationError(f'<include> of {uri!r}: no such model on the resource path',
                               file=node.source, line=node.line,
                               fix='put the model folder on GZ_SIM_RESOURCE_PATH, or use one of '
                                   "the kit's: " + ', '.join(
                                       sorted(p.name for p in (KIT_RESOURCES / 'models').iterdir())))
+
+    def top_model(self, model: Node) -> None:
+        """A model of the world: a robot (joints, plugins, sensors) is queued to spawn as
+        one; any other is built here."""
+        if is_robot(model):
+            urdf, root, xyz, rpy = sdf_robot(model, self.warn, *_pose(model))
+            self.info.robots.append(SdfRobot(urdf, root, model.attrib.get('name', 'robot'),
+                                             xyz, rpy, model.source))
+        else:
+            self.model(model, None)
 
     def model(self, model: Node, parent: mujoco.MjsFrame | None) -> mujoco.MjsFrame:
         """A model is a frame, not a body: its links stay top-level bodies, so a dynamic
@@ -290,6 +319,10 @@ def add_model(spec: mujoco.MjSpec, info: WorldInfo, text: str, source: str, name
         raise SimulationError(f'an entity named {name!r} already exists in the world'
                               if name else 'the model has no name', file=source,
                               line=model.line, fix='give the model another -name')
+    if is_robot(model):  # joints, plugins, sensors: Simulation.spawn_model spawns it
+        urdf, tree, at_xyz, at_rpy = sdf_robot(model, warn, xyz, rpy)
+        info.robots.append(SdfRobot(urdf, tree, name, at_xyz, at_rpy, source))
+        return name
     frame = _Builder(spec, info, warn).model(model, None)
     frame.pos = list(xyz)
     frame.quat = quat_from_rpy(*rpy)
