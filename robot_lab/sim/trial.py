@@ -198,9 +198,10 @@ class Trial:
             self._session = session()
         return self._session
 
-    def start(self) -> None:
+    def start(self, timeout: float = START_TIMEOUT) -> None:
         """Start the simulator (and the bridge); return once the robot is in the world and
-        the bridge is seen on the graph. SimulationError if the simulator cannot start."""
+        the bridge has connected, each within `timeout` wall seconds. SimulationError if
+        the simulator cannot start (`failed` says whether the world or the robot)."""
         from robot_lab.env import ros_environment
         from robot_lab.sim.transport import connect
 
@@ -226,8 +227,8 @@ class Trial:
                              env, self._line)
             self.children.append(referee)
             if not self._wait(lambda: bool(self.ready or self.failure)
-                              or referee.proc.poll() is not None, START_TIMEOUT):
-                raise SimulationError(f'the simulator did not start within {START_TIMEOUT:g} s: '
+                              or referee.proc.poll() is not None, timeout):
+                raise SimulationError(f'the simulator did not start within {timeout:g} s: '
                                       f'{referee.tail()}')
             if not self.ready:
                 raise SimulationError('the simulator did not start: '
@@ -242,9 +243,9 @@ class Trial:
                 gz_topics = _gz_to_ros(self.bridge_args)
                 if not self._graph_wait(lambda: self._bridged(gz_topics) and (
                         '/scan' not in gz_topics or self.graph()['scan_publishers']),
-                                        START_TIMEOUT):
+                                        timeout):
                     raise SimulationError(f'the bridge did not connect within '
-                                          f'{START_TIMEOUT:g} s: {bridge.tail()}')
+                                          f'{timeout:g} s: {bridge.tail()}')
         except BaseException:
             self.close()
             raise

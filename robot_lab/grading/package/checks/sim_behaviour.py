@@ -180,9 +180,11 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
     if not state.built or state.package is None:
         return Verdict(False, expected, 'not run: the package does not build (see "builds")',
                        'fix the build')
+    budget = state.time_left() - _RESERVE  # the simulator and bridge's start, then the run
+    starting = min(60.0, budget / 4)  # each of the two
     wall = min(float(check.option('wall_seconds', _NUMBERS['wall_seconds'])),
-               state.time_left() - _RESERVE)
-    if wall < 10:
+               budget - 2 * starting)
+    if wall < 10 or starting < 5:
         return Verdict(False, expected, 'not run', grader_error='the job had no time left '
                        'for the simulation')
     try:
@@ -211,7 +213,7 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
     handle = None
     try:
         try:
-            trial.start()
+            trial.start(timeout=starting)
         except SimulationError as err:
             if trial.failed == 'robot' and urdf is not None:  # it refused the student's robot
                 return Verdict(False, expected, f'{robot} could not be spawned: '
