@@ -475,3 +475,21 @@ def test_an_sdf_robot_drives_and_scans_as_in_gazebos_lidar_tutorial(tmp_path: Pa
     chassis = sim.model.body('second::chassis').id
     mujoco.mj_forward(sim.model, sim.data)
     assert list(sim.data.xpos[chassis]) == pytest.approx([-0.15, 2.0, 0.5], abs=1e-6)
+
+
+def test_the_lidar_tutorials_world_runs_with_the_tutorials_names() -> None:
+    """`gz sim -r visualize_lidar.sdf` (Jazzy's Gazebo tutorial): the kit's own world of
+    that name has vehicle_blue, driven on /model/vehicle_blue/cmd_vel, its lidar on lidar2
+    and a post's on lidar, both 640 beams reading the box's faces 3.5 m away."""
+    messages: Messages = {}
+    warnings: list[str] = []
+    sim = Simulation('visualize_lidar.sdf', warn=warnings.append,
+                     on_publish=lambda topic, kind, msg: messages.setdefault(topic, []).append(msg))
+    assert warnings == [] and sim.info.name == 'visualize_lidar_world'
+    sim.step(200)
+    for topic in ('/lidar2', '/lidar'):
+        ranges = messages[topic][-1]['ranges']
+        assert len(ranges) == 640 and ranges[320] == pytest.approx(3.5, abs=0.01), topic
+    assert sim.command('/model/vehicle_blue/cmd_vel', {'linear': {'x': 0.5}})
+    sim.step(1000)
+    assert sim.body_pose('vehicle_blue')[0] > -3.9  # it drives toward the box
