@@ -56,14 +56,15 @@ os.environ[AUTOSTART_VARIABLE] = '0'
 # its own for as long as it runs, and so has everything else that runs ROS beside them:
 #   1       nothing leased: every worker's default before a module leases one (above), and
 #           the first user domain the host registry gives (a Lab terminal's, `./kit start`'s)
-#   2-50, 55-60, 71-76   test modules (leased, see `_lease_domain`)
-#   51-54   nbval's notebooks 09-12 (robot_lab/grading/course.py)
+#   2-50, 55-59, 71-76   test modules (leased, see `_lease_domain`)
+#   51-54, 60   nbval's notebooks 09-12 and 13 (robot_lab/grading/course.py)
 #   61-69   nbval's notebooks 00-08 (lesson n: 61 + n, robot_lab/grading/course.py)
 #   70      exercise notebooks under nbgrader (tests/test_nbgrader.py)
 #   77-79   the browser mistake tests' JupyterLab kernels (lessons 01-03: 76 + lesson)
-#   80-92   the browser course tests' JupyterLab kernels (80 + lesson)
+#   80-93   the browser course tests' JupyterLab kernels (80 + lesson; 93 is also the pool of
+#           tests/test_domains.py, whose users run ROS in a network namespace of their own)
 #   93-101  the Unix users of tests/test_domains.py (their registry's pool)
-_MODULE_SLOTS = [*range(2, 51), *range(55, 61), *range(71, 77)]
+_MODULE_SLOTS = [*range(2, 51), *range(55, 60), *range(71, 77)]
 # Leases are file locks, shared by every pytest on this host (and /tmp): two runs at once
 # take different domains too. A lock dies with its process, even after kill -9.
 _LEASES = Path(tempfile.gettempdir()) / f'robot_lab-test-domains-{os.getuid()}'
@@ -152,6 +153,7 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'tests/test_mistake_path.py',        # ~360 s: ladders 01-06, then Run All again
                'tests/test_mistake_path_capstone.py',  # ~300 s: the same for 07-08
                'tests/test_mistake_path_description.py',  # ~110 s: 12's ladders, Run All again
+               'tests/test_mistake_path_simulation.py',  # 13's ladders, Run All again
                'tests/test_mistake_path_tf2.py',    # ~200 s: the same for 11
                'tests/test_grade_package.py',       # ~230 s: one class graded
                'tests/test_docs_console.py',        # ~180 s: the nbgrader loop as printed
@@ -160,6 +162,7 @@ _SLOW_FIRST = ('tests/browser/test_browser_course.py',  # ~480 s idle: the cours
                'notebooks/11',                      # ~75 s: tf2 on turtlesim
                'notebooks/10', 'notebooks/07',      # ~38 s and ~29 s
                'notebooks/12',                      # ~50 s: URDF, tf2 (12_robot_description)
+               'notebooks/13',                      # the simulator (13_simulation)
                'notebooks/09', 'notebooks/08', 'notebooks/00',
                'tests/test_grade_contained.py', 'tests/test_grading.py',
                'tests/test_cli_inspect.py', 'tests/test_lab_bench.py',

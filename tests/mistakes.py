@@ -1,11 +1,11 @@
-"""The course's table of mistakes and messages: for every answer cell of 01–08, 11 and 12,
+"""The course's table of mistakes and messages: for every answer cell of 01–08 and 11–13,
 what its check says to the released copy (unanswered) and to each plausible wrong answer.
 
 Walked in real kernels by tests/test_mistake_path.py (01–06),
-tests/test_mistake_path_capstone.py (07–08), tests/test_mistake_path_tf2.py (11) and
-tests/test_mistake_path_description.py (12), and, for 01–03, in a real browser by
-tests/browser/test_browser_mistakes.py. Each regex is matched against the failing check's
-two lines (and the details under them).
+tests/test_mistake_path_capstone.py (07–08), tests/test_mistake_path_tf2.py (11),
+tests/test_mistake_path_description.py (12) and tests/test_mistake_path_simulation.py (13),
+and, for 01–03, in a real browser by tests/browser/test_browser_mistakes.py. Each regex is
+matched against the failing check's two lines (and the details under them).
 """
 
 from __future__ import annotations
@@ -425,5 +425,51 @@ LADDERS: dict[str, Ladder] = {
               swap("point.header.frame_id = 'odom'",
                    "point.header.frame_id = 'temp_sensor_link'"),
               r"observed header\.frame_id 'temp_sensor_link'.*Try: the point is in odom"),
+    ]),
+    # 13: the robot in the simulator (gazebo tags, bridge, a controller against /scan)
+    'nb13_gazebo': Ladder(PLACEHOLDER, [
+        Wrong("the wheel links for DiffDrive's joints",
+              swap('<left_joint>left_wheel_joint</left_joint>',
+                   '<left_joint>left_wheel</left_joint>',
+                   '<right_joint>right_wheel_joint</right_joint>',
+                   '<right_joint>right_wheel</right_joint>'),
+              r"observed DiffDrive's left_joint is 'left_wheel', a link, not a joint.*"
+              r'Try: DiffDrive turns joints'),
+        Wrong('the wheel diameter as its radius',
+              swap('<wheel_radius>0.08</wheel_radius>', '<wheel_radius>0.16</wheel_radius>'),
+              r'observed <wheel_radius> 0\.16 m \(the wheel cylinders have radius 0\.08\)'),
+        Wrong('the lidar on gz topic lidar', swap('<topic>scan</topic>', '<topic>lidar</topic>'),
+              r'observed the lidar publishes gz topic lidar.*Try: write <topic>scan</topic>'),
+    ]),
+    'nb13_bridge': Ladder(PLACEHOLDER, [
+        Wrong('scan left out of the bridge',
+              swap('- ros_topic_name: "scan"\n  gz_topic_name: "scan"\n'
+                   '  ros_type_name: "sensor_msgs/msg/LaserScan"\n'
+                   '  gz_type_name: "gz.msgs.LaserScan"\n  direction: GZ_TO_ROS\n', ''),
+              r'observed nothing publishes /scan: the simulator publishes gz topic /scan.*'
+              r'Try: bridge it with: ros2 run ros_gz_bridge parameter_bridge '
+              r'/scan@sensor_msgs/msg/LaserScan\[gz\.msgs\.LaserScan'),
+        Wrong('cmd_vel bridged out of the simulation',
+              swap('direction: ROS_TO_GZ', 'direction: GZ_TO_ROS'),
+              r'observed /cmd_vel is published by ros_gz_bridge, and nothing takes it into the '
+              r'simulation.*Try: the bridge runs it the wrong way'),
+    ]),
+    'nb13_controller': Ladder(PLACEHOLDER, [
+        Wrong('ranges[0] taken as straight ahead',
+              swap('index = round((0.0 - scan.angle_min) / scan.angle_increment)', 'index = 0'),
+              r'with an obstacle 0\.7 m ahead, but slows to 0\.20 for one behind it.*'
+              r'Try: ranges\[0\] is the beam at angle_min'),
+        Wrong('the increment taken in degrees',
+              swap('/ scan.angle_increment)', '/ (scan.angle_increment * 3.14159 / 180))'),
+              r'raised IndexError: (list|array) index out of range at stop_at_wall\.py line \d+.*'
+              r'Try: angle_min and angle_increment are in radians'),
+        Wrong('no clamp', swap('max(0.0, min(self.max_speed, speed))', 'speed'),
+              r'observed it drives at 3\.50 m/s with nothing within 4 m.*Try: clamp the speed '
+              r'at max_speed'),
+    ]),
+    'nb13_stop_launch': Ladder(PLACEHOLDER, [
+        Wrong('no use_sim_time', swap("        parameters=[{'use_sim_time': True}],\n", ''),
+              r'stopped 0\.\d\d m from the wall .*/stop_at_wall runs without use_sim_time.*'
+              r"Try: give the Node parameters=\[\{'use_sim_time': True\}\]"),
     ]),
 }

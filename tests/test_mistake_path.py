@@ -43,7 +43,7 @@ def test_01_again_after_06(course: Course) -> None:
 
 
 def test_every_answer_cell_has_a_ladder() -> None:
-    # 11 and 12: tests/test_mistake_path_tf2.py and tests/test_mistake_path_description.py
-    walked = [*COURSE, '11_tf2_turtlesim', '12_robot_description']
+    # 11, 12, 13: tests/test_mistake_path_tf2.py, _description.py and _simulation.py
+    walked = [*COURSE, '11_tf2_turtlesim', '12_robot_description', '13_simulation']
     ids = {i for name in walked for i in answers_and_checks(list(source(name).cells))}
     assert set(LADDERS) == ids

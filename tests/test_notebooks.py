@@ -24,7 +24,7 @@ NOTEBOOKS = Path(__file__).resolve().parents[1] / 'notebooks'
 NAMES = ['00_welcome', '01_create_package', '02_write_nodes', '03_launch_files',
          '04_parameters', '05_inspect_and_verify', '06_ros_bags', '07_capstone', '08_debugging',
          '09_services_actions', '10_turtlesim', '11_tf2_turtlesim',
-         '12_robot_description']
+         '12_robot_description', '13_simulation']
 MARK = '# NBVAL_CHECK_OUTPUT'
 
 

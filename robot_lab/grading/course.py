@@ -45,9 +45,9 @@ class Lesson:
                 f'workspace {self.workspace}')
 
 
-# Under nbval, lessons 9-12 would land on nbgrader's 70 and test modules' 71-73:
-# tests/conftest.py lays them out at 51-54.
-_LATE_NBVAL = {9: 51, 10: 52, 11: 53, 12: 54}
+# Under nbval, lessons 9-13 would land on nbgrader's 70 and test modules' 71-74:
+# tests/conftest.py lays them out at 51-54 and 60.
+_LATE_NBVAL = {9: 51, 10: 52, 11: 53, 12: 54, 13: 60}
 
 
 def _number(notebook: str) -> int:
@@ -87,7 +87,7 @@ def _domain(notebook: str) -> int:
     if base:
         return (int(base) + number) % 102
     test_base = os.environ.get('ROBOT_LAB_TEST_DOMAIN_BASE', '').strip()
-    if test_base:  # nbval: base + 61-69 for lessons 0-8, 51-54 for 9-12 (tests/conftest.py)
+    if test_base:  # nbval: base + 61-69 for lessons 0-8, 51-54 and 60 for 9-13 (conftest.py)
         return (int(test_base) + _LATE_NBVAL.get(number, 61 + number) - 1) % 100 + 1
     from robot_lab.env import apply_ros_defaults
 

@@ -20,7 +20,7 @@ from typing import Any
 from robot_lab.grading.check.base import CheckError, callback_failed, judged, passed, wait_until
 from robot_lab.grading.check.description import _expand, _robot
 
-__all__ = ['bridged', 'gazebo_tags', 'reacts_to_scan']
+__all__ = ['bridged', 'gazebo_tags', 'reacts_to_scan', 'stops_before_obstacle']
 
 
 def _same(a: float, b: float, tolerance: float = 0.005) -> bool:
@@ -267,6 +267,20 @@ class _ScanProbe:
         return None
 
 
+def _scan_callback_failed(what: str) -> None:
+    """callback_failed, with the hint for an index off the end of `ranges`: an angle
+    taken in degrees, or an increment in degrees."""
+    try:
+        callback_failed(what)
+    except CheckError as err:
+        if 'IndexError' not in err.seen:
+            raise
+        raise CheckError(err.expected, err.seen, 'angle_min and angle_increment are in '
+                         'radians: the beam at angle 0 is index (0 − angle_min) / '
+                         'angle_increment, between 0 and len(ranges) − 1', err.details,
+                         err.title) from None
+
+
 def _angle_words(angle: float) -> str:
     degrees = round(math.degrees(angle))
     return {180: 'behind it (±180°)', 90: 'on its left (+90°)',
@@ -284,7 +298,7 @@ def reacts_to_scan(node: Any, target: float, gain: float, max_speed: float) -> N
     try:
         if not wait_until(lambda: _endpoints('/scan', False) and _endpoints('/cmd_vel', True),
                           5.0):
-            callback_failed(what)
+            _scan_callback_failed(what)
             raise CheckError(what, f'/{node.get_name()} does not subscribe to /scan and publish '
                              '/cmd_vel', 'keep the create_subscription and create_publisher '
                              'lines of the scaffold')
@@ -293,7 +307,7 @@ def reacts_to_scan(node: Any, target: float, gain: float, max_speed: float) -> N
         for obstacle, at, expected in cases:
             got = probe.speed(obstacle, at)
             if got is None:
-                callback_failed(what)
+                _scan_callback_failed(what)
                 raise CheckError(what, 'no /cmd_vel answered a scan in 3 s',
                                  'publish a Twist in on_scan, once per scan')
             expected = min(max_speed, max(0.0, expected))
@@ -324,3 +338,87 @@ def reacts_to_scan(node: Any, target: float, gain: float, max_speed: float) -> N
         probe.close()
     passed(f'/{node.get_name()} slows for an obstacle ahead and stops {target:g} m before it; '
            'it ignores one behind')
+
+
+class _Process:
+    """A process a check starts, closed with the cell's run (robot_lab.notebook_cell)."""
+
+    def __init__(self, cmd: list[str], env: dict[str, str]) -> None:
+        from robot_lab.process import spawn
+
+        self.proc = spawn(cmd, env=env)
+
+    def close(self) -> None:
+        from robot_lab.process import stop
+
+        stop(self.proc, sigint_timeout=3.0, sigterm_timeout=2.0)
+
+
+def _stop_hint(result: Any, gap: float) -> str:
+    """What to try, for the first thing `judge_stop` found wrong."""
+    if result.wiring_problem() is not None:
+        return ("bridge /scan out of and /cmd_vel into the simulation (section 5's "
+                "bridge.yaml), and keep your node's /scan subscription and /cmd_vel publisher")
+    if result.collision:
+        return ('the speed must fall to 0 at target_distance: check that ahead() reads the '
+                'beam at angle 0, and that the speed is gain × (ahead − target), never above '
+                'max_speed')
+    if result.sim_time_problem() is not None:
+        return ("give the Node parameters=[{'use_sim_time': True}] in stop_at_wall.launch.py")
+    if not result.stopped:
+        return 'the speed must reach 0: clamp it at 0 (max(0.0, …)) once ahead ≤ target'
+    return (f'the lidar is 0.2 m behind the front of the robot: a target_distance of '
+            f'{gap + 0.2:.2f} m leaves {gap:.2f} m to the wall')
+
+
+@judged
+def stops_before_obstacle(launch_file: str | Path, model: str | Path, bridge_yaml: str | Path,
+                          gap: float = 0.3, tolerance: float = 0.05, wall: float = 1.5,
+                          speed: float = 3.0) -> None:
+    """In a world with a wall `wall` m ahead, the robot of `model` (its `<gazebo>` tags),
+    bridged by `bridge_yaml`, driven by the nodes of `launch_file`, stops `gap` ±
+    `tolerance` m before the wall (the simulator's ground truth: the gap between the
+    collision shapes), touches nothing, and runs on the simulation's clock. The simulation
+    runs at `speed` × real time (the controller reacts to each scan as it comes)."""
+    import sys
+
+    import robot_lab
+    from robot_lab.errors import RobotLabError
+    from robot_lab.notebook_cell import cell_owns
+    from robot_lab.sim.trial import Trial, judge_stop, wall_ahead_sdf
+    from robot_lab.sim.xml_tree import SimulationError
+
+    launch, urdf, config = Path(launch_file), Path(model), Path(bridge_yaml)
+    what = (f'your robot to stop {gap:g} ± {tolerance:g} m before a wall {wall:g} m ahead, '
+            "without touching it, on the simulation's clock")
+    text = _expand(urdf, what) if urdf.name.endswith('.xacro') else urdf.read_text()
+    try:
+        trial = Trial(wall_ahead_sdf(wall), text, obstacles=['wall'], name='my_robot',
+                      bridge=False, speed=speed)
+        trial.start()
+    except SimulationError as err:
+        raise CheckError(what, f'the simulator refused your robot: {err}',
+                         'run the model through xacro and check_urdf (section 3)') from None
+    cell_owns(trial)
+    bridge = _Process([sys.executable, '-m', 'robot_lab.sim.bridge', '--ros-args', '-p',
+                       f'config_file:={config}'], trial.env)
+    cell_owns(bridge)
+    try:
+        try:
+            controller = robot_lab.launch(launch)
+        except RobotLabError as err:
+            raise CheckError(what, f'{launch.name} does not start: {err}',
+                             'fix the line it names, run that cell, then this one') from None
+        result = trial.run(sim_seconds=15.0, wall_seconds=40.0, controller_timeout=15.0)
+        ok, line = judge_stop(result, gap, tolerance, obstacle='the wall')
+        if not ok:
+            if not result.cmd_vel_publishers:
+                tail = ' | '.join(controller.logs()[-3:]) or 'no output'
+                line = f'{line}; your launch printed: {tail}'
+            raise CheckError(what, line, _stop_hint(result, gap))
+    finally:
+        for thing in (locals().get('controller'), bridge, trial):
+            if thing is not None:
+                (thing.shutdown if hasattr(thing, 'shutdown') else thing.close)()
+    passed(f'in a world with a wall {wall:g} m ahead, your robot stopped {gap:g} ± '
+           f"{tolerance:g} m before it, touching nothing, on the simulation's clock")
