@@ -62,7 +62,12 @@ from robot_lab.grading.check.parameters import (
     param_file_accepted,
     param_refused,
 )
-from robot_lab.grading.check.sim import bridged, gazebo_tags, reacts_to_scan
+from robot_lab.grading.check.sim import (
+    bridged,
+    gazebo_tags,
+    reacts_to_scan,
+    stops_before_obstacle,
+)
 from robot_lab.grading.check.tf2 import (
     echo_prints,
     follows,
@@ -109,6 +114,7 @@ __all__ = [
     'responds',
     'setup_py',
     'stop_node',
+    'stops_before_obstacle',
     'tests_catch',
     'tests_pass',
     'time_travel',
