@@ -74,14 +74,14 @@ def test_a_class_run_grades_the_behaviour_in_the_simulator(tmp_path: Path) -> No
     assert {i: c.score for i, c in ada.items()} == {
         'builds': 1, 'launch_file': 1, 'sim_behaviour': 4, 'readme': 1}, \
         reports['ada'].markdown()
-    assert re.search(r'stopped 0\.(2[5-9]|3[0-5]) m from the obstacle at t=\d+\.\d s '
+    assert re.search(r'stopped 0\.(2[5-9]|3[0-5]) m from the wall at t=\d+\.\d s '
                      r'\(sim time\) \(target 0\.30 ± 0\.05\)', ada['sim_behaviour'].output), \
         ada['sim_behaviour'].output
     bob_checks = {c.id: c for c in reports['bob'].checks}
     sim = bob_checks['sim_behaviour']
     assert reports['bob'].status == 'graded', reports['bob'].markdown()
     assert sim.score == 0, sim.output
-    assert re.search(r'hit the obstacle at 0\.[23]\d m/s at t=\d+\.\d s \(sim time\); '
+    assert re.search(r'hit the wall at 0\.[23]\d m/s at t=\d+\.\d s \(sim time\); '
                      r'/stopper runs without use_sim_time', sim.output), sim.output
     assert 'slow down as the obstacle nears' in sim.output
 

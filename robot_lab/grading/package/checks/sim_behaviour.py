@@ -161,7 +161,7 @@ def _fix(result: TrialResult, bridged: bool, target: float) -> str:
 
 def _observed(result: TrialResult, robot: str, logs: str, line: str) -> str:
     detail = (f'{line}\n\n{robot}; ground truth from the simulator: started '
-              f'{result.start_distance:.2f} m from the obstacle, came within '
+              f'{result.start_distance:.2f} m away, came within '
               f'{max(result.min_distance, 0.0):.2f} m, top speed {result.max_speed:.2f} m/s, '
               f'{result.commands} commands taken in {result.sim_seconds:.1f} s of sim time')
     return detail + logs
@@ -198,6 +198,7 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
     world: str = check.option('world', 'wall')
     distance = float(check.option('obstacle_distance', _NUMBERS['obstacle_distance']))
     obstacle = check.option('obstacle', None)
+    words = 'the wall' if world == 'wall' else 'the obstacle'
     if world == 'wall':
         world = wall_ahead_sdf(distance)
         obstacle = obstacle or 'wall'
@@ -255,9 +256,9 @@ def sim_behaviour(state: JobState, check: RubricCheck) -> Verdict:
         trial.close()
         shutil.rmtree(folder, ignore_errors=True)
     if result.ended == 'wall_time' and result.sim_seconds < 1.0:
-        return Verdict(False, expected, _observed(result, robot, logs, result.describe()),
+        return Verdict(False, expected, _observed(result, robot, logs, result.describe(words)),
                        grader_error='the simulation ran too slowly to judge (wall-clock limit)')
-    passed, line = judge_stop(result, target, tolerance,
+    passed, line = judge_stop(result, target, tolerance, obstacle=words,
                               require_sim_time=bool(check.option('require_sim_time', True)))
     return Verdict(passed, expected, _observed(result, robot, logs, line),
                    '' if passed else _fix(result, bridged, target))
