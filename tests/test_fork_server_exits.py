@@ -27,8 +27,11 @@ from robot_lab.launch.plan import LaunchPlan, ProcessSpec
 from robot_lab.linux import capabilities
 
 _SCRIPT = f"""#!{sys.executable}
-import signal, sys, time
+import os, signal, sys, time
 what = sys.argv[1]
+if what == 'tell-parent':  # as a node that signals its parent (a hostile hand-in does)
+    os.kill(os.getppid(), signal.SIGUSR1)
+    sys.exit(0)
 if what == 'stubborn':  # stops only for SIGKILL
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
@@ -172,3 +175,29 @@ def test_the_launcher_reports_respawns_and_stops_forked_nodes(tmp_path: Path,
     assert re.search(r"escalating to 'SIGKILL'", text), text
     assert re.search(r'\[stubborn-3\]: process has died \[pid \d+, exit code -9, ', text), text
     assert run.code == 0
+
+
+def test_a_signal_a_node_sends_its_parent_reaches_the_launcher(server: ForkServer,
+                                                              script: str) -> None:
+    """An exec'd node's parent is the launcher: a forked node's signal to its parent (the
+    server) is passed on to the launcher, here this test; one from anyone else is dropped,
+    as a process group's Ctrl-C reaches the launcher itself."""
+    got: list[int] = []
+    previous = {s: signal.signal(s, lambda signum, _frame: got.append(signum))
+                for s in (signal.SIGUSR1, signal.SIGUSR2)}
+    try:
+        assert _start(server, script, '0').wait(30) == 0  # the server is serving
+        os.kill(server.pid, signal.SIGUSR2)  # not from a node: neither relayed nor fatal
+        told = _start(server, script, 'tell-parent')
+        assert told.wait(30) == 0
+        deadline = time.monotonic() + 30
+        while signal.SIGUSR1 not in got:
+            assert time.monotonic() < deadline, f'no SIGUSR1 from the server: {got}'
+            signal.sigtimedwait([], 0.05)  # a moment for the handler to run
+        # A round trip through the server's loop: the SIGUSR2 was read before this node.
+        assert _start(server, script, '0').wait(30) == 0
+        assert got == [signal.SIGUSR1]
+        assert psutil.Process(server.pid).is_running()
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)

@@ -22,8 +22,10 @@ A node is the server's child (a plain os.fork, linux/fork.py says why), so the s
 it (woken by SIGCHLD, no thread: a thread would make the next fork unsafe) and sends its
 exit status to the launcher, which reports it as it would an exec'd child's.
 
-The server ignores SIGINT/SIGTERM (a terminal's Ctrl-C reaches the whole process group,
-and the nodes must outlive it to shut down cleanly). It answers each request with
+The server takes SIGINT, SIGTERM, SIGHUP, SIGQUIT and SIGUSR1/2 by signalfd: one a node
+sent its parent goes on to the launcher (as it would reach an exec'd node's parent); any
+other is dropped (a terminal's Ctrl-C reaches the whole process group, the launcher
+included, and the nodes must outlive it to shut down cleanly). It answers each request with
 {"pid": N} and each exit with {"exit": N, "code": C} (C as Popen's returncode: negative for
 a signal), and exits when the launcher closes its socket. Run as
 `python -m robot_lab.launch.fork_server FD`, FD a SOCK_SEQPACKET socket to the launcher
@@ -53,6 +55,7 @@ from typing import Any
 
 from robot_lab.linux.fork import fork, native_threads
 from robot_lab.linux.prctl import set_name, set_parent_death_signal, set_process_image
+from robot_lab.linux.signals import SignalReader
 
 __all__ = ['PRELOAD', 'main']
 
@@ -64,6 +67,9 @@ PRELOAD = (
     'robot_lab.nodes.robot_node',
 )
 MAX_MESSAGE = 1 << 20
+# What an exec'd node could send its parent, the launcher, that the server must pass on.
+RELAYED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1,
+           signal.SIGUSR2)
 def _exit_code(exc: SystemExit) -> int:
     """What the interpreter exits with for an uncaught SystemExit."""
     code = exc.code
@@ -157,9 +163,12 @@ def _become(request: dict[str, Any], fds: list[int], server: int) -> None:
 
 
 class _Server:
-    def __init__(self, sock: socket.socket, fork: Callable[[], int] = fork) -> None:
+    def __init__(self, sock: socket.socket, fork: Callable[[], int] = fork,
+                 signals: SignalReader | None = None) -> None:
         self.sock = sock
         self.fork = fork
+        self.signals = signals
+        self.children: set[int] = set()
         # The threads the preload left (this one, LTTng-UST's listeners): any other, from
         # Python or a library, could hold a lock the child would then never see released.
         self.threads = native_threads()
@@ -177,13 +186,18 @@ class _Server:
         """Fork and reap until the launcher closes its end; the nodes still running then
         die with this process (their parent-death signal)."""
         self.send({'ready': os.getpid()})
+        watched = [self.sock.fileno(), self.wake]
+        if self.signals is not None:
+            watched.append(self.signals.fileno())
         while True:
-            ready, _, _ = select.select([self.sock.fileno(), self.wake], [], [])
+            ready, _, _ = select.select(watched, [], [])
             if self.wake in ready:
                 with contextlib.suppress(BlockingIOError):
                     while os.read(self.wake, 4096):
                         pass
                 self.reap()
+            if self.signals is not None and self.signals.fileno() in ready:
+                self.relay(self.signals.read())
             if self.sock.fileno() in ready and not self.request():
                 return
 
@@ -196,7 +210,18 @@ class _Server:
                 return
             if pid == 0:
                 return
+            self.children.discard(pid)
             self.send({'exit': pid, 'code': os.waitstatus_to_exitcode(status)})
+
+    def relay(self, taken: list[tuple[int, int]]) -> None:
+        """A signal a node sent its parent goes on to the launcher, which an exec'd node's
+        parent is (a node that SIGTERMs its parent stops the launch; a grading job records
+        it). Any other sender's is dropped: a process group's Ctrl-C reached the launcher
+        itself."""
+        for signum, sender in taken:
+            if sender in self.children:
+                with contextlib.suppress(ProcessLookupError):
+                    os.kill(os.getppid(), signum)
 
     def request(self) -> bool:
         """Fork one node; False once the launcher has closed its end."""
@@ -211,6 +236,7 @@ class _Server:
             pid = self.fork()
             if pid == 0:
                 _become(request, fds, server)
+            self.children.add(pid)
             self.send({'pid': pid})
         except Exception as exc:  # the launcher execs the node instead
             self.send({'error': f'{type(exc).__name__}: {exc}'})
@@ -244,8 +270,12 @@ def preload() -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    # Before preload starts LTTng's threads, which inherit the mask: a thread that did not
+    # block these would take them with their default action.
+    signals = SignalReader.open(RELAYED)
+    if signals is None:  # no signalfd: ignore them, as a group's Ctrl-C must be
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
     sock = socket.socket(fileno=int(args[0]))
     try:
         set_process_image(list(sys.orig_argv), dict(os.environ))  # the kernel allows it
@@ -253,7 +283,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as exc:  # the launcher execs every node instead
         sock.send(json.dumps({'error': f'{type(exc).__name__}: {exc}'}).encode())
         return 1
-    _Server(sock).serve()
+    _Server(sock, signals=signals).serve()
     return 0
 
 
