@@ -224,7 +224,7 @@ class _ScanProbe:
         self.publisher = self.node.create_publisher(LaserScan, '/scan', 10)
         self.lock = threading.Lock()
         self.replies: list[tuple[int, float]] = []
-        self.sent = 0
+        self.sent = self.published = 0
         self.subscription = self.node.create_subscription(Twist, '/cmd_vel', self._on_cmd, 10)
 
     def _on_cmd(self, msg: Any) -> None:
@@ -258,10 +258,16 @@ class _ScanProbe:
         with self.lock:
             self.sent += 1
             mark = self.sent
+            # replies still to come for scans of the case before (the node answers each
+            # scan once): they arrive under this mark, first; the ones after are this scan's
+            stale = self.published - len(self.replies)
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
+            with self.lock:
+                self.published += 1
             self.publisher.publish(msg)
-            answer = wait_until(lambda: [v for s, v in self.replies if s == mark], 0.2, 0.02)
+            answer = wait_until(lambda: [v for s, v in self.replies if s == mark][stale:],
+                                0.2, 0.02)
             if answer:
                 return float(answer[-1])
         return None
