@@ -127,6 +127,34 @@ def test_a_parameter_read_is_retried_within_the_budget(monkeypatch: pytest.Monke
     assert not answered and 'run out' in error and len(calls) == 6  # no budget: no call
 
 
+def test_a_node_that_left_the_graph_is_not_asked_again(
+        monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    from types import SimpleNamespace
+
+    import robot_lab.graph.discovery as discovery
+    import robot_lab.graph.parameters as parameters
+
+    asked: list[tuple[str, str]] = []
+
+    def dead(node: str, name: str, session: Any = None, unset_ok: bool = False
+             ) -> tuple[int, Any]:
+        asked.append((node, name))
+        raise GraphError(f'{node}/get_parameters: no answer within 5 s')
+
+    monkeypatch.setattr(parameters, 'param_get_typed', dead)
+    monkeypatch.setattr(discovery, 'full_node_names', lambda sess, include_hidden: ['/other'])
+    file = tmp_path / 'lamp.yaml'
+    file.write_text('lamp:\n  ros__parameters:\n    on_below: 200.0\n    off_above: 250.0\n')
+    state = _state(RubricCheck('params_used', 'p', 1.0))
+    state.param_files = [file]
+    spec = SimpleNamespace(param_files=[str(file)], node_name='lamp', executable='lamp')
+    plan = SimpleNamespace(processes=lambda: [spec])
+    live._read_params_back(state, plan, None, ['/lamp'])  # type: ignore[arg-type]
+    assert asked == [('/lamp', 'on_below')]  # gone after the first read: no retry, no second
+    assert [(r.node, r.error) for r in state.live.readings] == [
+        ('/lamp', '/lamp has left the graph')] * 2
+
+
 def test_the_last_line_counts_grader_errors_and_names_the_regrade() -> None:
     ok = StudentReport('ana', [CheckOutcome('builds', 'b', 2, 2)])
     hit = StudentReport('ben', [CheckOutcome('builds', 'b', 2, 2),

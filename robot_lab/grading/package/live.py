@@ -138,9 +138,16 @@ _READS_BUDGET = 60.0
 _RESERVE = 30.0
 
 
+class _NodeLeftError(Exception):
+    """A parameter read found its node gone from the graph (it died): not asked again."""
+
+    def __init__(self, node: str) -> None:
+        super().__init__(f'{node} has left the graph')
+
+
 def _read_param(sess: Session, node: str, name: str, deadline: float) -> tuple[bool, Any, str]:
-    """(answered, value or None when the node does not hold it, the grader's error); a
-    node that has left the graph (it died) is not asked again."""
+    """(answered, value or None when the node does not hold it, the grader's error);
+    raises _NodeLeftError when a failed read finds the node gone from the graph."""
     from robot_lab.graph.discovery import full_node_names
     from robot_lab.graph.parameters import param_get_typed
 
@@ -152,9 +159,11 @@ def _read_param(sess: Session, node: str, name: str, deadline: float) -> tuple[b
             kind, value = param_get_typed(node, name, session=sess, unset_ok=True)
         except Exception as err:  # a timeout, a lost request: the grader's, not the node's
             error = f'{type(err).__name__}: {err}'
+            present = True  # a failed graph query says nothing about the node
             with contextlib.suppress(Exception):
-                if node not in full_node_names(sess, include_hidden=False):
-                    return False, None, f'{node} has left the graph'
+                present = node in full_node_names(sess, include_hidden=False)
+            if not present:
+                raise _NodeLeftError(node) from err
             if attempt + 1 < _READ_TRIES:
                 time.sleep(min(pause, max(0.0, deadline - time.monotonic())))
                 pause *= 2
@@ -186,11 +195,14 @@ def _read_params_back(state: JobState, plan: LaunchPlan, sess: Session,
                 reading = ParamReading(pattern, name, value, None)
                 for node in nodes:
                     if node in gone:
-                        reading.node, reading.error = node, f'{node} has left the graph'
+                        reading.node, reading.error = node, str(_NodeLeftError(node))
                         continue
-                    answered, held, error = _read_param(sess, node, name, deadline)
-                    if error.endswith('has left the graph'):
+                    try:
+                        answered, held, error = _read_param(sess, node, name, deadline)
+                    except _NodeLeftError as left:
                         gone.add(node)
+                        reading.node, reading.error = node, str(left)
+                        continue
                     if not answered:
                         reading.node, reading.error = node, error
                     elif held is not None:
