@@ -56,15 +56,15 @@ def _tree_rss(proc: psutil.Process) -> tuple[int, int]:
 
 
 def _without_namespaces(fn: object, runs: int) -> float:
-    from robot_lab.grading.package.sandbox import namespaces_available
+    from robot_lab.grading.package.containment import namespace_problem
 
     os.environ['ROBOT_LAB_GRADE_NO_NAMESPACES'] = '1'
-    namespaces_available.cache_clear()
+    namespace_problem.cache_clear()
     try:
         return timed(fn, runs)[0]
     finally:
         del os.environ['ROBOT_LAB_GRADE_NO_NAMESPACES']
-        namespaces_available.cache_clear()
+        namespace_problem.cache_clear()
 
 
 def bench_sandbox_cost(args: argparse.Namespace, one: object, sandboxed: float) -> None:

@@ -29,8 +29,9 @@ from conftest import BIN, REPO
 from test_grade_contained import DATA, _looks_around, _odd_entries
 
 from robot_lab.errors import RobotLabError
+from robot_lab.grading.package import containment
 from robot_lab.grading.package.confinement import JOB_USER, job_uid, machine_files
-from robot_lab.grading.package.containment import NO_SANDBOX_VAR
+from robot_lab.grading.package.containment import NO_SANDBOX_VAR, namespace_problem
 from robot_lab.grading.package.rubric import Limits
 from robot_lab.grading.package.sandbox import check_can_contain, namespaces_available, run_job
 
@@ -60,7 +61,7 @@ def test_the_layers_switch_makes_the_grader_refuse(monkeypatch: pytest.MonkeyPat
     them to the grader: it refuses, and --no-sandbox says that nothing contains the jobs."""
     monkeypatch.setenv('ROBOT_LAB_DISABLE', 'namespaces')
     monkeypatch.setenv(NO_SANDBOX_VAR, '')  # restored by monkeypatch: check_can_contain sets it
-    namespaces_available.cache_clear()
+    namespace_problem.cache_clear()
     try:
         with pytest.raises(RobotLabError) as refused:
             check_can_contain()
@@ -69,7 +70,31 @@ def test_the_layers_switch_makes_the_grader_refuse(monkeypatch: pytest.MonkeyPat
         line = check_can_contain(no_sandbox=True, limits=Limits(processes=64))
         assert line.startswith('containment: NONE (--no-sandbox)') and '64 processes' in line
     finally:
-        namespaces_available.cache_clear()
+        namespace_problem.cache_clear()
+
+
+def test_a_refusal_runs_unshare_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The grader asks whether namespaces can be made, then why not: one `unshare` run."""
+    runs: list[list[str]] = []
+
+    def refused(cmd: list[str], **kwargs: Any) -> subprocess.CompletedProcess[bytes]:
+        runs.append(cmd)
+        return subprocess.CompletedProcess(cmd, 1, b'', b'unshare: unshare failed: '
+                                           b'Operation not permitted\n')
+
+    for name in ('ROBOT_LAB_DISABLE', containment.NO_NAMESPACES_VAR):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setattr(shutil, 'which', lambda name: '/usr/bin/' + name)
+    monkeypatch.setattr(subprocess, 'run', refused)
+    namespace_problem.cache_clear()
+    try:
+        assert not containment.namespaces_available()
+        said = containment.refusal()
+        assert said is not None and '(unshare: unshare failed: Operation not permitted)' in said[0]
+        assert not containment.namespaces_available()
+        assert len(runs) == 1 and runs[0][0] == '/usr/bin/unshare', runs
+    finally:
+        namespace_problem.cache_clear()
 
 
 # What a job sees, from inside: run after `enter`, as every grading job is. Each attempt

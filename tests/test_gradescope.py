@@ -105,17 +105,17 @@ def test_a_broken_submission_gets_its_points_not_a_crash(tmp_path: Path,
 
 def test_the_autograder_names_its_containment_without_namespaces(
         monkeypatch: pytest.MonkeyPatch) -> None:
-    from robot_lab.grading.package.containment import NO_SANDBOX_VAR, namespaces_available
+    from robot_lab.grading.package.containment import NO_SANDBOX_VAR, namespace_problem
     from robot_lab.grading.package.gradescope import autograder_containment
     from robot_lab.grading.package.rubric import Limits
 
     monkeypatch.setenv('ROBOT_LAB_DISABLE', 'namespaces')
     monkeypatch.setenv(NO_SANDBOX_VAR, '')  # restored by monkeypatch: the call sets it
-    namespaces_available.cache_clear()
+    namespace_problem.cache_clear()
     try:
         line = autograder_containment(Limits(processes=64))
     finally:
-        namespaces_available.cache_clear()
+        namespace_problem.cache_clear()
     assert line.startswith('containment: the container is the sandbox: namespaces are '
                            'unavailable in it (namespaces switched off'), line
     assert '64 processes' in line and 'runs as ' in line

@@ -39,8 +39,12 @@ def unshare_args() -> list[str]:
     return _NAMESPACES if os.geteuid() == 0 else ['--user', '--map-root-user', *_NAMESPACES]
 
 
+@functools.cache
 def namespace_problem() -> str | None:
-    """Why a job's namespaces cannot be made here, in `unshare`'s own words (None: they can)."""
+    """Why a job's namespaces cannot be made here, in `unshare`'s own words (None: they can).
+
+    Tried once per process (`namespace_problem.cache_clear()` to try again): a refusal
+    is asked for its reason by the grader's message, and each try starts an `unshare`."""
     from robot_lab.linux import capabilities
 
     if os.environ.get(NO_NAMESPACES_VAR):
@@ -63,10 +67,10 @@ def namespace_problem() -> str | None:
     return said[-1].strip() if said else f'unshare exited with code {done.returncode}'
 
 
-@functools.cache
 def namespaces_available() -> bool:
     """True when `unshare` can give a job its own mount, network and PID namespaces here
-    (and, for a grader that is not root, a user namespace to make them in)."""
+    (and, for a grader that is not root, a user namespace to make them in); from
+    namespace_problem's one try."""
     return namespace_problem() is None
 
 
