@@ -10,13 +10,14 @@ import time
 from typing import Any
 
 import pytest
-from geometry_msgs.msg import TransformStamped
+from geometry_msgs.msg import Point, TransformStamped
 from rclpy.serialization import serialize_message
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker
 
 import robot_lab
 from robot_lab.errors import GraphError
+from robot_lab.scene.camera import FOV, extent, overview
 from robot_lab.scene.displays import Markers, Outbox, RobotModel
 from robot_lab.scene.frames import FrameTree, compose, inverse, parse_tf_message
 from robot_lab.scene.meshes import MeshFiles
@@ -130,6 +131,40 @@ def test_markers_keep_what_is_alive_and_send_what_changed() -> None:
 
 
 @pytest.mark.no_ros
+def test_the_first_camera_sees_every_corner_of_a_world() -> None:
+    wall = Marker(ns='w', id=1, type=Marker.CUBE)  # 4.2 m long, turned to run along x
+    wall.pose.position.y, wall.pose.position.z = 2.05, 0.25
+    wall.pose.orientation.z, wall.pose.orientation.w = math.sin(math.pi / 4), math.cos(math.pi / 4)
+    wall.scale.x, wall.scale.y, wall.scale.z = 0.1, 4.2, 0.5
+    line = Marker(ns='w', id=2, type=Marker.LINE_STRIP)  # its points, not its scale
+    line.pose.position.x, line.pose.orientation.w = 1.0, 1.0
+    line.points = [Point(x=-3.0, y=-1.0), Point(x=0.5, y=0.0, z=1.0)]
+    markers = Markers(None, name='world')
+    assert extent(markers) is None
+    markers.set_markers([wall, line])
+    low, high = extent(markers) or ((0.0,) * 3, (0.0,) * 3)
+    assert _close(low, (-2.1, -1.0, 0.0)) and _close(high, (2.1, 2.1, 1.0)), (low, high)
+    eye, target = overview(low, high)
+    assert _close(target, (0.0, 0.55, 0.5))
+    assert eye[0] < target[0] and eye[2] > target[2] and eye[1] == target[1]  # above, behind
+    forward = [t - e for t, e in zip(target, eye, strict=True)]
+    norm = math.sqrt(sum(f * f for f in forward))
+    forward = [f / norm for f in forward]
+    up = [-forward[2] * forward[0], -forward[2] * forward[1], forward[0] ** 2 + forward[1] ** 2]
+    up = [u / math.sqrt(sum(v * v for v in up)) for u in up]
+    slope = math.tan(math.radians(FOV) / 2)
+    worst = 0.0
+    for corner in [(x, y, z) for x in (low[0], high[0]) for y in (low[1], high[1])
+                   for z in (low[2], high[2])]:
+        d = [c - e for c, e in zip(corner, eye, strict=True)]
+        depth = sum(a * b for a, b in zip(d, forward, strict=True))
+        tall = abs(sum(a * b for a, b in zip(d, up, strict=True))) / depth / slope
+        wide = abs(d[1]) / depth / slope / 1.25  # forward has no y: sideways is y
+        worst = max(worst, tall, wide)
+    assert 0.85 < worst < 1.0, worst  # all in the picture, none far inside its edges
+
+
+@pytest.mark.no_ros
 def test_a_robot_model_says_which_links_have_no_transform_and_why() -> None:
     robot = RobotModel()
     robot.set_urdf((URDF_DIR / '06-flexible.urdf').read_text())
@@ -187,6 +222,17 @@ def test_a_view_takes_the_robot_and_its_static_frames(ros_domain: int) -> None:
         shown = view.show_markers('world', [wall])
         assert view.displays['world'] is shown and list(shown.items) == ['walls/3']
         assert shown.status(view.frames(), view.tree, 'right_leg') == []
+        assert view.camera is None  # the bundle's own first camera
+        view.look_at(eye=(-4, 0, 3), target=(0.0, 0.5, 0.0))
+        assert view.camera == ((-4.0, 0.0, 3.0), (0.0, 0.5, 0.0))
+        assert view.canvas.camera == [-4.0, 0.0, 3.0, 0.0, 0.5, 0.0]  # the page's trait
+        view.look_at((1, 1, 1), (0, 0, 0))
+        assert view.canvas.camera == [1.0, 1.0, 1.0, 0.0, 0.0, 0.0]
+        for eye, target in (((1, 1, 1), (1, 1, 1)), ((1, 1), (0, 0, 0)),
+                            ((1, 1, 'x'), (0, 0, 0)), ((math.nan, 0, 0), (0, 0, 0))):
+            with pytest.raises(GraphError, match=r'not a camera.*two different points'):
+                view.look_at(eye, target)  # type: ignore[arg-type]
+        assert view.camera == ((1.0, 1.0, 1.0), (0.0, 0.0, 0.0))
     finally:
         view.close()
         session.node.destroy_publisher(description)

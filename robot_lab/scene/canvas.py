@@ -3,7 +3,9 @@
 The bundle is three.js and urdf-loader from npm, built by `js/scene_view/build.mjs`
 (esbuild, minified); the kit ships the built file, so installing robot_lab needs no node,
 and the page loads nothing from a CDN. Its state is what a user may change from either side:
-the fixed frame, the hidden TF frames; `status` is the line under the picture.
+the fixed frame, the hidden TF frames; `status` is the line under the picture; `camera` is
+where `SceneView.look_at` put the eye and the orbit's centre (a page drawn again, or
+reloaded, starts there too).
 """
 
 from __future__ import annotations
@@ -26,3 +28,5 @@ class SceneCanvas(anywidget.AnyWidget):
     fixed_frame = traitlets.Unicode('').tag(sync=True)
     hidden_frames = traitlets.List(traitlets.Unicode()).tag(sync=True)
     status = traitlets.List(traitlets.Unicode()).tag(sync=True)
+    # eye x, y, z, then target x, y, z in the fixed frame; empty: the bundle's own camera
+    camera = traitlets.List(traitlets.Float()).tag(sync=True)

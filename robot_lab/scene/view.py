@@ -11,12 +11,14 @@ picture of the frames instead.
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
 from robot_lab.errors import GraphError
+from robot_lab.scene.camera import Vec3
 from robot_lab.scene.displays import BY_TYPE, TF, Display, Grid, Markers, Outbox, RobotModel
 from robot_lab.scene.frames import FrameTree, Pose, parse_tf_message
 from robot_lab.widgets.live_view import LiveView
@@ -64,7 +66,7 @@ class SceneView(LiveView):
     def __init__(self, fixed_frame: str | None = None, topics: tuple[str, ...] = (),
                  robot_description: str | None = '/robot_description', rate: float = 40.0,
                  domain_id: int | None = None, headless_seconds: float | None = None,
-                 height: int = 480) -> None:
+                 height: int = 480, camera: tuple[Vec3, Vec3] | None = None) -> None:
         from robot_lab.rclpy_session import session
 
         super().__init__(rate, headless_seconds)
@@ -94,6 +96,9 @@ class SceneView(LiveView):
         self._removed: list[str] = []
         self._thread: threading.Thread | None = None
         self._scene_canvas: SceneCanvas | None = None
+        self._camera: list[float] = []
+        if camera is not None:
+            self.look_at(*camera)
         self.messages = 0  # messages sent to the browser
         self._node = self._own_node()
         self._subscribe_tf('/tf', static=False)
@@ -320,6 +325,29 @@ class SceneView(LiveView):
             return bool(robot.links) and all(
                 poses.get(robot.prefix + link) is not None for link in robot.links)
 
+    def look_at(self, eye: Vec3, target: Vec3) -> None:
+        """Put the camera at `eye`, looking at (and orbiting about) `target`, both in the
+        fixed frame (RViz's Orbit view, set from code): a lesson shows what it is about
+        without asking the student to orbit. Pages showing the view, and pages drawn later,
+        move to it."""
+        try:
+            values = [float(v) for v in (*eye, *target)]
+        except (TypeError, ValueError):
+            values = []
+        if len(values) != 6 or not all(map(math.isfinite, values)) or values[:3] == values[3:]:
+            raise GraphError(f'look_at(eye={eye!r}, target={target!r}): not a camera',
+                             fix='give two different points (x, y, z) in metres, e.g. '
+                             'view.look_at(eye=(-4, 0, 3), target=(0, 0, 0))')
+        self._camera = values
+        if self._scene_canvas is not None:
+            self._scene_canvas.camera = values
+
+    @property
+    def camera(self) -> tuple[Vec3, Vec3] | None:
+        """The eye and target `look_at` set (None: the view's first camera)."""
+        c = self._camera
+        return ((c[0], c[1], c[2]), (c[3], c[4], c[5])) if c else None
+
     # -- the browser ---------------------------------------------------------------------
     @property
     def canvas(self) -> SceneCanvas:
@@ -333,7 +361,8 @@ class SceneView(LiveView):
             from robot_lab.scene.canvas import SceneCanvas
             from robot_lab.widgets.canvas import kit_box
 
-            canvas = SceneCanvas(height=self.height, fixed_frame=self._fixed)
+            canvas = SceneCanvas(height=self.height, fixed_frame=self._fixed,
+                                 camera=self._camera)
             canvas.on_msg(self._on_msg)
             canvas.observe(self._on_fixed, names='fixed_frame')
             self._scene_canvas = canvas
@@ -520,7 +549,7 @@ class SceneView(LiveView):
 def scene_view(fixed_frame: str | None = None, topics: tuple[str, ...] | list[str] = (),
                robot_description: str | None = '/robot_description', rate: float = 40.0,
                domain_id: int | None = None, headless_seconds: float | None = None,
-               height: int = 480) -> SceneView:
+               height: int = 480, camera: tuple[Vec3, Vec3] | None = None) -> SceneView:
     """RViz in the notebook: `robot_lab.scene_view('base_link')` as a cell's result.
 
     Shows a grid, the robot from `robot_description` (each link at its TF frame; a link
@@ -528,7 +557,9 @@ def scene_view(fixed_frame: str | None = None, topics: tuple[str, ...] | list[st
     (tick one off in "TF frames"), and each topic in `topics` (LaserScan, Marker,
     MarkerArray, Path, Odometry, PoseStamped; `view.add('/scan')` adds one later). The
     fixed frame defaults to the robot's root link; pick another in the view's menu.
-    Drag to orbit, right-drag (or shift-drag) to pan, scroll to zoom.
+    Drag to orbit, right-drag (or shift-drag) to pan, scroll to zoom; `camera` (eye,
+    target) or `view.look_at(eye, target)` places the camera from code.
     """
     return SceneView(fixed_frame, tuple(topics), robot_description, rate=rate,
-                     domain_id=domain_id, headless_seconds=headless_seconds, height=height)
+                     domain_id=domain_id, headless_seconds=headless_seconds, height=height,
+                     camera=camera)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from robot_lab.scene.camera import extent, overview
 from robot_lab.scene.view import SceneView
 from robot_lab.sim.markers import world_markers
 from robot_lab.sim.simulation import Simulation
@@ -29,12 +30,15 @@ def sim_view(world: str | Path, fixed_frame: str = 'odom', scan: str | None = '/
     `origin` is where the robot was spawned (x, y, yaw, as `create -x -y -Y`): DiffDrive's
     odom frame starts there, so the world is drawn shifted by it. The topics need the
     bridge (`/scan`, the model's tf as `/tf`) and robot_state_publisher; until they publish,
-    the view's status line says what it waits for.
+    the view's status line says what it waits for. The camera starts above and behind the
+    world, all of it in sight (`view.look_at` moves it).
     """
     # the server already printed the world's warnings: loading it again is silent
     shapes = world_markers(Simulation(world, warn=lambda _line: None), fixed_frame, origin)
     view = SceneView(fixed_frame, robot_description=robot_description, height=height)
-    view.show_markers('world', shapes)
+    box = extent(view.show_markers('world', shapes))
+    if box is not None:
+        view.look_at(*overview(*box))
     if scan:
         view.add(scan, 'LaserScan')
     return view

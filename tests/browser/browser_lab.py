@@ -451,6 +451,8 @@ window.makeModel = (state) => {
   const handlers = {};
   const fire = (event, ...args) => (handlers[event] || []).slice().forEach(f => f(...args));
   window.send = (msg, buffers) => fire('msg:custom', msg, buffers);
+  // a trait set from the kernel: anywidget's model fires change:<name>
+  window.setTrait = (key, value) => { state[key] = value; fire('change:' + key); };
   return {
     get: (key) => state[key],
     set: (key, value) => { state[key] = value; },
@@ -461,11 +463,11 @@ window.makeModel = (state) => {
   };
 };
 </script></body></html>"""
-_SCENE_RENDER = """async ([source, fixedFrame]) => {
+_SCENE_RENDER = """async ([source, fixedFrame, more]) => {
   const url = URL.createObjectURL(new Blob([source], {type: 'text/javascript'}));
   const widget = (await import(url)).default;
   widget.render({model: window.makeModel({height: 400, fixed_frame: fixedFrame,
-                                          hidden_frames: [], status: []}),
+                                          hidden_frames: [], status: [], ...more}),
                  el: document.getElementById('view')});
 }"""
 _SCENE_SEND = """([msg, buffers]) => window.send(msg, buffers.map(b64 => {
@@ -481,6 +483,7 @@ class SceneRecorder:
         self.sent: list[tuple[dict[str, Any], list[bytes]]] = []
         self.status: list[str] = []
         self.fixed_frame = fixed_frame
+        self.camera: list[float] = []  # what SceneView.look_at set
         self.lock = threading.Lock()
 
     def send(self, msg: dict[str, Any], buffers: list[bytes] | None) -> None:
@@ -488,11 +491,12 @@ class SceneRecorder:
             self.sent.append((msg, list(buffers or [])))
 
 
-def show_scene(page: Any, bundle: str, fixed_frame: str) -> None:
+def show_scene(page: Any, bundle: str, fixed_frame: str,
+               traits: dict[str, Any] | None = None) -> None:
     """The scene view's bundle (its source text), drawing in `page` (window.saved: the
-    model's states it saved)."""
+    model's states it saved; `traits`: more of the model's first state, e.g. camera)."""
     page.set_content(_SCENE_PAGE)
-    page.evaluate(_SCENE_RENDER, [bundle, fixed_frame])
+    page.evaluate(_SCENE_RENDER, [bundle, fixed_frame, traits or {}])
 
 
 def replay_scene(page: Any, sent: list[tuple[dict[str, Any], list[bytes]]]) -> None:

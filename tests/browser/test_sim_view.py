@@ -5,8 +5,9 @@ as a Gazebo Harmonic lab does it (gz_sim.launch.py, robot_state_publisher, `crea
 parameter_bridge for /scan, the model's tf as /tf, /joint_states). A real `SceneView` takes
 what ROS carries; what it would send the widget is recorded, then replayed into the committed
 bundle in headless Chromium (as test_scene_view_displays does, without JupyterLab). The
-screenshot is saved; the walls, the robot and the scan points on the walls must be where
-the camera's projection puts them.
+first picture, from the camera sim_view chose, must show all four walls and the robot; then
+`look_at` moves the camera near, and the walls, the robot and the scan points on the walls
+must be where that camera's projection puts them. Both screenshots are saved.
 """
 
 from __future__ import annotations
@@ -84,6 +85,8 @@ WIDTH, HEIGHT = 800, 400
 # the bundle's first camera (js/scene_view/src/scene.js): eye, target, vertical field of view
 EYE, TARGET, FOV = (1.8, 1.4, 1.2), (0.0, 0.0, 0.3), 50.0
 INNER = 2.0  # the room's walls' inner faces, from its centre (room.sdf)
+OUTER, TOP = 2.1, 0.5  # their outer faces and their height
+Point = tuple[float, float, float]
 
 
 def _is_scan(r: int, g: int, b: int) -> bool:  # the LaserScan display's red points
@@ -103,7 +106,8 @@ def _is_robot(r: int, g: int, b: int) -> bool:  # a URDF without materials: whit
     return min(r, g, b) > 190
 
 
-def _project(point: tuple[float, float, float]) -> tuple[float, float] | None:
+def _project(point: Point, eye: Point = EYE,
+             target: Point = TARGET) -> tuple[float, float] | None:
     """Where three.js draws a point of the fixed frame: pixel x, y (None: behind the eye)."""
     def sub(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, ...]:
         return tuple(p - q for p, q in zip(a, b, strict=True))
@@ -118,10 +122,10 @@ def _project(point: tuple[float, float, float]) -> tuple[float, float] | None:
     def dot(a: tuple[float, ...], b: tuple[float, ...]) -> float:
         return sum(p * q for p, q in zip(a, b, strict=True))
 
-    forward = unit(sub(TARGET, EYE))
+    forward = unit(sub(target, eye))
     right = unit(cross(forward, (0.0, 0.0, 1.0)))
     up = cross(right, forward)
-    d = sub(point, EYE)
+    d = sub(point, eye)
     depth = dot(d, forward)
     if depth <= 0.05:
         return None
@@ -136,6 +140,36 @@ def _near(picture: Any, xy: tuple[float, float], test: Any, radius: int) -> bool
                for y in range(max(0, y0 - radius), min(HEIGHT, y0 + radius + 1)))
 
 
+def _robot_corners(lz: float, eye: Point, target: Point) -> list[float]:
+    """The screen box of the robot's chassis (0.4 m square, at the odom origin)."""
+    corners = [_project((x, y, z), eye, target) for x in (-0.2, 0.2) for y in (-0.2, 0.2)
+               for z in (lz - 0.2, lz + 0.02)]
+    return [min(c[0] for c in corners if c), min(c[1] for c in corners if c),
+            max(c[0] for c in corners if c), max(c[1] for c in corners if c)]
+
+
+def _the_whole_room_in_sight(drawn: Any, empty: Any, camera: tuple[Point, Point],
+                             robot_box: list[float], lz: float) -> None:
+    """sim_view's first picture: every corner of the room on screen, each of the four
+    walls' tops drawn in wall grey along its length, the robot where the camera puts it."""
+    eye, target = camera
+    for x in (-OUTER, OUTER):
+        for y in (-OUTER, OUTER):
+            for z in (0.0, TOP):
+                xy = _project((x, y, z), eye, target)
+                assert xy is not None and 0 <= xy[0] < WIDTH and 0 <= xy[1] < HEIGHT, (x, y, z)
+    middle = (INNER + OUTER) / 2
+    for name, (cx, cy, ax, ay) in {'north': (middle, 0, 0, 1), 'south': (-middle, 0, 0, 1),
+                                   'west': (0, middle, 1, 0), 'east': (0, -middle, 1, 0)}.items():
+        for along in (-1.5, -0.5, 0.5, 1.5):
+            xy = _project((cx + ax * along, cy + ay * along, TOP - 0.01), eye, target)
+            assert xy is not None
+            assert _near(drawn, xy, _is_wall, 1), (name, along, xy)
+            assert not _near(empty, xy, _is_wall, 1), (name, along, xy)
+    mine = _robot_corners(lz, eye, target)
+    assert all(abs(a - b) < 10 for a, b in zip(mine, robot_box, strict=True)), (mine, robot_box)
+
+
 @pytest.fixture
 def simulation(ros_domain: int, tmp_path: Path) -> Iterator[Proc]:
     with diffbot_launch(tmp_path, LAUNCH, BRIDGE_YAML) as process:
@@ -146,6 +180,8 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
                                                            tmp_path: Path) -> None:
     view = robot_lab.sim_view('room.sdf')
     recorder = browser_lab.SceneRecorder('odom')
+    first = view.camera  # sim_view's, from the world's extent
+    assert first is not None
     try:
         assert list(view.displays) == ['grid', 'robot_model:/robot_description', 'tf',
                                        'world', 'laser_scan:/scan']
@@ -175,7 +211,8 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=browser_lab.CHROMIUM_ARGS)
         try:
             page = browser.new_page(viewport={'width': 820, 'height': 600})
-            browser_lab.show_scene(page, BUNDLE.read_text(), 'odom')
+            browser_lab.show_scene(page, BUNDLE.read_text(), 'odom',
+                                   {'camera': [*first[0], *first[1]]})
             canvas = page.locator('.rl-scene canvas')
             empty = Image.open(io.BytesIO(canvas.screenshot())).convert('RGB')
             browser_lab.replay_scene(page, replay)
@@ -183,6 +220,18 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
                 page, "() => { const r = document.querySelector('.rl-scene'); return "
                 "r.dataset.robot === 'drawn' && r.dataset.drawnPoses === r.dataset.poses; }",
                 None, 15), page.evaluate("() => ({...document.querySelector('.rl-scene').dataset})")
+            far_box = [float(v) for v in page.evaluate(
+                "() => document.querySelector('.rl-scene').dataset.robotBox").split(',')]
+            shot = canvas.screenshot()
+            (tmp_path / 'sim_view_first.png').write_bytes(shot)
+            whole = Image.open(io.BytesIO(shot)).convert('RGB')
+            # view.look_at, as the kernel's trait change reaches the page
+            view.look_at(EYE, TARGET)
+            assert view.camera == (EYE, TARGET)
+            frames = int(page.evaluate("() => document.querySelector('.rl-scene').dataset.frames"))
+            page.evaluate("c => window.setTrait('camera', c)", recorder.camera)
+            assert browser_lab.wait_in_page(
+                page, "n => +document.querySelector('.rl-scene').dataset.frames > n", frames, 15)
             robot_box = [float(v) for v in page.evaluate(
                 "() => document.querySelector('.rl-scene').dataset.robotBox").split(',')]
             shot = canvas.screenshot()
@@ -191,6 +240,7 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
             assert (drawn.width, drawn.height) == (WIDTH, HEIGHT)
         finally:
             browser.close()
+    _the_whole_room_in_sight(whole, empty, first, far_box, lz)
     # walls: the south (x = -2) and east (y = -2) walls' inner faces, from their foot up to
     # above the scan's line, and the floor in front of them (off the grid's lines)
     for k in range(-12, 13, 3):
@@ -208,10 +258,7 @@ def test_the_world_the_robot_and_its_scan_in_the_3d_view(simulation: Proc,
             at = (round(xy[0]), round(xy[1]))
             assert not _is_wall(*drawn.getpixel(at)), (floor, at, drawn.getpixel(at))
     # the robot: its chassis box at the odom origin, where the page says it drew the robot
-    corners = [_project((x, y, z)) for x in (-0.2, 0.2) for y in (-0.2, 0.2)
-               for z in (lz - 0.2, lz + 0.02)]
-    mine = [min(c[0] for c in corners if c), min(c[1] for c in corners if c),
-            max(c[0] for c in corners if c), max(c[1] for c in corners if c)]
+    mine = _robot_corners(lz, EYE, TARGET)
     assert all(abs(a - b) < 25 for a, b in zip(mine, robot_box, strict=True)), (mine, robot_box)
     x0, y0, x1, y1 = (round(v) for v in robot_box)
     inside = [(x, y) for x in range(x0, x1) for y in range(y0, y1)]

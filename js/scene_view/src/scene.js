@@ -147,6 +147,7 @@ function render({ model, el: host }) {
     if (stopped || !root.isConnected || !dirty || !seen) return;
     dirty = false;
     size();
+    camera.updateMatrixWorld();  // moved since the last frame: beforeRender projects with it
     for (const display of displays.values()) display.beforeRender?.();
     renderer.render(scene, camera);
     frames += 1;
@@ -243,6 +244,19 @@ function render({ model, el: host }) {
     wake();
   };
   model.on('change:hidden_frames', hiddenChanged);
+  // Where view.look_at put the camera (eye, then the orbit's target, in the fixed frame):
+  // read at each render, so a page drawn again or reloaded starts there too.
+  const aim = () => {
+    const c = model.get('camera') || [];
+    if (c.length !== 6) return;
+    camera.position.set(c[0], c[1], c[2]);
+    controls.target.set(c[3], c[4], c[5]);
+    controls.update();
+    root.dataset.camera = c.join(',');
+    wake();
+  };
+  aim();
+  model.on('change:camera', aim);
   model.send({ kind: 'ready', view: viewId });
   wake();
   return () => {
@@ -254,6 +268,7 @@ function render({ model, el: host }) {
     model.off('msg:custom', take);
     model.off('change:status', changed);
     model.off('change:hidden_frames', hiddenChanged);
+    model.off('change:camera', aim);
     for (const d of displays.values()) d.dispose();
     controls.dispose();
     renderer.dispose();
