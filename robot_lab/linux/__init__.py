@@ -8,7 +8,8 @@ one switch (`capabilities`, `ROBOT_LAB_DISABLE=NAME,...`) that makes the kit tak
 path it takes without it. `robot-lab doctor` prints the table.
 
 Modules: `libc` (loading, errno), `prctl` (parent-death signal, name, no_new_privs, the
-process image), `capabilities` (probes and switches), `pidfd`, `signals` (signalfd), `fork` (the fork server's
-fork), `namespaces` (unshare, mount), `sock_diag` (the host's UDP sockets), `procfs`.
+process image), `capabilities` (probes and switches), `pidfd`, `signals` (signalfd),
+`fork` (the fork server's fork), `namespaces` (unshare, mount), `sock_diag` (the host's
+UDP sockets), `procfs`.
 Every module here is thread-safe; none imports the rest of the kit.
 """
