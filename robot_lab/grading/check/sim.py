@@ -137,13 +137,30 @@ def gazebo_tags(model: str | Path, lidar_topic: str = 'scan') -> None:
            f'publishes {lidar_topic} ({lidar.samples} beams, {lidar.update_rate:g} Hz)')
 
 
+_FAST_DDS = b'\x01\x0f'  # a GUID prefix's vendor id; bytes 4-5 hold its process's pid
+
+
+def _process_alive(info: Any, running: set[int]) -> bool:
+    """Whether an endpoint's participant still has a process: a bridge stopped a moment
+    ago stays in the graph until its removal arrives (up to the DDS lease), and would
+    answer for the one started after it."""
+    prefix = bytes(info.endpoint_gid)[:12]
+    if prefix[:2] != _FAST_DDS:
+        return True  # another vendor: its prefix says nothing of its process
+    return int.from_bytes(prefix[4:6], 'little') in running
+
+
 def _endpoints(topic: str, publishers: bool) -> list[Any]:
+    """The topic's publishers (or subscribers) of live processes, the kit's own left out."""
+    from robot_lab.linux.procfs import pids
     from robot_lab.rclpy_session import session
 
     node = session().node
     found = (node.get_publishers_info_by_topic(topic) if publishers
              else node.get_subscriptions_info_by_topic(topic))
-    return [e for e in found if not e.node_name.startswith('_robot_lab')]
+    running = {pid & 0xFFFF for pid in pids()}
+    return [e for e in found
+            if not e.node_name.startswith('_robot_lab') and _process_alive(e, running)]
 
 
 def _bridge_fix(topic: str, ros_type: str, gz_type: str, direction: str) -> str:
@@ -300,6 +317,7 @@ def reacts_to_scan(node: Any, target: float, gain: float, max_speed: float) -> N
     stopped at the target, and not fooled by an obstacle behind or beside it."""
     what = (f'/{node.get_name()} to drive at {gain:g} × (distance ahead − {target:g}) m/s, '
             f'between 0 and {max_speed:g}')
+    _nothing_else_on_scan(what)
     probe = _ScanProbe()
     try:
         if not wait_until(lambda: _endpoints('/scan', False) and _endpoints('/cmd_vel', True),
@@ -360,6 +378,18 @@ class _Process:
         stop(self.proc, sigint_timeout=3.0, sigterm_timeout=2.0)
 
 
+def _nothing_else_on_scan(what: str) -> None:
+    """A check that sends its own scans (or runs its own world) needs /scan to itself: a
+    simulation still running from earlier in the lesson would answer too."""
+    if wait_until(lambda: not _endpoints('/scan', True), 3.0):
+        return  # (a bridge just stopped takes a moment to leave the graph)
+    others = sorted({e.node_name for e in _endpoints('/scan', True)})
+    if others:
+        raise CheckError(what, f'/{others[0]} publishes /scan already (a simulation still runs)',
+                         'stop it first: system.shutdown() (the cell at the end of section 5), '
+                         'then run this check again')
+
+
 def _stop_hint(result: Any, gap: float) -> str:
     """What to try, for the first thing `judge_stop` found wrong."""
     if result.wiring_problem() is not None:
@@ -397,6 +427,7 @@ def stops_before_obstacle(launch_file: str | Path, model: str | Path, bridge_yam
     launch, urdf, config = Path(launch_file), Path(model), Path(bridge_yaml)
     what = (f'your robot to stop {gap:g} ± {tolerance:g} m before a wall {wall:g} m ahead, '
             "without touching it, on the simulation's clock")
+    _nothing_else_on_scan(what)
     text = _expand(urdf, what) if urdf.name.endswith('.xacro') else urdf.read_text()
     try:
         trial = Trial(wall_ahead_sdf(wall), text, obstacles=['wall'], name='my_robot',
