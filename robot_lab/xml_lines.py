@@ -3,8 +3,9 @@
 ElementTree drops line numbers, and every refusal the kit prints about an XML file names
 the file and line of the element at fault (`robot.launch.xml:12`, `robot.urdf:30`), so the
 tree is built with expat directly. Each caller raises its own error class (a LaunchError
-for a launch file, a UrdfError for a URDF, ...), passed in, so this module imports nothing
-of the kit but `errors`.
+for a launch file, a UrdfError for a URDF, a plain RobotLabError that `doctor` turns into a
+finding for package.xml, ...), passed in, so this module imports nothing of the kit but
+`errors`.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ WELL_FORMED_FIX = 'close every tag and quote every attribute'
 
 @dataclass
 class XmlElement:
-    """One element: tag, attributes, source line, stripped text (SDF keeps values there)."""
+    """One element: tag, attributes, source line, stripped text (SDF keeps values there),
+    and the line of its end tag (doctor points a missing child there)."""
 
     tag: str
     attrib: dict[str, str]
@@ -33,6 +35,7 @@ class XmlElement:
     source: str = ''
     text: str = ''
     children: list[Self] = field(default_factory=list)
+    end_line: int = 0
 
     def find(self, tag: str) -> Self | None:
         return next((child for child in self.children if child.tag == tag), None)
@@ -67,7 +70,8 @@ def parse_xml_lines(text: str | bytes, source: str, element: type[E], error: typ
         texts.append([])
 
     def end(tag: str) -> None:
-        stack.pop().text = ''.join(texts.pop()).strip()
+        node = stack.pop()
+        node.text, node.end_line = ''.join(texts.pop()).strip(), parser.CurrentLineNumber
 
     def data(chunk: str) -> None:
         if texts:

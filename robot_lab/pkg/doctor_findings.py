@@ -9,10 +9,10 @@ from __future__ import annotations
 import html
 from dataclasses import dataclass, field
 from pathlib import Path
-from xml.parsers import expat
 
-__all__ = ['Check', 'Finding', 'PackageUnderCheck', 'Report', 'XmlElement', 'line_of',
-           'parse_xml_lines']
+from robot_lab.xml_lines import XmlElement
+
+__all__ = ['Check', 'Finding', 'PackageUnderCheck', 'Report', 'line_of']
 
 
 @dataclass(frozen=True)
@@ -99,52 +99,7 @@ class Report:
         return f'<div><b>{head}</b><ul>{"".join(rows)}</ul></div>'
 
 
-
 # --- the package under check ---------------------------------------------------
-
-
-@dataclass
-class XmlElement:
-    tag: str
-    attrs: dict[str, str]
-    line: int
-    end_line: int = 0
-    text: str = ''
-    children: list[XmlElement] = field(default_factory=list)
-
-    def find(self, tag: str) -> XmlElement | None:
-        return next((c for c in self.children if c.tag == tag), None)
-
-    def findall(self, tag: str) -> list[XmlElement]:
-        return [c for c in self.children if c.tag == tag]
-
-
-def parse_xml_lines(text: str) -> XmlElement:
-    """A tiny element tree that remembers the line of each start and end tag."""
-    parser = expat.ParserCreate()
-    stack: list[XmlElement] = []
-    root: list[XmlElement] = []
-
-    def start(tag: str, attrs: dict[str, str]) -> None:
-        element = XmlElement(tag, dict(attrs), parser.CurrentLineNumber)
-        if stack:
-            stack[-1].children.append(element)
-        else:
-            root.append(element)
-        stack.append(element)
-
-    def end(tag: str) -> None:
-        stack.pop().end_line = parser.CurrentLineNumber
-
-    def data(chunk: str) -> None:
-        if stack:
-            stack[-1].text += chunk
-
-    parser.StartElementHandler = start
-    parser.EndElementHandler = end
-    parser.CharacterDataHandler = data
-    parser.Parse(text, True)
-    return root[0]
 
 
 @dataclass

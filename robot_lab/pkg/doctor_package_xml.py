@@ -5,10 +5,11 @@ from __future__ import annotations
 import ast
 import re
 from collections.abc import Iterator
-from xml.parsers import expat
 
-from robot_lab.pkg.doctor_findings import PackageUnderCheck, line_of, parse_xml_lines
+from robot_lab.errors import RobotLabError
+from robot_lab.pkg.doctor_findings import PackageUnderCheck, line_of
 from robot_lab.pkg.doctor_setup import setup_py_name
+from robot_lab.xml_lines import XmlElement, parse_xml_lines
 
 __all__ = ['check_dependencies', 'check_package_xml', 'check_param_files', 'check_resource']
 
@@ -25,18 +26,17 @@ def check_package_xml(pkg: PackageUnderCheck) -> None:
         return
     text = path.read_text(errors='replace')
     try:
-        root = parse_xml_lines(text)
-    except expat.ExpatError as err:
-        pkg.add('package.xml', 'error', f'package.xml is not well-formed XML: '
-                f'{expat.ErrorString(err.code)}', file, err.lineno,
-                fix='close every tag and quote every attribute')
+        root = parse_xml_lines(text, file, XmlElement, RobotLabError,
+                               what='package.xml is not well-formed XML')
+    except RobotLabError as err:
+        pkg.add('package.xml', 'error', err.message, file, err.line, fix=err.fix)
         return
     pkg.xml = root
     if root.tag != 'package':
         pkg.add('package.xml', 'error', f'root tag is <{root.tag}>, expected <package>',
                 file, root.line, fix='wrap the manifest in <package format="3">...</package>')
         return
-    fmt = root.attrs.get('format', '1')
+    fmt = root.attrib.get('format', '1')
     if fmt != '3':
         pkg.add('package.xml-format', 'error' if fmt not in ('2',) else 'warning',
                 f'package format is {fmt}, expected 3 (what ros2 pkg create writes)', file,
