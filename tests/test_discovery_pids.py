@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 import socket
 
-from robot_lab.graph.host_sockets import unheard_ports
+from robot_lab.graph.host_sockets import guid_pid_bits, unheard_ports, unheard_processes
 from robot_lab.linux.procfs import socket_holders
 
 # 70000 and 4464 share their low 16 bits (70000 - 65536 = 4464).
@@ -43,6 +43,24 @@ def test_ports_are_matched_so_that_as_many_as_possible_are_heard() -> None:
 
 def test_ports_whose_holders_cannot_be_read_count_as_heard() -> None:
     assert unheard_ports({7410: 1}, [], {}) == []
+
+
+def test_a_process_is_not_heard_through_another_with_its_pid_bits() -> None:
+    """The grader's wait for its launched processes (roles._unheard): one heard participant
+    for two processes that share its bits vouches for neither (either may be unheard)."""
+    assert guid_pid_bits(HIGH) == guid_pid_bits(LOW) == LOW
+    ports = {7410: 1, 7412: 2}
+    holders = {1: frozenset({HIGH}), 2: frozenset({LOW})}
+    assert unheard_processes([HIGH, LOW], [LOW], ports, holders) == [HIGH, LOW]
+    assert unheard_processes([HIGH, LOW], [LOW, LOW], ports, holders) == []
+    assert unheard_processes([HIGH, 500], [LOW], {7410: 1}, holders) == [500]  # no port yet
+    assert unheard_processes([HIGH], [LOW], {7410: 1}, holders) == []  # its bits alone
+
+
+def test_without_ports_each_participant_vouches_for_one_process() -> None:
+    assert unheard_processes([LOW, HIGH], [LOW], None) == [HIGH]
+    assert unheard_processes([LOW, HIGH], [LOW, LOW], None) == []
+    assert unheard_processes([LOW, 500], [500, LOW], None) == []
 
 
 def test_holders_are_whole_pids() -> None:

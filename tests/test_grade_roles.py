@@ -56,3 +56,26 @@ def test_a_silent_publisher_ends_the_wait_at_its_deadline(
     waited = roles._until_samples(graph)  # type: ignore[arg-type]
     assert graph.obs.topics['/cmd_vel'].count == 0
     assert 1.5 <= waited < 3.0
+
+
+def test_a_launched_process_sharing_pid_bits_with_a_heard_one_is_waited_for(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where pid_max exceeds 65536, the watch's end (roles._unheard) must not take a heard
+    participant of process 4464 for launched process 70000 (equal mod 65536)."""
+    from types import SimpleNamespace
+
+    from robot_lab.graph import discovery, host_sockets
+
+    def info(pid: int) -> SimpleNamespace:
+        prefix = b'\x01\x0f\x00\x00' + pid.to_bytes(2, 'little') + bytes(6)
+        return SimpleNamespace(node_name='n', node_namespace='/', endpoint_gid=prefix + bytes(4))
+
+    sess = SimpleNamespace(domain_id=3, node=SimpleNamespace(
+        get_publishers_info_by_topic=lambda topic: [info(4464)]))
+    monkeypatch.setattr(discovery, '_host_ports', lambda domain: {7410: 1, 7412: 2})
+    monkeypatch.setattr(host_sockets, 'socket_holders',
+                        lambda inodes: {1: frozenset({70000}), 2: frozenset({4464})})
+    assert roles._unheard(sess, [70000])  # type: ignore[arg-type]
+    assert roles._unheard(sess, [4464])  # type: ignore[arg-type]  # either may be the one
+    monkeypatch.setattr(host_sockets, 'socket_holders', lambda inodes: {1: frozenset({70000})})
+    assert not roles._unheard(sess, [70000])  # type: ignore[arg-type]  # no other: its own

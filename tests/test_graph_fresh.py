@@ -308,3 +308,19 @@ def test_action_answers_wait_for_the_servers_services(tmp_path, monkeypatch) -> 
         monkeypatch.setattr(Node, method, lambda self, n, ns, m=method: getattr(node, m)(n, ns))
     shown = node_info('/fibonacci_action_server', session=warm)  # type: ignore[arg-type]
     assert shown.action_servers == [('/fibonacci', kind)]
+
+
+def test_a_live_node_sharing_pid_bits_with_an_ended_one_stays_live(monkeypatch) -> None:
+    """pids 70000 and 4464 share their low 16 bits (all a GUID carries): the instance of
+    live 4464 is not counted as ended 70000's, whose instance has left the graph."""
+    from robot_lab.graph import nodes
+
+    server = daemon._Server(idle_timeout=60)
+    server.announced = {('/robot', 70000): 0.0, ('/robot', 4464): 0.0, ('/cam', 70000): 0.0}
+    monkeypatch.setattr(daemon, 'process_running', lambda pid: pid == 4464)
+    monkeypatch.setattr(nodes, 'node_instances', lambda session: {'/robot': [4464]})
+    assert server._live() == ({'/robot': 1}, {'/robot': 0})
+    monkeypatch.setattr(nodes, 'node_instances', lambda session: {'/robot': [4464, 4464]})
+    assert server._live() == ({'/robot': 1}, {'/robot': 1})  # the ended one's, not yet gone
+    monkeypatch.setattr(nodes, 'node_instances', lambda session: {'/cam': [4464, 4464]})
+    assert server._live() == ({'/cam': 0}, {'/cam': 2})  # as before: bits of an ended /cam

@@ -29,6 +29,7 @@ import subprocess
 import sys
 import threading
 import time
+from collections import Counter
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import IO, Any
@@ -371,14 +372,23 @@ class _Server:
         remembers them, so a node whose process has ended (killed, crashed, its launcher
         killed with -9) leaves the list at once, not when its DDS lease runs out.
         """
+        from robot_lab.graph.host_sockets import guid_pid_bits
         from robot_lab.graph.nodes import node_instances
 
-        ended = {(name, pid & 0xFFFF) for (name, pid) in self.announced
-                 if not process_running(pid)}
+        # Instances are told apart by pid bits only: one of a live announced process that
+        # shares them with an ended one (pid_max > 65536) is not counted as ended.
+        ended: set[tuple[str, int]] = set()
+        running = Counter[tuple[str, int]]()
+        for name, pid in self.announced:
+            if process_running(pid):
+                running[name, guid_pid_bits(pid)] += 1
+            else:
+                ended.add((name, guid_pid_bits(pid)))
         live: dict[str, int] = {}
         gone: dict[str, int] = {}
         for name, pids in node_instances(self.session).items():
-            dead = sum(1 for pid in pids if (name, pid) in ended)
+            dead = sum(max(0, pids.count(bits) - running[name, bits])
+                       for bits in {p for p in pids if p is not None and (name, p) in ended})
             live[name], gone[name] = len(pids) - dead, dead
         return live, gone
 

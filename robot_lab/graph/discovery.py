@@ -39,7 +39,12 @@ from typing import TYPE_CHECKING, TypeVar
 from weakref import WeakKeyDictionary
 
 from robot_lab.env import switched_on
-from robot_lab.graph.host_sockets import discovery_ports, socket_drops, unheard_ports
+from robot_lab.graph.host_sockets import (
+    discovery_ports,
+    socket_drops,
+    unheard_ports,
+    unheard_processes,
+)
 from robot_lab.graph.settler import HostPorts, Rules, RunClock, Settler
 from robot_lab.linux import procfs
 
@@ -58,9 +63,9 @@ __all__ = [
     'host_participants_seen',
     'launched_nodes_seen',
     'names_pending',
-    'node_processes',
     'participants_on_host',
     'participants_seen',
+    'processes_unheard',
     'settled',
     'socket_drops',
     'wait_until',
@@ -225,17 +230,15 @@ def settler_of(session: Session) -> Settler:
         return found
 
 
-def node_processes(session: Session) -> set[int] | None:
-    """The processes (pids' low 16 bits) whose participants the session has heard with a
-    named node: Fast DDS writes them into each participant's GUID prefix. None when a
-    participant is another vendor's, whose prefix says nothing of its process."""
-    return _process_ids(_named_participants(session)[0])
-
-
-def _process_ids(prefixes: set[bytes]) -> set[int] | None:
-    """Low 16 bits of the pids in these GUID prefixes; None unless all are Fast DDS's."""
-    heard = _participant_pids(prefixes)
-    return None if heard is None else set(heard)
+def processes_unheard(session: Session, pids: list[int]) -> list[int] | None:
+    """The processes among `pids` whose participant the session has not heard with a named
+    node yet (host_sockets.unheard_processes: one heard participant per process, matched
+    by whole pids where the host's ports say who holds them). None when a participant is
+    another vendor's, whose GUID prefix says nothing of its process."""
+    heard = _participant_pids(_named_participants(session)[0])
+    if heard is None:
+        return None
+    return unheard_processes(pids, heard, _host_ports(session.domain_id))
 
 
 def _participant_pids(prefixes: set[bytes]) -> list[int] | None:

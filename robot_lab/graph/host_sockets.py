@@ -13,8 +13,8 @@ from robot_lab.domain import domain_ports
 from robot_lab.linux.procfs import own_socket_inodes, socket_holders
 from robot_lab.linux.sock_diag import UdpSocket, udp_sockets
 
-__all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'socket_drops',
-           'udp_sockets', 'unheard_ports']
+__all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 'guid_pid_bits',
+           'socket_drops', 'udp_sockets', 'unheard_ports', 'unheard_processes']
 
 
 # Fast DDS's well-known ports (RTPS 2.x 9.6.1.1): PB + DG * domain + d1 + PG * participant
@@ -22,6 +22,11 @@ __all__ = ['GUID_PID_BITS', 'UdpSocket', 'discovery_port', 'discovery_ports', 's
 _PARTICIPANT_GAIN, _D1 = 2, 10
 # Fast DDS writes only a pid's low 16 bits into its GUID prefix (bytes 4-5).
 GUID_PID_BITS = 16
+
+
+def guid_pid_bits(pid: int) -> int:
+    """The part of a whole pid that a Fast DDS GUID prefix carries (two pids can share it)."""
+    return pid & ((1 << GUID_PID_BITS) - 1)
 
 
 def discovery_port(domain_id: int, participant_id: int) -> int:
@@ -54,8 +59,7 @@ def unheard_ports(ports: Mapping[int, int], heard: Iterable[int],
     only, of a process whose pid it matches, and the ports are matched to participants so
     that as many as possible are accounted for (augmenting paths; a few dozen ports)."""
     holders = socket_holders(ports.values()) if holders is None else holders
-    mask = (1 << GUID_PID_BITS) - 1
-    candidates = {port: {pid & mask for pid in holders[inode]}
+    candidates = {port: {guid_pid_bits(pid) for pid in holders[inode]}
                   for port, inode in ports.items() if holders.get(inode)}
     slots = [(bits, k) for bits, count in Counter(heard).items() for k in range(count)]
     owner: dict[tuple[int, int], int] = {}
@@ -70,3 +74,34 @@ def unheard_ports(ports: Mapping[int, int], heard: Iterable[int],
         return False
 
     return sorted(port for port in candidates if not assign(port, set()))
+
+
+def unheard_processes(pids: Iterable[int], heard: Iterable[int],
+                      ports: Mapping[int, int] | None,
+                      holders: Mapping[int, frozenset[int]] | None = None) -> list[int]:
+    """The processes among `pids` not known to be heard (`heard`: the pid bits of each
+    participant heard, as in unheard_ports).
+
+    A participant names its process by pid bits only. With the host's discovery ports
+    (`ports`, None when unknown) and their holders' whole pids, a process counts as heard
+    when its bits are heard at least as often as processes holding a port have them: of
+    two processes sharing the bits with one participant heard, either may be the one not
+    heard, so neither is taken as heard; a process holding no port has no participant
+    yet. Without the ports, each heard participant vouches for one process of its bits."""
+    heard_bits = Counter(heard)
+    if ports is None:
+        missing = []
+        for pid in pids:
+            if heard_bits[guid_pid_bits(pid)] > 0:
+                heard_bits[guid_pid_bits(pid)] -= 1
+            else:
+                missing.append(pid)
+        return missing
+    holders = socket_holders(ports.values()) if holders is None else holders
+    sharing: dict[int, set[int]] = {}
+    for inode in ports.values():
+        for pid in holders.get(inode, ()):
+            sharing.setdefault(guid_pid_bits(pid), set()).add(pid)
+    return [pid for pid in pids
+            if pid not in (same := sharing.get(guid_pid_bits(pid), set()))
+            or heard_bits[guid_pid_bits(pid)] < len(same)]

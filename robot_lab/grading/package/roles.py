@@ -265,10 +265,9 @@ _ENDPOINTS_STILL = 1.0
 def _unheard(sess: Session, pids: list[int]) -> bool:
     """Whether one of these processes has not been heard with a node yet (False when the
     participants do not say which process they are)."""
-    from robot_lab.graph.discovery import node_processes
+    from robot_lab.graph.discovery import processes_unheard
 
-    heard = node_processes(sess)
-    return heard is not None and any(pid & 0xFFFF not in heard for pid in pids)
+    return bool(processes_unheard(sess, pids))
 
 
 def _endpoints(watcher: _Watcher) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
