@@ -343,9 +343,10 @@ def _real_time(seconds: float, urdf: Path) -> tuple[dict[str, float], dict[str, 
                 'fields': statistics.fmean(factors), 'received': (last[1] - origin[1]) / wall,
                 'cpu': cpu}, marks
     finally:
-        for proc in (bridge, sim):
-            proc.terminate()
-            proc.wait()
+        from robot_lab.process import stop
+
+        for proc in (bridge, sim):  # Ctrl-C, then SIGTERM, then SIGKILL: a hung one ends
+            stop(proc)
 
 
 def system(runs: int, busy: int, seconds: float) -> None:

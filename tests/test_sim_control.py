@@ -191,3 +191,35 @@ def test_a_bridge_yaml_reads_as_upstreams_bridge_config(tmp_path: Path) -> None:
     with pytest.raises(SystemExit, match=f'{config}:1: topic_name and ros_topic_name are '
                                          f'mutually exclusive'):
         parse_bridge_config(str(config))
+
+
+def test_a_client_that_stops_reading_is_dropped_not_waited_for(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A hung bridge once froze the whole simulation: the server's send to it blocked.
+    Now a send that cannot go within SEND_TIMEOUT drops that client; the world goes on."""
+    import socket
+    import threading
+    from types import SimpleNamespace
+
+    from robot_lab.sim import server as server_module
+    from robot_lab.sim.transport import Connection
+
+    monkeypatch.setattr(server_module, 'SEND_TIMEOUT', 0.2)
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind(str(tmp_path / 'sim.sock'))
+    listener.listen(1)
+    server = server_module.Server(SimpleNamespace(on_publish=None), listener)  # type: ignore[arg-type]
+    client = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    client.connect(str(tmp_path / 'sim.sock'))
+    subscribed = threading.Event()
+    Connection(client).send({'op': 'sub', 'topic': '/big'})
+    while not subscribed.is_set():  # the server's reader thread takes the subscription
+        with server.lock:
+            if server.subscribers.get('/big'):
+                subscribed.set()
+        subscribed.wait(0.01)
+    big = {'data': 'x' * 4_000_000}  # more than a socket buffer holds: the send must wait
+    server.publish('/big', 'gz.msgs.StringMsg', big)  # returns after 0.2 s, not never
+    assert not server.subscribers['/big']
+    client.close()
+    listener.close()

@@ -21,6 +21,7 @@ import queue
 import shlex
 import signal
 import socket
+import struct
 import sys
 import threading
 import time
@@ -39,6 +40,7 @@ __all__ = ['gzserver_main', 'identity', 'main', 'split_gz_args', 'start_command'
 
 Frame = dict[str, Any]
 STATS_PERIOD = 0.1  # wall seconds between /world/<name>/stats messages (Gazebo: 10 a second)
+SEND_TIMEOUT = 2.0  # wall seconds a client may leave the simulator's messages unread
 
 
 def start_command(world: str) -> str:
@@ -118,6 +120,11 @@ class Server:
                 sock, _ = self.listener.accept()
             except OSError:
                 return
+            # a client that stops reading (a hung bridge) must not stop the world: a send
+            # that cannot go within SEND_TIMEOUT fails, and the client is dropped
+            seconds = int(SEND_TIMEOUT)
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDTIMEO, struct.pack(
+                'll', seconds, int((SEND_TIMEOUT - seconds) * 1e6)))
             connection = Connection(sock)
             threading.Thread(target=self._read, args=(connection,), daemon=True).start()
 
@@ -138,7 +145,16 @@ class Server:
             clients = list(self.subscribers.get(topic, ()))
         frame = {'op': 'msg', 'topic': topic, 'type': kind, 'msg': message}
         for client in clients:
-            client.send(frame)
+            if not client.send(frame):
+                self._drop(client)
+
+    def _drop(self, client: Connection) -> None:
+        """Forget a client that has gone or stopped reading (gz-transport drops messages
+        for a slow subscriber; the kit's framed stream cannot skip one, so it closes)."""
+        with self.lock:
+            for clients in self.subscribers.values():
+                clients.discard(client)
+        client.close()
 
     def handle(self, connection: Connection, frame: Frame) -> None:
         op = frame.get('op')
