@@ -71,7 +71,9 @@ from /world/room/stats: the server's sim_time over its real_time (running time),
 first and a last message 5 s apart, beside the mean of the messages' real_time_factor.
 `--system --runs 5 --seconds 5 --busy 1`, load average 7-14, 2026-12-06: the server before
 this change (commit fcdf9d9) 1.0000 (runs 0.9999-1.0001; fields 0.9999), after 1.0000 (runs
-1.0000-1.0001; fields 1.0000); the old window on the new server still read 0.999.
+1.0000-1.0001; fields 1.0000); the old window on the new server still read 0.999. Again
+after the paused start, ControlWorld and SDF robots, at load average 22: 1.0000 (runs
+1.0000-1.0001), headless 29.0x, simulator CPU 5.1 %, first /scan 3.30 s.
 
 Usage: python bench/bench_sim.py [--runs N] [--system [--busy N] [--seconds S]]
 (PyBullet from PYBULLET_PATH, a `pip install --target` folder, when the venv lacks it)
