@@ -43,5 +43,5 @@ def test_lessons_01_to_06_are_one_group_and_the_others_stand_alone() -> None:
         number = int(re.match(r'\d+', path.name).group())  # type: ignore[union-attr]
         groups.setdefault(_group(f'notebooks/{path.name}::Cell 0'), []).append(number)
     assert sorted(groups.values()) == [[0], [1, 2, 3, 4, 5, 6], [7], [8], [9], [10], [11],
-                                       [12]], groups
+                                       [12], [13]], groups
     assert first_of_chain('04_parameters') == 1 and first_of_chain('07_capstone') == 7
