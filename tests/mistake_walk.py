@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from typing import Any
 
 from course_run import Course, error, fresh, source, student_cells, text
 from mistakes import LADDERS
 from nbformat import NotebookNode
 
-__all__ = ['answers_and_checks', 'ladder_notebook', 'once_more_01', 'walk']
+__all__ = ['answers_and_checks', 'ladder_notebook', 'once_more_01', 'standalone_walk', 'walk']
 
 
 def answers_and_checks(nb: list[NotebookNode]) -> dict[str, tuple[int, int]]:
@@ -123,3 +124,21 @@ def once_more_01(course: Course) -> None:
               for i, c in enumerate(course.cells[:-1]) if error(c) is not None]
     assert not failed, '\n\n'.join(failed)
     assert left == {'children': [], 'nodes': []}, left
+
+
+def standalone_walk(name: str) -> tuple[Any, Any]:
+    """The fixture and the test of a lesson that stands alone (11, 12, 13): its walk in a
+    workspace and ROS domain of its own, one module each, so xdist hands them to different
+    workers. In the module: `course, test_every_answer_cell_walks_its_ladder_then_runs_again
+    = standalone_walk(NAME)`."""
+    import pytest
+
+    @pytest.fixture(scope='module')
+    def course(tmp_path_factory: pytest.TempPathFactory, ros_domain: int) -> Course:
+        return Course(tmp_path_factory.mktemp('course') / 'ws', ros_domain)
+
+    @pytest.mark.timeout(900)
+    def test_every_answer_cell_walks_its_ladder_then_runs_again(course: Course) -> None:
+        walk(course, name)
+
+    return course, test_every_answer_cell_walks_its_ladder_then_runs_again

@@ -12,18 +12,8 @@ and source swapped, a point left in the sensor's frame.
 
 from __future__ import annotations
 
-import pytest
-from course_run import Course
-from mistake_walk import walk
+from mistake_walk import standalone_walk
 
 NAME = '12_robot_description'
 
-
-@pytest.fixture(scope='module')
-def course(tmp_path_factory: pytest.TempPathFactory, ros_domain: int) -> Course:
-    return Course(tmp_path_factory.mktemp('course') / 'ws', ros_domain)
-
-
-@pytest.mark.timeout(900)
-def test_every_answer_cell_walks_its_ladder_then_runs_again(course: Course) -> None:
-    walk(course, NAME)
+course, test_every_answer_cell_walks_its_ladder_then_runs_again = standalone_walk(NAME)
