@@ -209,7 +209,10 @@ def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> No
         _loopback_up()
         uid = int(os.environ[UID_VAR]) if os.environ.get(UID_VAR) else None
         home = os.environ.get('HOME')
-        confine(job_dir or Path.cwd(), uid, Path(home) if home else None)
+        for problem in confine(job_dir or Path.cwd(), uid, Path(home) if home else None):
+            # The grader's own fault, never the student's: said in the job's log, so a job
+            # whose nodes then miss their passwd entry shows why (seen once, under load).
+            print(f'[grader] sandbox: could not set up {problem}', file=sys.stderr, flush=True)
         drop_privileges(uid)
         if os.getpid() == 1:
             _init_process()
