@@ -186,6 +186,19 @@ def _group(nodeid: str) -> str:
     return path
 
 
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
+    """A failed test's report carries the last lines of every running process it was given
+    as a fixture (a module's turtlesim, say): a service that did not answer shows why."""
+    report = yield
+    if report.failed and call.when == 'call':
+        for name, value in getattr(item, 'funcargs', {}).items():
+            if isinstance(value, Proc):
+                report.sections.append((f'output of fixture {name!r} ({" ".join(value.cmd[-3:])})',
+                                        '\n'.join(value.lines[-40:])))
+    return report
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
     """pytest-xdist (`./kit test -n 2`): whole groups per worker, in collection order.
