@@ -1,6 +1,7 @@
-"""Where the 3D view's camera starts: an eye that sees a whole box (a world's shapes).
+"""Where the 3D view's camera is: an eye and a target set from code, or one that sees a box.
 
-The bundle's own first camera sits 2.4 m from the origin, right for a robot on a desk but
+`look_at` (RViz's Orbit view, set from code) takes an eye and a target checked here. The
+bundle's own first camera sits 2.4 m from the origin, right for a robot on a desk but
 inside a 4 m room, where two walls stay behind it. `overview` computes an eye above and
 behind (-x, the way a robot spawned at the origin faces away from it) from which every
 corner of the box is inside the picture, so a world is seen whole before anyone orbits.
@@ -11,15 +12,37 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from robot_lab.errors import GraphError
+
 if TYPE_CHECKING:
     from robot_lab.scene.displays import Markers
 
-__all__ = ['FOV', 'Vec3', 'extent', 'overview']
+__all__ = ['FOV', 'Vec3', 'camera_values', 'extent', 'eye_and_target', 'overview']
 
 Vec3 = tuple[float, float, float]
 FOV = 50.0  # the bundle's vertical field of view (degrees); a view is wider than tall
 _PITCH = math.radians(50.0)  # looking down: the floor and every wall's inner face show
 _MARGIN = 1.08
+
+
+def camera_values(eye: Vec3, target: Vec3) -> list[float]:
+    """The canvas's camera trait (eye x, y, z, target x, y, z); a GraphError if the two
+    are not two different finite points."""
+    try:
+        values = [float(v) for v in (*eye, *target)]
+    except (TypeError, ValueError):
+        values = []
+    if len(values) != 6 or not all(map(math.isfinite, values)) or values[:3] == values[3:]:
+        raise GraphError(f'look_at(eye={eye!r}, target={target!r}): not a camera',
+                         fix='give two different points (x, y, z) in metres, e.g. '
+                         'view.look_at(eye=(-4, 0, 3), target=(0, 0, 0))')
+    return values
+
+
+def eye_and_target(values: list[float]) -> tuple[Vec3, Vec3] | None:
+    """The eye and target in a camera trait (None: empty, the view's first camera)."""
+    v = values
+    return ((v[0], v[1], v[2]), (v[3], v[4], v[5])) if v else None
 
 
 def _rotate(q: tuple[float, ...], v: Vec3) -> Vec3:

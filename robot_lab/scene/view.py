@@ -11,16 +11,23 @@ picture of the frames instead.
 
 from __future__ import annotations
 
-import math
 import threading
 import time
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
-from robot_lab.errors import GraphError
-from robot_lab.scene.camera import Vec3
-from robot_lab.scene.displays import BY_TYPE, TF, Display, Grid, Markers, Outbox, RobotModel
-from robot_lab.scene.frames import FrameTree, Pose, parse_tf_message
+from robot_lab.scene.camera import Vec3, camera_values, eye_and_target
+from robot_lab.scene.displays import TF, Display, Grid, Markers, Outbox, RobotModel
+from robot_lab.scene.frames import FrameTree, Pose
+from robot_lab.scene.picture import frames_picture
+from robot_lab.scene.subscriptions import (
+    TF_TYPE,
+    Subscriptions,
+    display_for,
+    display_qos,
+    tf_qos,
+    tf_transforms,
+)
 from robot_lab.widgets.live_view import LiveView
 from robot_lab.widgets.output import owned_by_cell
 
@@ -29,35 +36,16 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from rclpy.node import Node
     from rclpy.qos import QoSProfile
-    from rclpy.subscription import Subscription
 
     from robot_lab.scene.canvas import SceneCanvas
 
 __all__ = ['SceneView', 'scene_view']
 
-_TF = 'tf2_msgs/msg/TFMessage'
 # How often the status line is recomputed while only poses move (a link that lost its
 # transform shows within this); a tree that changed updates it at once.
 _STATUS_PERIOD = 0.5
 # How often a view no page shows takes what arrived (nbval, a view scrolled away)
 _IDLE_PERIOD = 0.1
-_NAMES = {'robotmodel': 'RobotModel', 'laserscan': 'LaserScan', 'marker': 'Markers',
-          'markerarray': 'Markers', 'markers': 'Markers', 'path': 'Path',
-          'odometry': 'Odometry', 'pose': 'PoseStamped', 'posestamped': 'PoseStamped'}
-
-
-def _display_class(kind: str | type[Display]) -> type[Display]:
-    if isinstance(kind, type):
-        return kind
-    from robot_lab.scene import displays
-
-    name = _NAMES.get(kind.lower().replace('_', ''))
-    if name is None:
-        raise GraphError(f'no display named {kind!r}',
-                         fix='use one of RobotModel, LaserScan, Marker, MarkerArray, Path, '
-                         'Odometry, Pose')
-    cls: type[Display] = getattr(displays, name)
-    return cls
 
 
 class SceneView(LiveView):
@@ -77,9 +65,6 @@ class SceneView(LiveView):
         self._fixed = fixed_frame or ''
         self._auto_fixed = not fixed_frame
         self.displays: dict[str, Display] = {}
-        # display id → (subscription, what takes its message, raw bytes wanted)
-        self._subscriptions: dict[str, tuple[Subscription, Callable[[Any], None], bool]] = {}
-        self._take_lock = threading.Lock()
         self._tf_dirty = False
         self._send_all = True  # the next tick sends everything (a view appeared)
         # the page's views by id: on screen, or scrolled out of sight (then nothing is sent)
@@ -100,9 +85,12 @@ class SceneView(LiveView):
         if camera is not None:
             self.look_at(*camera)
         self.messages = 0  # messages sent to the browser
-        self._node = self._own_node()
-        self._subscribe_tf('/tf', static=False)
-        self._subscribe_tf('/tf_static', static=True)
+        # by display id, TF's as ' /tf' and ' /tf_static'; raw: the view reads the
+        # transforms from the bytes (frames.parse_tf_message)
+        self._subscriptions = Subscriptions(self._own_node(), self._closed)
+        self._subscribe(' /tf', TF_TYPE, '/tf', tf_qos(static=False), self._on_tf, raw=True)
+        self._subscribe(' /tf_static', TF_TYPE, '/tf_static', tf_qos(static=True),
+                        self._on_tf_static, raw=True)
         self.add_display(Grid())
         if robot_description:
             self.add_display(RobotModel(robot_description))
@@ -116,55 +104,15 @@ class SceneView(LiveView):
 
     # -- ROS -----------------------------------------------------------------------------
     def _own_node(self) -> Node:
-        """A node of the view's own that no executor spins: the view takes what arrived
-        at each tick. An executor wakes, and rebuilds its wait set in Python, for every
-        message: /tf at 50 Hz cost the kernel 2.5 % of a core that way."""
+        """A node of the view's own that no executor spins (`subscriptions` says why)."""
         return self.session.hidden_node(f'scene_{id(self):x}')
 
     def _subscribe(self, key: str, type_name: str, topic: str, qos: QoSProfile,
                    take: Callable[[Any], None], raw: bool = False) -> None:
-        from robot_lab.messages import message_class
-
-        cls = message_class(type_name)
-        with self._take_lock:
-            subscription = self._node.create_subscription(cls, topic, lambda _m: None, qos)
-            self._subscriptions[key] = (subscription, self.log.guard(take), raw)
-
-    def _subscribe_tf(self, topic: str, static: bool) -> None:
-        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-
-        # tf2's TransformListener's QoS: depth 100, /tf_static transient-local
-        qos = QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE,
-                         durability=DurabilityPolicy.TRANSIENT_LOCAL if static
-                         else DurabilityPolicy.VOLATILE)
-        # raw: the view reads the transforms from the bytes (frames.parse_tf_message)
-        self._subscribe(f' {topic}', _TF, topic, qos,
-                        self._on_tf_static if static else self._on_tf, raw=True)
-
-    def _take(self) -> None:
-        """Take every message that has arrived since the last tick."""
-        with self._take_lock:
-            for subscription, take, raw in self._subscriptions.values():
-                with subscription.handle:
-                    while not self._closed.is_set():
-                        taken = subscription.handle.take_message(subscription.msg_type, raw)
-                        if taken is None:
-                            break
-                        take(taken[0])
+        self._subscriptions.add(key, type_name, topic, qos, self.log.guard(take), raw)
 
     def _on_tf(self, raw: bytes, static: bool = False) -> None:
-        try:
-            transforms = parse_tf_message(raw)
-        except ValueError:  # an encoding the fast path does not read: rclpy's way
-            from rclpy.serialization import deserialize_message
-
-            from robot_lab.messages import message_class
-
-            msg = deserialize_message(raw, message_class(_TF))
-            transforms = [(t.header.frame_id, t.child_frame_id, (
-                t.transform.translation.x, t.transform.translation.y,
-                t.transform.translation.z, t.transform.rotation.x, t.transform.rotation.y,
-                t.transform.rotation.z, t.transform.rotation.w)) for t in msg.transforms]
+        transforms = tf_transforms(raw)
         changed = False
         with self._lock:
             for parent, child, pose in transforms:
@@ -175,53 +123,13 @@ class SceneView(LiveView):
     def _on_tf_static(self, raw: bytes) -> None:
         self._on_tf(raw, static=True)
 
-    def _qos(self, display: Display) -> QoSProfile:
-        from rclpy.qos import (
-            DurabilityPolicy,
-            QoSProfile,
-            ReliabilityPolicy,
-            qos_profile_sensor_data,
-        )
-
-        if not display.latched:
-            return qos_profile_sensor_data  # best effort: hears reliable publishers too
-        assert display.topic is not None
-        offered = self.session.node.get_publishers_info_by_topic(display.topic)
-        every_latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
-                            for p in offered)
-        # A transient-local publisher's last message reaches a late view (RViz's durability
-        # setting); a volatile request matches every publisher. robot_state_publisher's
-        # /robot_description is transient-local: assumed before it is up.
-        latched = every_latched if offered else display.kind == 'robot_model'
-        return QoSProfile(depth=1 if display.kind == 'robot_model' else 100,
-                          reliability=ReliabilityPolicy.RELIABLE,
-                          durability=DurabilityPolicy.TRANSIENT_LOCAL if latched
-                          else DurabilityPolicy.VOLATILE)
-
     def add(self, topic: str, display: str | type[Display] | None = None,
             **options: object) -> Display:
         """Show a topic, as RViz's "Add ▸ By topic": its display follows from its type
         (LaserScan, Marker/MarkerArray, Path, Odometry, PoseStamped), or name it."""
         topic = topic if topic.startswith('/') else '/' + topic
         types = dict(self.session.node.get_topic_names_and_types()).get(topic, [])
-        if display is None:
-            known = [t for t in types if t in BY_TYPE]
-            if not known:
-                why = (f'its type is {", ".join(types)}' if types
-                       else 'nothing publishes it yet')
-                raise GraphError(f'cannot tell which display draws {topic}: {why}',
-                                 fix=f"name it: view.add('{topic}', 'LaserScan') (or Marker, "
-                                 'MarkerArray, Path, Odometry, Pose)')
-            cls = BY_TYPE[known[0]]
-        else:
-            cls = _display_class(display)
-        shown = cls(topic, **options)  # type: ignore[arg-type]
-        wanted = [t for t in types if t in shown.type_names]
-        if isinstance(display, str) and display.lower() == 'marker':
-            shown.type_name = 'visualization_msgs/msg/Marker'
-        if wanted:
-            shown.type_name = wanted[0]
-        return self.add_display(shown)
+        return self.add_display(display_for(topic, types, display, options))
 
     def add_display(self, display: Display) -> Display:
         """Show a display built in Python (a world's shapes, say): subscribed if it has a
@@ -230,8 +138,8 @@ class SceneView(LiveView):
         if display.id in self.displays:
             self.remove(display.id)
         if display.topic is not None:
-            self._subscribe(display.id, display.type_name, display.topic, self._qos(display),
-                            display.take)
+            self._subscribe(display.id, display.type_name, display.topic,
+                            display_qos(self.session.node, display), display.take)
         with self._lock:
             self.displays[display.id] = display
             self._added.append(display)
@@ -252,10 +160,7 @@ class SceneView(LiveView):
         with self._lock:
             self.displays.pop(display_id, None)
             self._removed.append(display_id)
-        with self._take_lock:
-            found = self._subscriptions.pop(display_id, None)
-            if found is not None:
-                self._node.destroy_subscription(found[0])
+        self._subscriptions.remove(display_id)
 
     # -- what it shows -------------------------------------------------------------------
     @property
@@ -330,14 +235,7 @@ class SceneView(LiveView):
         fixed frame (RViz's Orbit view, set from code): a lesson shows what it is about
         without asking the student to orbit. Pages showing the view, and pages drawn later,
         move to it."""
-        try:
-            values = [float(v) for v in (*eye, *target)]
-        except (TypeError, ValueError):
-            values = []
-        if len(values) != 6 or not all(map(math.isfinite, values)) or values[:3] == values[3:]:
-            raise GraphError(f'look_at(eye={eye!r}, target={target!r}): not a camera',
-                             fix='give two different points (x, y, z) in metres, e.g. '
-                             'view.look_at(eye=(-4, 0, 3), target=(0, 0, 0))')
+        values = camera_values(eye, target)
         self._camera = values
         if self._scene_canvas is not None:
             self._scene_canvas.camera = values
@@ -345,8 +243,7 @@ class SceneView(LiveView):
     @property
     def camera(self) -> tuple[Vec3, Vec3] | None:
         """The eye and target `look_at` set (None: the view's first camera)."""
-        c = self._camera
-        return ((c[0], c[1], c[2]), (c[3], c[4], c[5])) if c else None
+        return eye_and_target(self._camera)
 
     # -- the browser ---------------------------------------------------------------------
     @property
@@ -419,7 +316,7 @@ class SceneView(LiveView):
 
     def tick(self) -> dict[str, object] | None:
         """Send the browser what changed since the last tick; returns the message sent."""
-        self._take()
+        self._subscriptions.take()
         self.ticks += 1
         if self._scene_canvas is None or self._out_of_sight():
             return None  # nothing shows it now: keep what is new for when something does
@@ -497,36 +394,12 @@ class SceneView(LiveView):
     # -- the static picture --------------------------------------------------------------
     def _figure(self) -> Figure:
         """The TF frames (axes and names) seen in 3D, with the status lines as a title."""
-        from matplotlib.figure import Figure
-
         with self._lock:
             fixed = self._choose_fixed()
             poses = self.tree.resolve(fixed)
             tree = self.tree.tree()
             lines = self._status_lines(poses)
-        fig = Figure(figsize=(6.0, 4.5), dpi=100)
-        ax = fig.add_subplot(projection='3d')
-        shown = {k: v for k, v in poses.items() if v is not None}
-        for child, parent in tree:
-            a, b = shown.get(child), shown.get(parent)
-            if a is not None and b is not None:
-                ax.plot([a[0], b[0]], [a[1], b[1]], [a[2], b[2]], color='#c8a000', lw=1)
-        for name, p in shown.items():
-            ax.scatter([p[0]], [p[1]], [p[2]], color='#0072B2', s=12)
-            ax.text(p[0], p[1], p[2], ' ' + name, fontsize=7)
-        xs = [p[0] for p in shown.values()] or [0.0]
-        ys = [p[1] for p in shown.values()] or [0.0]
-        zs = [p[2] for p in shown.values()] or [0.0]
-        span = max(max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs), 0.5) / 2 + 0.1
-        for setter, values in ((ax.set_xlim, xs), (ax.set_ylim, ys), (ax.set_zlim, zs)):
-            mid = (max(values) + min(values)) / 2
-            setter(mid - span, mid + span)
-        ax.set_xlabel('x (m)', fontsize=8)
-        ax.set_ylabel('y (m)', fontsize=8)
-        ax.set_title(f'TF frames in [{fixed or "?"}]\n' + '\n'.join(
-            line[:90] for line in lines[:3]), fontsize=8, loc='left')
-        fig.tight_layout()
-        return fig
+        return frames_picture(fixed, poses, tree, lines)
 
     # -- closing -------------------------------------------------------------------------
     def _release(self) -> None:
@@ -535,9 +408,7 @@ class SceneView(LiveView):
         self._wake.set()  # the thread sees `_closed` at once, not after its period
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2.0)
-        with self._take_lock:
-            self._subscriptions.clear()
-            self._node.destroy_node()
+        self._subscriptions.close()
 
     def __repr__(self) -> str:
         with self._lock:
