@@ -7,7 +7,8 @@ lives as long as the launch (the CLI's main thread, or the notebook's supervisor
 The launcher has no DDS participant of its own: it never imports rclpy, so the nodes it
 starts find each other as fast as bare processes do. What it does for graph queries
 (announcing its nodes, a graph daemon beside them) is robot_lab/graph/launch_companion.py:
-the supervisor only reports which node runs where.
+the supervisor only reports which node runs where (graph_watch.py). A child's pipes are
+child_output.py's, how one child starts and stops process_control.py's; this is the loop.
 """
 
 from __future__ import annotations
@@ -17,19 +18,18 @@ import heapq
 import itertools
 import os
 import selectors
-import signal
-import subprocess
 import threading
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from robot_lab.env import apply_ros_defaults
 from robot_lab.graph.launch_companion import DAEMON_CHECK, LaunchGraphCompanion
+from robot_lab.launch.child_output import ChildOutput
 from robot_lab.launch.event_router import EventRouter
 from robot_lab.launch.events import Shutdown
 from robot_lab.launch.fork_client import ForkedProcess, ForkServer, enabled, interpreter_of
+from robot_lab.launch.graph_watch import GraphWatch
 from robot_lab.launch.output import LaunchOutput
 from robot_lab.launch.plan import (
     Action,
@@ -41,10 +41,9 @@ from robot_lab.launch.plan import (
     ShutdownAction,
     TimerSpec,
 )
+from robot_lab.launch.process_control import exit_fd, kill_leftovers, start_child, stop_process
 from robot_lab.launch.process_record import ProcessRecord, Scheduled, domain_of
-from robot_lab.linux.pidfd import open_pidfd
-from robot_lab.process import spawn
-from robot_lab.shared_memory import HEARING_CHECK, lost_ports, sweep_dead_segments
+from robot_lab.shared_memory import HEARING_CHECK, sweep_dead_segments
 
 if TYPE_CHECKING:
     from robot_lab.graph.daemon import Listener
@@ -54,13 +53,6 @@ if TYPE_CHECKING:
 __all__ = ['Supervisor']
 
 _LEVELS = {'DEBUG', 'INFO', 'WARNING', 'ERROR', 'CRITICAL'}
-
-
-
-def _seconds(value: float) -> str:
-    """A timeout as launch prints it: '5' for the default, '0.5' otherwise."""
-    return f'{value:g}'
-
 
 
 class Supervisor:
@@ -80,6 +72,7 @@ class Supervisor:
             warn=lambda message: self.output.launcher('WARNING', 'launch', message))
         self.records: list[ProcessRecord] = [ProcessRecord(spec) for spec in plan.processes()]
         self._by_spec = {id(r.spec): r for r in self.records}
+        self._watch = GraphWatch(self.records, self._graph, output)
         self._labels = len(self.records)  # processes an event handler starts count on
         self.events = EventRouter(self._execute, self._handler_failed, self._request)
         self._lifecycle: LifecycleBridge | None = None  # made for the first lifecycle node
@@ -90,8 +83,8 @@ class Supervisor:
         self._schedule: list[Scheduled] = []
         self._seq = itertools.count()
         self._selector = selectors.DefaultSelector()
+        self._streams = ChildOutput(self._selector, output, self.events)
         self._requests: list[Callable[[], None]] = []
-        self._deaf: set[int] = set()  # pids said to no longer hear (_check_hearing)
         # Re-entrant: Ctrl-C's handler takes it in the main thread, which may hold it already
         # (draining requests) or be running that handler for an earlier signal. `timeout -s
         # INT` signals the launcher twice (it and its group); with a plain Lock the second
@@ -155,9 +148,9 @@ class Supervisor:
             self._execute(self.plan.actions)
             self.started.set()
             if self.graph_daemon:
-                self._start_graph_daemons()
-                self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
-            self._at(HEARING_CHECK, self._check_hearing, keeps_alive=False)
+                self._watch.start_daemons()
+                self._every(DAEMON_CHECK, self._watch.check_daemons)
+            self._every(HEARING_CHECK, self._watch.check_hearing)
             while True:
                 self._drain_requests()
                 self._run_due()
@@ -169,7 +162,7 @@ class Supervisor:
                 self._wait(self._next_timeout())
         finally:
             self.started.set()
-            self._kill_leftovers()
+            kill_leftovers(self.records)
             sweep_dead_segments()  # what killed nodes (this launch's or others') left in RAM
             if self._forks is not None:
                 self._forks.close()
@@ -210,7 +203,7 @@ class Supervisor:
                 except BlockingIOError:
                     pass
             elif kind == 'pipe':
-                self._read(record, stream, key.fd)
+                self._streams.read(record, stream, key.fd)
             elif kind == 'exit':
                 self._reap(record)
             elif kind == 'forks':
@@ -240,6 +233,21 @@ class Supervisor:
         item = Scheduled(time.monotonic() + delay, next(self._seq), callback, keeps_alive)
         heapq.heappush(self._schedule, item)
         return item
+
+    def _later(self, delay: float, callback: Callable[[], None]) -> None:
+        """A callback that does not keep the launch alive (signal escalations)."""
+        self._at(delay, callback, keeps_alive=False)
+
+    def _every(self, period: float, check: Callable[[], None]) -> None:
+        """`check` every `period` seconds until shutdown; never keeps the launch alive."""
+
+        def tick() -> None:
+            if self.is_shutdown:
+                return
+            check()
+            self._every(period, check)
+
+        self._later(period, tick)
 
     def _run_due(self) -> None:
         while self._schedule and self._schedule[0].due <= time.monotonic():
@@ -334,12 +342,7 @@ class Supervisor:
         env = self._environment(spec)
         interpreter = interpreter_of(spec) if self._forks is not None else None
         try:
-            popen: subprocess.Popen[bytes] | ForkedProcess | None = None
-            if self._forks is not None and interpreter is not None:
-                popen = self._forks.start(spec, env, spec.cwd, interpreter)
-            if popen is None:
-                popen = spawn(spec.cmd, env=env, cwd=spec.cwd,
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, shell=spec.shell)
+            popen = start_child(spec, env, self._forks, interpreter)
         except OSError as exc:
             record.state, record.returncode = 'died', None
             self.output.launcher('ERROR', record.label,
@@ -350,18 +353,8 @@ class Supervisor:
         if spec.node_name:
             record.graph = self._graph.graph_of(env)
         record.generation += 1
-        record.partial = {'stdout': b'', 'stderr': b''}
-        record.open_streams = 0
-        for stream, pipe in (('stdout', popen.stdout), ('stderr', popen.stderr)):
-            if pipe is None:
-                continue
-            os.set_blocking(pipe.fileno(), False)
-            self._selector.register(pipe.fileno(), selectors.EVENT_READ, ('pipe', record, stream))
-            record.open_streams += 1
-        record.pidfd = None
-        if not isinstance(popen, ForkedProcess):  # whose exit comes from the fork server
-            with contextlib.suppress(OSError):  # no pidfd (or gone already): exits are polled
-                record.pidfd = open_pidfd(popen.pid)
+        self._streams.watch(record, popen)
+        record.pidfd = exit_fd(popen)
         if record.pidfd is not None:
             self._selector.register(record.pidfd, selectors.EVENT_READ, ('exit', record, ''))
         self.output.launcher('INFO', record.label, f'process started with pid [{popen.pid}]')
@@ -371,61 +364,7 @@ class Supervisor:
                                            spec.lifecycle == 'autostart')
         self._announce()
         if self.graph_daemon and self.started.is_set():
-            self._start_graph_daemons()  # a node started by a timer, maybe in a new graph
-
-    # --- output -------------------------------------------------------------------------
-
-    def _read(self, record: ProcessRecord, stream: str, fd: int) -> None:
-        try:
-            data = os.read(fd, 65536)
-        except BlockingIOError:
-            return
-        except OSError:
-            data = b''
-        if not data:
-            self._close_stream(record, stream, fd)
-            return
-        self._emit_lines(record, stream, record.partial.get(stream, b'') + data)
-
-    def _emit_lines(self, record: ProcessRecord, stream: str, buffer: bytes) -> None:
-        *complete, rest = buffer.split(b'\n')
-        for raw in complete:
-            self.output.child(record.label, stream, record.spec.output,
-                              raw.rstrip(b'\r').decode('utf-8', errors='replace'))
-            if record.pid is not None and self.events.wants('process_io'):
-                self.events.output(record.spec, record.pid, stream, raw.rstrip(b'\r'))
-        record.partial[stream] = rest
-
-    def _close_stream(self, record: ProcessRecord, stream: str, fd: int) -> None:
-        try:
-            self._selector.unregister(fd)
-        except (KeyError, ValueError):
-            return
-        rest = record.partial.get(stream, b'')
-        if rest:
-            self.output.child(record.label, stream, record.spec.output,
-                              rest.decode('utf-8', errors='replace'))
-            record.partial[stream] = b''
-        record.open_streams -= 1
-
-    def _drain(self, record: ProcessRecord) -> None:
-        """Read what the exited child left in its pipes, then close them."""
-        popen = record.popen
-        assert popen is not None
-        for stream, pipe in (('stdout', popen.stdout), ('stderr', popen.stderr)):
-            if pipe is None:
-                continue
-            fd = pipe.fileno()
-            while True:
-                try:
-                    data = os.read(fd, 65536)
-                except (BlockingIOError, OSError):
-                    break  # a grandchild may hold the pipe open; do not wait for it
-                if not data:
-                    break
-                self._emit_lines(record, stream, record.partial.get(stream, b'') + data)
-            self._close_stream(record, stream, fd)
-            pipe.close()
+            self._watch.start_daemons()  # a node started by a timer, maybe in a new graph
 
     # --- exits, respawn, shutdown -------------------------------------------------------
 
@@ -439,7 +378,7 @@ class Supervisor:
                 self._selector.unregister(record.pidfd)
             os.close(record.pidfd)
             record.pidfd = None
-        self._drain(record)
+        self._streams.drain(record)
         record.returncode = code
         cmd = ' '.join(part for part in record.spec.cmd if part.strip())
         spec = record.spec
@@ -492,42 +431,9 @@ class Supervisor:
         # launch signals the newest process first; so do we.
         for record in reversed(self.records):
             if record.state == 'running':
-                self._stop_process(record, send_sigint=send_sigint)
+                stop_process(record, self.output, send_sigint=send_sigint, later=self._later)
 
-    def _stop_process(self, record: ProcessRecord, *, send_sigint: bool) -> None:
-        """SIGINT now, SIGTERM after sigterm_timeout, SIGKILL after sigkill_timeout more."""
-        record.stopping = True
-        spec = record.spec
-        generation = record.generation
-        base = ("process[{}] failed to terminate '{}' seconds after receiving '{}', "
-                "escalating to '{}'")
-
-        def escalate(sig: signal.Signals, previous: str, waited: str) -> None:
-            if record.state != 'running' or record.generation != generation:
-                return
-            self.output.launcher(
-                'ERROR', record.label, base.format(record.label, waited, previous, sig.name))
-            self._signal(record, sig)
-
-        self._at(spec.sigterm_timeout,
-                 lambda: escalate(signal.SIGTERM, 'SIGINT', _seconds(spec.sigterm_timeout)),
-                 keeps_alive=False)
-        total = float(spec.sigterm_timeout) + float(spec.sigkill_timeout)
-        self._at(total, lambda: escalate(signal.SIGKILL, 'SIGTERM', str(total)),
-                 keeps_alive=False)
-        if send_sigint:
-            self._signal(record, signal.SIGINT)
-
-    def _signal(self, record: ProcessRecord, sig: signal.Signals) -> None:
-        popen = record.popen
-        if popen is None or popen.poll() is not None:
-            return
-        self.output.launcher('INFO', record.label,
-                             f"sending signal '{sig.name}' to process[{record.label}]")
-        with contextlib.suppress(ProcessLookupError):
-            popen.send_signal(sig)
-
-    # --- graph companions: expected nodes, the graph daemon -----------------------------
+    # --- graph companions: expected nodes (the graph daemon, hearing: graph_watch) -------
 
     def _announce_planned(self) -> None:
         """Before the first spawn: the nodes about to start are expected already, so a
@@ -538,51 +444,5 @@ class Supervisor:
         self._announce()
 
     def _announce(self) -> None:
-        """The nodes this launch has up (their pid) or is about to start (the launcher's)."""
-        nodes: list[tuple[Path, str, int]] = []
-        for record in self.records:
-            if record.graph is None or not record.spec.node_name:
-                continue
-            if record.state == 'running' and record.pid:
-                nodes.append((record.graph, record.spec.node_name, record.pid))
-            elif record.state == 'pending' and not self.is_shutdown:
-                nodes.append((record.graph, record.spec.node_name, os.getpid()))
-        self._graph.announce(nodes)
-
-    def _running_graphs(self) -> set[Path]:
-        return {r.graph for r in self.records if r.graph is not None and r.state == 'running'}
-
-    def _start_graph_daemons(self) -> None:
-        self._graph.start_daemons(self._running_graphs())
-
-    def _check_graph_daemons(self) -> None:
-        if self.is_shutdown:
-            return
-        self._graph.check_daemons(self._running_graphs())
-        self._at(DAEMON_CHECK, self._check_graph_daemons, keeps_alive=False)
-
-    def _check_hearing(self) -> None:
-        """Say once of each node that no longer hears new participants (Fast DDS took over
-        its shared-memory port on a crowded host, robot_lab.shared_memory.lost_ports): a
-        `topic echo` started later would wait for its messages forever."""
-        if self.is_shutdown:
-            return
-        for record in self.records:
-            if record.state != 'running' or not record.pid or record.pid in self._deaf:
-                continue
-            if ports := lost_ports(record.pid):
-                self._deaf.add(record.pid)
-                self.output.launcher(
-                    'WARNING', record.label,
-                    f'no longer hears ROS participants started from now on: Fast DDS took '
-                    f'over its shared-memory port {", ".join(map(str, ports))} (a crowded '
-                    f'host); stop the launch (Ctrl-C) and start it again')
-        self._at(HEARING_CHECK, self._check_hearing, keeps_alive=False)
-
-    def _kill_leftovers(self) -> None:
-        """Only reached on an error inside the loop: never leave a child behind."""
-        for record in self.records:
-            if record.popen is not None and record.popen.poll() is None:
-                record.popen.kill()
-                record.popen.wait()
-                record.state, record.returncode = 'died', record.popen.returncode
+        """The nodes up or about to start, after every change of a record's state."""
+        self._watch.announce(shutting_down=self.is_shutdown)
