@@ -2,9 +2,11 @@
 
 The recorded CDR bytes are published unchanged (rclpy publishes raw bytes), at the
 recorded receive-time gaps divided by `rate`. A virtual bag clock (anchored at the last
-start/resume/rate change) makes pause, resume and rate changes exact. Before the first
-message the player waits, bounded, until its publishers have matched the subscribers the
-graph already shows, so a listener that is running does not miss the first messages.
+start/resume/rate change, robot_lab.bag.timeline) makes pause, resume and rate changes
+exact. Before the first message the player waits, bounded, until its publishers have
+matched the subscribers the graph already shows, so a listener that is running does not
+miss the first messages; reliable topics are paced by acknowledgements
+(robot_lab.bag.delivery). This module owns the options, the publishers and the thread.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from robot_lab.bag.clock import ClockPublisher
 from robot_lab.bag.console import log_line
+from robot_lab.bag.delivery import flush_publishers, room_in_history, wait_for_matches
 from robot_lab.bag.qos import deep_history, load_overrides, publisher_qos
 from robot_lab.bag.read import bag_messages, message_class_for, open_bag
 from robot_lab.bag.selection import Selection
@@ -28,6 +31,7 @@ from robot_lab.bag.services import (
     is_service_event,
     service_name,
 )
+from robot_lab.bag.timeline import Timeline
 from robot_lab.errors import BagError, GraphError
 
 if TYPE_CHECKING:
@@ -38,12 +42,6 @@ if TYPE_CHECKING:
 __all__ = ['Player', 'play']
 
 NODE_NAME = 'rosbag2_player'
-DISCOVERY_WINDOW = 0.6  # one lease announcement of the kit's Fast DDS profile, and a bit
-MATCH_TIMEOUT = 2.0  # longest wait for already-known subscribers to match
-# KEEP_ALL publishers: how many messages may wait for acknowledgement at once.
-ACK_WINDOW = 100
-ACK_POLL = 0.1  # s between looks at `stop()` while a subscriber catches up
-FLUSH_TIMEOUT = 30.0  # longest wait at the end for subscribers to acknowledge the rest
 
 
 class Player:
@@ -84,7 +82,6 @@ class Player:
                 f'Value {start_offset} is less than zero.', fix='--start-offset 0 or more'
             )
         self.bag = Path(bag)
-        self._rate = float(rate)
         self.loop = loop
         # rosbag2 filters topics and services apart: `--topics` leaves services alone
         self.selection = Selection.of(topics, services, exclude_topics, exclude_services,
@@ -129,10 +126,8 @@ class Player:
         self.played = 0
         self.counts: dict[str, int] = {}
         self.error: BaseException | None = None
-        self._cond = threading.Condition()
-        self._paused = bool(start_paused)  # rosbag2's -p/--start-paused
-        self._steps = 0  # play_next() calls the playing thread has not served yet
-        self._stop = False
+        self._timeline = Timeline(float(rate), bool(start_paused), self.log)
+        self._cond = self._timeline.cond  # guards the timeline and the playing state
         self._done = threading.Event()
         self._thread: threading.Thread | None = None
         self._node: Any = None
@@ -142,8 +137,6 @@ class Player:
         self.end_ns = 0
         self.total = 0
         self._position_ns = 0
-        self._anchor_wall = 0.0
-        self._anchor_bag = 0
         self.published: list[tuple[str, int, float]] = []  # (topic, bag ns, wall monotonic)
         self.keep_timing = False
 
@@ -156,11 +149,11 @@ class Player:
 
     @property
     def rate(self) -> float:
-        return self._rate
+        return self._timeline.rate
 
     @property
     def paused(self) -> bool:
-        return self._paused
+        return self._timeline.paused
 
     @property
     def running(self) -> bool:
@@ -263,7 +256,7 @@ class Player:
     def _clock_now(self) -> int:
         """The bag time for /clock: it runs with playback and stops at the bag's end."""
         with self._cond:
-            return min(self._virtual_now(), self.end_ns)
+            return min(self._timeline.now(), self.end_ns)
 
     def _add_sender(self, conn: Connection) -> None:
         if conn.topic in self._senders:
@@ -281,23 +274,13 @@ class Player:
         self._connections.append(conn)
 
     def pause(self) -> None:
-        with self._cond:
-            if not self._paused:
-                self._anchor_bag = self._virtual_now()
-                self._paused = True
-                self.log('INFO', 'Pausing play.')
-            self._cond.notify_all()
+        self._timeline.pause()
 
     def resume(self) -> None:
-        with self._cond:
-            if self._paused:
-                self._anchor_wall = time.monotonic()
-                self._paused = False
-                self.log('INFO', 'Resuming play.')
-            self._cond.notify_all()
+        self._timeline.resume()
 
     def toggle_paused(self) -> None:
-        if self._paused:
+        if self._timeline.paused:
             self.resume()
         else:
             self.pause()
@@ -305,44 +288,32 @@ class Player:
     def request_next(self) -> bool:
         """While paused, queue the next message to be published as soon as playback can
         (what the CURSOR_RIGHT key does: it never blocks); False when not paused."""
-        with self._cond:
-            if not self._paused:
-                self.log('WARN', 'Called play next, but not in paused state.')
-                return False
-            self._steps += 1
-            self._cond.notify_all()
-            return True
+        return self._timeline.request_next()
 
     def play_next(self, timeout: float = 5.0) -> bool:
         """While paused, publish the next message now (rosbag2's play_next); True once out."""
+        timeline = self._timeline
         with self._cond:
             before = self.played
             if not self.request_next():
                 return False
             over = self._cond.wait_for(
-                lambda: self.played > before or self._stop or self._done.is_set(), timeout)
+                lambda: self.played > before or timeline.stopped or self._done.is_set(),
+                timeout)
             if self.played == before:  # nothing left to play, or stopped: take the step back
-                self._steps = max(0, self._steps - 1)
+                timeline.steps = max(0, timeline.steps - 1)
             return bool(over) and self.played > before
 
     def set_rate(self, rate: float) -> bool:
-        if rate <= 0:
-            self.log('WARN', f'Failed to set rate to invalid value {rate}')
-            return False
-        with self._cond:
-            self._anchor_bag = self._virtual_now()
-            self._anchor_wall = time.monotonic()
-            self._rate = float(rate)
-            self._cond.notify_all()
-        self.log('INFO', f'Set rate to {rate:g}')
-        return True
+        return self._timeline.set_rate(rate)
 
     def stop(self, timeout: float = 10.0) -> None:
         """Stop playing now (publishers are destroyed; the bag is untouched)."""
         with self._cond:
-            if not self._stop and self._thread is not None and not self._done.is_set():
+            if (not self._timeline.stopped and self._thread is not None
+                    and not self._done.is_set()):
                 self.log('INFO', 'Stopping playback.')
-            self._stop = True
+            self._timeline.stopped = True
             self._cond.notify_all()
         if self._thread is not None:
             self._thread.join(timeout)
@@ -368,85 +339,24 @@ class Player:
         self.stop()
 
     # ---------------------------------------------------------------- playing
-    def _virtual_now(self) -> int:
-        if self._paused:
-            return self._anchor_bag
-        return self._anchor_bag + int((time.monotonic() - self._anchor_wall) * self._rate * 1e9)
-
-    def _wait_until(self, stamp: int) -> str | None:
-        """Sleep until bag time `stamp` is due ('due'), or a play_next() call releases it
-        while paused ('step'); None if stopped meanwhile."""
-        with self._cond:
-            while not self._stop:
-                if self._paused:
-                    if self._steps:
-                        self._steps -= 1
-                        self._anchor_bag = max(self._anchor_bag, stamp)  # the clock jumps
-                        return 'step'
-                    self._cond.wait()
-                    continue
-                remaining = (stamp - self._virtual_now()) / 1e9 / self._rate
-                if remaining <= 0:
-                    return 'due'
-                self._cond.wait(remaining)
-            return None
-
-    def _wait_for_matches(self) -> None:
-        """Give subscribers the graph already knows the chance to match before message 1."""
-        from robot_lab.graph.discovery import host_participants_seen
-
-        sess = self._session
-        # Every participant on the host seen, where the host's sockets can be counted: a
-        # fixed window let a young player publish before it knew a loaded host's listener
-        # (CI: the first 26 messages lost at --rate 4).
-        everyone = host_participants_seen(sess)
-        deadline = time.monotonic() + MATCH_TIMEOUT
-        while not self._stop and time.monotonic() < deadline:
-            seen = everyone()
-            settled = seen if seen is not None else (
-                time.monotonic() - getattr(sess, 'created', 0.0) >= DISCOVERY_WINDOW)
-            matched = all(pub.get_subscription_count() >= self._matchable(pub)
-                          for pub in self._publishers.values()) and self._services_ready()
-            if settled and matched:
-                return
-            with self._cond:
-                self._cond.wait(0.02)
-
-    def _matchable(self, pub: Publisher) -> int:
-        """How many subscriptions the graph shows on pub's topic that its QoS can match.
-
-        A reliable subscriber never matches a best-effort offer (ROS's rule), so counting
-        it would hold the first message for the whole MATCH_TIMEOUT.
-        """
-        from rclpy.qos import QoSCompatibility, qos_check_compatible
-
-        return sum(
-            qos_check_compatible(pub.qos_profile, info.qos_profile)[0]
-            != QoSCompatibility.ERROR
-            for info in self._node.get_subscriptions_info_by_topic(pub.topic_name))
-
-    def _services_ready(self) -> bool:
-        """Every recorded service the graph shows a server for is ready for requests."""
-        if not self._senders:
-            return True
-        served = {name for name, _types in self._node.get_service_names_and_types()}
-        return all(sender.client.service_is_ready() for sender in self._senders.values()
-                   if sender.service in served)
+    def _stopped(self) -> bool:
+        return self._timeline.stopped
 
     def _run(self) -> None:
         try:
             self.log('INFO', f'Playback until timestamp: {self.until_ns}')
-            self._wait_for_matches()
+            wait_for_matches(self._session, self._node, self._publishers.values(),
+                             self._senders.values(), self._stopped, self._cond)
             first = self.start_ns + int(self.start_offset * 1e9)
-            while not self._stop:
+            while not self._stopped():
                 with self._cond:
-                    if self.delay > 0 and self._cond.wait_for(lambda: self._stop, self.delay):
+                    if self.delay > 0 and self._cond.wait_for(self._stopped, self.delay):
                         break  # stopped during the delay
                 if not self._play_once(first) or not self.loop:
                     break
             if self._clock is not None:
                 self._clock.stop()  # the bag time ends with the bag
-            self._flush_publishers()
+            flush_publishers(self._publishers.values(), self._stopped)
             for sender in self._senders.values():
                 sender.wait_for_answers()
         except BaseException as exc:
@@ -474,8 +384,7 @@ class Player:
         bag and reading up to a start offset are not playback time. Anchored before them,
         a loaded CI host published the first 12 messages of `--rate 2` at once."""
         with self._cond:
-            self._anchor_bag = first
-            self._anchor_wall = time.monotonic()
+            self._timeline.start_at(first)
             self._position_ns = first
         if self._clock is not None:
             self._clock.start()  # from the bag's first instant on (once)
@@ -496,21 +405,22 @@ class Player:
                     anchored = True
                 if self.until_ns == 0 or 0 < self.until_ns < stamp:
                     break  # --playback-duration / --playback-until reached
-                how = self._wait_until(stamp)
+                how = self._timeline.wait_until(stamp)
                 if how is None:
                     return False
                 if self._clock is not None:
                     self._clock.before_message(conn.topic, stamp)
                 sender = self._senders.get(conn.topic)
                 if sender is None:
-                    if not self._room_in_history(conn.topic):
+                    publisher = self._publishers[conn.topic]
+                    if not room_in_history(publisher, conn.topic, self._unacked, self._stopped):
                         return False  # stopped while a subscriber caught up
-                    self._publishers[conn.topic].publish(bytes(data))
+                    publisher.publish(bytes(data))
                 elif not sender.send(bytes(data)):
                     self._position_ns = stamp  # a response, or a request it could not send
                     if how == 'step':
                         with self._cond:
-                            self._steps += 1  # play_next goes on to a message it can send
+                            self._timeline.steps += 1  # play_next goes on to a message it can send
                     continue
                 self._position_ns = stamp
                 self.played += 1
@@ -522,51 +432,6 @@ class Player:
                         self._cond.notify_all()  # play_next() is waiting for this one
         self._position_ns = self.end_ns  # played to the end (of the selected topics)
         return True
-
-    def _room_in_history(self, topic: str) -> bool:
-        """Before a reliable volatile topic's next message: once its history holds `depth`
-        messages not yet all acknowledged (the next would overwrite one a subscriber has
-        not got), wait until its reliable subscribers have acknowledged them. A subscriber
-        that falls behind makes the player fall behind the bag's clock instead of losing
-        messages, as the recorded reliable QoS promises. (A transient-local topic keeps
-        its recorded depth and is not paced: it promises late joiners the last `depth`.)
-        False if stopped meanwhile."""
-        from rclpy.duration import Duration
-        from rclpy.qos import DurabilityPolicy, HistoryPolicy, ReliabilityPolicy
-
-        publisher = self._publishers[topic]
-        qos = publisher.qos_profile
-        if (qos.reliability != ReliabilityPolicy.RELIABLE
-                or qos.durability != DurabilityPolicy.VOLATILE):
-            return True
-        window = max(1, qos.depth if qos.history == HistoryPolicy.KEEP_LAST else ACK_WINDOW)
-        sent = self._unacked.get(topic, 0)
-        # Past half the window, look (without waiting) whether everything has been
-        # acknowledged: the blocking wait below can take a writer heartbeat period.
-        if sent >= window // 2 and publisher.wait_for_all_acked(Duration(seconds=0)):
-            sent = 0
-        if sent >= window:
-            # A subscriber that is gone stops counting at its lease's end (2 s).
-            while not publisher.wait_for_all_acked(Duration(seconds=ACK_POLL)):
-                if self._stop:
-                    return False
-            sent = 0
-        self._unacked[topic] = sent + 1
-        return True
-
-    def _flush_publishers(self) -> None:
-        """Reliable subscribers get the last messages before the publishers go away (a
-        subscriber that falls behind on a loaded host needs more than a moment)."""
-        from rclpy.duration import Duration
-        from rclpy.qos import ReliabilityPolicy
-
-        deadline = time.monotonic() + FLUSH_TIMEOUT
-        for pub in self._publishers.values():
-            if pub.qos_profile.reliability != ReliabilityPolicy.RELIABLE:
-                continue  # best effort: nothing is acknowledged
-            while (not pub.wait_for_all_acked(Duration(seconds=ACK_POLL))
-                   and not self._stop and time.monotonic() < deadline):
-                pass
 
 
 def play(bag: str | Path, **options: Any) -> Player:
