@@ -1,6 +1,7 @@
 """ROS bags: record topics into rosbag2 bags, inspect them, play them back, read columns.
 
-One module per part of rosbag2: `record` (ros2 bag record), `play` (ros2 bag play),
+One module per part of rosbag2: `record` (ros2 bag record), `play` (ros2 bag play, with
+`timeline`, the bag's clock, and `delivery`, getting messages to subscribers),
 `info` (ros2 bag info), `reindex` (ros2 bag reindex), `read` (opening bags and reading
 a topic into columns for plots), `writer` (the storage files).
 """
