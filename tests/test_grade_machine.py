@@ -376,3 +376,43 @@ def test_without_namespaces_the_grader_refuses_unless_told(user_dir: Path, uid: 
     assert (user_dir / 'out' / 'grades.csv').read_text().count('\n') == 5
     print(first)  # the line on a host without namespaces, for the record (pytest -s)
 
+
+
+# The job, run as always (`python -m robot_lab.grading.package.job JOBDIR`), with the one
+# mount of its own passwd refused as the machine would refuse it.
+PASSWD_REFUSED = """
+import runpy
+from robot_lab.grading.package import confinement
+confinement._mount_machine_files = lambda uid, home: ['/etc/passwd: Device or resource busy']
+runpy.run_module('robot_lab.grading.package.job', run_name='__main__')
+"""
+
+
+@pytest.mark.skipif(not namespaces_available(), reason='no namespaces here')
+def test_a_job_the_sandbox_could_not_give_its_passwd_says_so(
+        tmp_path: Path, ros_domain: int, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """Seen once on a loaded host: a job's nodes missed their passwd entry (they saw the
+    machine's) and lost points with nothing said why. The grader's fault is told to the
+    instructor at once and kept in the student's feedback as not the student's."""
+    from robot_lab.grading.package import grade
+    from robot_lab.grading.package.rubric import load_rubric
+    from robot_lab.grading.package.submission import find_submissions
+
+    rubric_file = tmp_path / 'builds.yaml'
+    rubric_file.write_text('lab: ch6-lab1\ntitle: builds only\nchecks:\n'
+                           '  - id: builds\n    name: The package builds with colcon\n'
+                           '    points: 2\n')
+    shutil.copytree(DATA / 'reference', tmp_path / 'class' / 'alice')
+    real_run_job = grade.run_job
+    monkeypatch.setattr(grade, 'run_job', lambda *args: real_run_job(
+        *args, argv=['-c', PASSWD_REFUSED]))
+    [entry] = find_submissions(tmp_path / 'class')
+    report = grade.grade_package(entry, load_rubric(rubric_file), ros_domain)
+    assert report.score == 2, report.markdown()
+    [note] = report.notes
+    assert note == ('the grader could not set up /etc/passwd: Device or resource busy (not '
+                    'your fault: code that needs it may have failed)'), note
+    assert f'> **Sandbox:** {note}' in report.markdown()
+    said = capsys.readouterr().err
+    assert f'warning: alice: {note}\n' in said, said

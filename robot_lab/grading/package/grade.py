@@ -31,6 +31,7 @@ from robot_lab.grading.late import LatePolicy
 from robot_lab.grading.package.crash import public_text
 from robot_lab.grading.package.rubric import Rubric, load_rubric, rubric_path
 from robot_lab.grading.package.sandbox import (
+    GRADER_PROBLEM,
     JOB_LOGS_VAR,
     check_can_contain,
     job_domains,
@@ -87,6 +88,9 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
                     f'the grading job was killed by signal {run.returncode - 128} from inside '
                     'its sandbox (a process of the submission signalled it); no process '
                     'outside the sandbox could be reached')
+        for note in report.notes:
+            if note.startswith(GRADER_PROBLEM):  # the instructor hears of it at once
+                print(f'warning: {submission.student}: {note}', file=sys.stderr, flush=True)
         report.elapsed = run.elapsed
         if keep is None:
             report.images = []  # they live in the job folder, removed below

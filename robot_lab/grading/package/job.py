@@ -112,7 +112,7 @@ def launch_files_of(package: Path) -> list[Path]:
 
 def _write(job_dir: Path, state: JobState, student: str, status: str = 'graded',
            error: str = '', started: float = 0.0) -> None:
-    from robot_lab.grading.package.sandbox import BLOCKED, REPORT_FD_VAR
+    from robot_lab.grading.package.sandbox import BLOCKED, NOT_SET_UP, REPORT_FD_VAR
 
     # Paths as the student knows them (<pkg>/node.py), never the job's or the kit's.
     for outcome in state.outcomes.values():
@@ -122,9 +122,9 @@ def _write(job_dir: Path, state: JobState, student: str, status: str = 'graded',
         for c in state.rubric.checks]
     if state.grader_errors and status == 'graded':
         status, error = 'grader error', '; '.join(state.grader_errors)
+    notes = [public_text(n, job_dir) for n in [*NOT_SET_UP, *state.blocked, *BLOCKED]]
     report = StudentReport(student, checks, status, error, list(state.images),
-                           state.rubric.lab, time.monotonic() - started,
-                           notes=[public_text(n, job_dir) for n in [*state.blocked, *BLOCKED]])
+                           state.rubric.lab, time.monotonic() - started, notes=notes)
     data = json.dumps(report.to_dict())
     fd = os.environ.get(REPORT_FD_VAR)
     if fd:  # the grader's pipe: out of reach of the student's processes

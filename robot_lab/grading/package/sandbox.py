@@ -49,8 +49,8 @@ from robot_lab.grading.package.containment import (
 from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
-__all__ = ['BLOCKED', 'JobRun', 'check_can_contain', 'enter', 'job_domains',
-           'namespaces_available', 'pids_cgroup', 'run_job', 'stop_jobs', 'sweep']
+__all__ = ['BLOCKED', 'GRADER_PROBLEM', 'NOT_SET_UP', 'JobRun', 'check_can_contain', 'enter',
+           'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job', 'stop_jobs', 'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
 CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
@@ -181,6 +181,11 @@ def _remove_cgroup(group: Path) -> None:
             time.sleep(0.05)
 
 
+# What `enter` could not set up in the job's view of the machine: notes of the job's report.
+GRADER_PROBLEM = 'the grader'
+NOT_SET_UP: list[str] = []
+
+
 def _record_signal(signum: int, _frame: object) -> None:
     name = signal.Signals(signum).name
     if not any(name in b for b in BLOCKED):
@@ -210,9 +215,12 @@ def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> No
         uid = int(os.environ[UID_VAR]) if os.environ.get(UID_VAR) else None
         home = os.environ.get('HOME')
         for problem in confine(job_dir or Path.cwd(), uid, Path(home) if home else None):
-            # The grader's own fault, never the student's: said in the job's log, so a job
-            # whose nodes then miss their passwd entry shows why (seen once, under load).
+            # The grader's own fault, never the student's: said in the job's log and in its
+            # report, so a job whose nodes then miss their passwd entry shows why (seen once,
+            # under load) to the instructor and in the feedback.
             print(f'[grader] sandbox: could not set up {problem}', file=sys.stderr, flush=True)
+            NOT_SET_UP.append(f'{GRADER_PROBLEM} could not set up {problem} (not your fault: '
+                              'code that needs it may have failed)')
         drop_privileges(uid)
         if os.getpid() == 1:
             _init_process()
