@@ -155,7 +155,8 @@ seen = {
     'interfaces': [name for _, name in socket.if_nameindex()], 'connect': attempt(connect),
     'processes': len([p for p in os.listdir('/proc') if p.isdigit()]),
     'caps': status('CapEff'), 'no_new_privs': status('NoNewPrivs'),
-    'limits': [resource.getrlimit(resource.RLIMIT_AS)[0] >> 20,
+    'limits': [resource.getrlimit(resource.RLIMIT_DATA)[0] >> 20,
+               resource.getrlimit(resource.RLIMIT_AS)[0] >> 20,
                resource.getrlimit(resource.RLIMIT_NPROC)[0]],
 }
 print('PROBE ' + json.dumps(seen), flush=True)
@@ -197,7 +198,7 @@ def _judge(seen: dict[str, Any], job: Path) -> None:
     assert seen['connect'].startswith('ConnectionRefusedError'), seen
     assert seen['processes'] == 2, seen  # the namespace's init and the job
     assert seen['caps'] == '0000000000000000' and seen['no_new_privs'] == '1', seen
-    assert seen['limits'] == [1024, 64], seen
+    assert seen['limits'] == [1024, 4096, 64], seen
 
 
 @pytest.fixture
@@ -416,3 +417,78 @@ def test_a_job_the_sandbox_could_not_give_its_passwd_says_so(
     assert f'> **Sandbox:** {note}' in report.markdown()
     said = capsys.readouterr().err
     assert f'warning: alice: {note}\n' in said, said
+
+
+# Inside a job, under the rubric's default limits: an honest node whose executor runs 48
+# callbacks at once (MultiThreadedExecutor() on a 48-core grading server), 500 MB that
+# fits, and two hostile allocations that do not (private, and shared, which only the
+# address-space backstop counts).
+MEMORY = """
+import json, mmap, os, sys, threading
+from pathlib import Path
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import enter
+
+enter(Limits(), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')), Path(sys.argv[-1]))
+import rclpy
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+
+MB = 1 << 20
+rclpy.init()
+node = rclpy.create_node('threaded')
+together = threading.Barrier(48, timeout=20)
+met = []
+
+
+def callback():
+    try:
+        together.wait()
+        met.append(1)
+    except threading.BrokenBarrierError:
+        pass
+
+
+timer = node.create_timer(0.001, callback, ReentrantCallbackGroup())
+executor = MultiThreadedExecutor(num_threads=48)
+executor.add_node(node)
+spinning = threading.Thread(target=executor.spin, daemon=True)
+spinning.start()
+seen = {}
+try:
+    together.wait()
+    seen['threads'] = 'met'
+except threading.BrokenBarrierError:
+    seen['threads'] = 'broken'
+timer.cancel()
+executor.shutdown()
+
+
+def attempt(action):
+    try:
+        return action()
+    except (MemoryError, OSError) as err:
+        return type(err).__name__
+
+
+seen['half'] = attempt(lambda: len(bytearray(500 * MB)) // MB)
+seen['private'] = attempt(lambda: len(bytearray(1600 * MB)) // MB)
+seen['shared'] = attempt(lambda: len(mmap.mmap(-1, 7000 * MB)) // MB)
+print('MEMORY ' + json.dumps(seen), flush=True)
+os._exit(0)
+"""
+
+
+@pytest.mark.skipif(not namespaces_available(), reason='no namespaces here')
+def test_a_jobs_memory_is_what_it_holds_not_what_it_reserves(tmp_path: Path) -> None:
+    """The limit was 1.5 GB of address space, which an rclpy node's threads and malloc
+    arenas reserve without using: a MultiThreadedExecutor with 32 threads could not start
+    them. Memory is now what a process holds (RLIMIT_DATA), address space a backstop."""
+    (tmp_path / 'job').mkdir()
+    run = run_job(tmp_path / 'job', DOMAIN, Limits(wall_seconds=90), 'tok-memory',
+                  argv=['-c', MEMORY])
+    line = next((x for x in run.output.splitlines() if x.startswith('MEMORY ')), None)
+    assert run.returncode == 0 and line is not None, run.output
+    seen = json.loads(line[len('MEMORY '):])
+    assert seen == {'threads': 'met', 'half': 500, 'private': 'MemoryError',
+                    'shared': 'OSError'}, run.output

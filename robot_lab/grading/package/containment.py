@@ -117,8 +117,8 @@ def refusal() -> tuple[str, str] | None:
 
 
 def _cap(limits: Limits) -> str:
-    return (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB, {limits.processes} '
-            f'processes, {limits.wall_seconds:g} s wall')
+    return (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB memory, '
+            f'{limits.processes} processes, {limits.wall_seconds:g} s wall')
 
 
 def container_line(limits: Limits, problem: str) -> str:

@@ -15,8 +15,8 @@ Where no namespace can be made the grader refuses, root or not, unless told `--n
 process group, which the grader kills, and every process carries a token in its
 environment that a final sweep looks for.
 
-Inside, `enter()` applies the resource limits (CPU seconds, address space, file size,
-process count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
+Inside, `enter()` applies the resource limits (CPU seconds, memory, file size, process
+count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
 a grader running as root puts each job in a cgroup of its own whose `pids.max` bounds its
 processes and threads instead (the v1 pids hierarchy, or v2 with pids enabled).
 """
@@ -181,6 +181,9 @@ def _remove_cgroup(group: Path) -> None:
             time.sleep(0.05)
 
 
+# A job's address space may be this many times its memory (`enter`): threads and glibc's
+# malloc arenas reserve far more than they use.
+ADDRESS_SPACE_FACTOR = 4
 # What `enter` could not set up in the job's view of the machine: notes of the job's report.
 GRADER_PROBLEM = 'the grader'
 NOT_SET_UP: list[str] = []
@@ -230,7 +233,13 @@ def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> No
     mb = 1024 * 1024
     wanted = {
         resource.RLIMIT_CPU: limits.cpu_seconds,
-        resource.RLIMIT_AS: limits.memory_mb * mb,
+        # Memory is what a process holds: heap, anonymous maps, thread stacks (Linux 4.7+
+        # counts every private writable mapping). Address space would count what glibc only
+        # reserves: an rclpy node reserves 720 MB, and a MultiThreadedExecutor() on a
+        # 32-core grading server (32 threads) passed 1.5 GB and could not start a thread.
+        resource.RLIMIT_DATA: limits.memory_mb * mb,
+        # A backstop for shared mappings, which RLIMIT_DATA does not count.
+        resource.RLIMIT_AS: limits.memory_mb * mb * ADDRESS_SPACE_FACTOR,
         resource.RLIMIT_FSIZE: limits.file_mb * mb,
         resource.RLIMIT_NPROC: limits.processes,
         resource.RLIMIT_CORE: 0,
@@ -293,6 +302,9 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
         'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST', 'PYTHONDONTWRITEBYTECODE': '1',
         'ROBOT_LAB_GRADE_ISOLATED': '1' if isolated else '', TOKEN_VAR: token,
         'PYTHONUNBUFFERED': '1', 'ROBOT_LAB_NO_DAEMON': '1',
+        # glibc reserves 64 MB of address space per malloc arena, up to 8 per core: on a
+        # many-core server a threaded node would reach the address-space backstop.
+        'MALLOC_ARENA_MAX': '4',
     })
     env.pop('ROS_STATIC_PEERS', None)
     for name in [k for k in env if k.startswith('LC_') or k == 'LANGUAGE']:
