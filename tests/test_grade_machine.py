@@ -30,6 +30,7 @@ from test_grade_contained import DATA, _looks_around, _odd_entries
 
 from robot_lab.errors import RobotLabError
 from robot_lab.grading.package import containment
+from robot_lab.grading.package.cgroups import memory_cgroup_possible
 from robot_lab.grading.package.confinement import JOB_USER, job_uid, machine_files
 from robot_lab.grading.package.containment import NO_SANDBOX_VAR, namespace_problem
 from robot_lab.grading.package.rubric import Limits
@@ -492,3 +493,131 @@ def test_a_jobs_memory_is_what_it_holds_not_what_it_reserves(tmp_path: Path) -> 
     seen = json.loads(line[len('MEMORY '):])
     assert seen == {'threads': 'met', 'half': 500, 'private': 'MemoryError',
                     'shared': 'OSError'}, run.output
+
+
+# A hostile job within every per-process limit: 4 processes that each hold 300 MB (every
+# page written), together past the job's 600 MB. It says which groups it is in, and how
+# each child ended: 0 once it held its 300 MB and was let go, or -9 (killed).
+MEMORY_HOG = """
+import json, os, select, sys
+from pathlib import Path
+from robot_lab.grading.package.rubric import Limits
+from robot_lab.grading.package.sandbox import CGROUP_VAR, enter
+
+enter(Limits(job_memory_mb=600), bool(os.environ.get('ROBOT_LAB_GRADE_ISOLATED')),
+      Path(sys.argv[-1]))
+print('GROUPS ' + json.dumps(os.environ[CGROUP_VAR].split(os.pathsep)), flush=True)
+ready_r, ready_w = os.pipe()
+hold_r, hold_w = os.pipe()
+children = {}
+for _ in range(4):
+    pid = os.fork()
+    if pid == 0:
+        os.close(ready_r)
+        os.close(hold_w)
+        held = b'x' * (300 << 20)  # written, so resident: not a lazy zero page
+        os.write(ready_w, b'%d ' % os.getpid())
+        os.read(hold_r, 1)  # until the parent has seen every child hold or die
+        os._exit(0)
+    children[os.pidfd_open(pid)] = pid
+os.close(ready_w)
+os.close(hold_r)
+holding, ended = set(), []
+while len(holding) + len(ended) < 4:  # each child holds its 300 MB or was killed
+    ready, _, _ = select.select([ready_r, *children], [], [])
+    for fd in ready:
+        if fd == ready_r:
+            holding.update(int(p) for p in os.read(ready_r, 4096).split())
+        else:
+            pid = children.pop(fd)
+            ended.append(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]))
+            holding.discard(pid)
+# A holder may have been killed for a later child and not yet have exited: its end is
+# known once it is reaped.
+os.close(hold_w)
+ended += [os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]) for pid in children.values()]
+print('CHILDREN ' + json.dumps(sorted(ended)), flush=True)
+"""
+
+memory_cgroup = pytest.mark.skipif(
+    os.geteuid() != 0 or not memory_cgroup_possible(),
+    reason='needs a root grader that can make a memory cgroup')
+
+
+def _said(output: str, tag: str) -> Any:
+    line = next((x for x in output.splitlines() if x.startswith(f'{tag} ')), None)
+    assert line is not None, output
+    return json.loads(line[len(tag) + 1:])
+
+
+@memory_cgroup
+def test_a_job_past_its_memory_in_all_is_stopped_by_the_kernel(tmp_path: Path) -> None:
+    """Memory was bounded per process only: 250 processes of 1.4 GB each would take the
+    grading host's RAM. A job's processes together are now bounded by a memory cgroup:
+    past it the kernel kills the job's own processes, the grader lives on and says why,
+    and the groups are gone afterwards."""
+    (tmp_path / 'job').mkdir()
+    run = run_job(tmp_path / 'job', DOMAIN, Limits(job_memory_mb=600, wall_seconds=60),
+                  'tok-memory-hog', argv=['-c', MEMORY_HOG])
+    assert run.returncode == 0, run.output
+    ended = _said(run.output, 'CHILDREN')
+    assert ended in ([-9, -9, -9, 0], [-9] * 4), run.output  # 2 x 300 MB > 600 MB
+    assert run.out_of_memory and run.memory_peak_mb is not None, run
+    assert 500 < run.memory_peak_mb <= 600, run.memory_peak_mb
+    groups = [Path(g) for g in _said(run.output, 'GROUPS')]
+    assert any(g.name == 'robot_lab-tok-memory-hog' for g in groups), groups
+    assert not [g for g in groups if g.exists()], groups
+
+
+@memory_cgroup
+def test_the_feedback_says_the_kernel_stopped_a_job_past_its_memory(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The student reads that the submission as a whole used too much memory, not that a
+    grading job ended with code -9."""
+    from robot_lab.grading.package import grade
+    from robot_lab.grading.package.rubric import load_rubric
+    from robot_lab.grading.package.submission import find_submissions
+
+    rubric_file = tmp_path / 'hog.yaml'
+    rubric_file.write_text('lab: ch6-lab1\nchecks:\n  - id: builds\n    points: 2\n'
+                           'limits:\n  job_memory_mb: 600\n  wall_seconds: 60\n')
+    shutil.copytree(DATA / 'reference', tmp_path / 'class' / 'alice')
+    real_run_job = grade.run_job
+    monkeypatch.setattr(grade, 'run_job', lambda *args: real_run_job(
+        *args, argv=['-c', MEMORY_HOG + 'os._exit(1)\n']))
+    [entry] = find_submissions(tmp_path / 'class')
+    report = grade.grade_package(entry, load_rubric(rubric_file), DOMAIN)
+    assert report.status == 'error' and report.score == 0, report.markdown()
+    assert report.error == ('the submission used more than 600 MB of memory in all (its '
+                            'processes together); the kernel stopped it; checks not reached '
+                            'score 0'), report.error
+    assert f'Grading ended early (error): {report.error}' in report.markdown()
+
+
+def test_the_rubrics_bound_a_jobs_memory_in_all_and_refuse_a_bad_limit(
+        tmp_path: Path) -> None:
+    from robot_lab.grading.package.rubric import load_rubric, rubric_path
+
+    for lab in ('ch6-lab1', 'ch7-description', 'ch8-sim', 'lab1.3'):
+        assert load_rubric(rubric_path(lab)).limits.job_memory_mb == 4096
+    bad = tmp_path / 'bad.yaml'
+    bad.write_text('lab: ch6-lab1\nchecks:\n  - id: builds\nlimits:\n  memory_mb: 1500\n'
+                   '  job_memory_mb: 4 GB\n')
+    with pytest.raises(RobotLabError) as refused:
+        load_rubric(bad)
+    assert refused.value.line == 6, refused.value
+    assert refused.value.message == "limits: job_memory_mb must be a whole number > 0, not '4 GB'"
+    assert refused.value.fix == 'write e.g. `job_memory_mb: 4096`'
+
+
+def test_the_containment_line_names_the_jobs_memory_in_all_only_where_it_applies(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from robot_lab.grading.package import cgroups
+
+    whole = '1500 MB memory per process (600 MB for the whole job: a memory cgroup)'
+    line = containment.containment_line(Limits(job_memory_mb=600), no_sandbox=True)
+    assert (whole in line) == cgroups.memory_cgroup_possible(), line
+    monkeypatch.setattr(cgroups.os, 'geteuid', lambda: 1000)  # a grader that is not root
+    assert not cgroups.job_cgroups('tok-user', Limits()).paths
+    line = containment.containment_line(Limits(job_memory_mb=600), no_sandbox=True)
+    assert '1500 MB memory per process, 256 processes' in line, line

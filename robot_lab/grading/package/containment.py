@@ -117,8 +117,14 @@ def refusal() -> tuple[str, str] | None:
 
 
 def _cap(limits: Limits) -> str:
-    return (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB memory, '
-            f'{limits.processes} processes, {limits.wall_seconds:g} s wall')
+    """The limits; the whole job's memory only where a root grader can make a memory
+    cgroup (robot_lab.grading.package.cgroups): elsewhere only each process is bounded."""
+    from robot_lab.grading.package.cgroups import memory_cgroup_possible
+
+    whole = (f' ({limits.job_memory_mb} MB for the whole job: a memory cgroup)'
+             if memory_cgroup_possible() else '')
+    return (f'limits {limits.cpu_seconds:g} s CPU, {limits.memory_mb} MB memory per '
+            f'process{whole}, {limits.processes} processes, {limits.wall_seconds:g} s wall')
 
 
 def container_line(limits: Limits, problem: str) -> str:

@@ -83,11 +83,16 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
             last = public_text(run.output, job_dir).strip().splitlines()[-6:]
             report.error = (f'the grading job ended with code {run.returncode}: '
                             + ' | '.join(last))
-            if run.returncode is not None and run.returncode >= 128 and run.isolated:
+            if run.out_of_memory:  # the kernel's SIGKILL, not a mysterious crash
+                report.error = f'{_too_much_memory(rubric)} it; checks not reached score 0'
+            elif run.returncode is not None and run.returncode >= 128 and run.isolated:
                 report.notes.append(
                     f'the grading job was killed by signal {run.returncode - 128} from inside '
                     'its sandbox (a process of the submission signalled it); no process '
                     'outside the sandbox could be reached')
+        if run.out_of_memory and report.status != 'error':
+            report.notes.append(f'{_too_much_memory(rubric)} the process that went past '
+                                'it, so checks that needed that process may have failed')
         for note in report.notes:
             if note.startswith(GRADER_PROBLEM):  # the instructor hears of it at once
                 print(f'warning: {submission.student}: {note}', file=sys.stderr, flush=True)
@@ -112,6 +117,12 @@ def grade_package(submission: Submission, rubric: Rubric, domain: int | None = N
                 Path(logs).mkdir(parents=True, exist_ok=True)
                 shutil.copyfile(job_dir / 'job.log', Path(logs) / f'{submission.student}.log')
         shutil.rmtree(job_dir, ignore_errors=True)
+
+
+def _too_much_memory(rubric: Rubric) -> str:
+    """The start of what a student reads when the whole job reached `job_memory_mb`."""
+    return (f'the submission used more than {rubric.limits.job_memory_mb} MB of memory in '
+            'all (its processes together); the kernel stopped')
 
 
 def not_graded(student: str, rubric: Rubric, err: RobotLabError) -> StudentReport:

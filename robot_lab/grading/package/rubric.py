@@ -40,6 +40,9 @@ class Limits:
     wall_seconds: float = 300.0
     cpu_seconds: int = 120
     memory_mb: int = 1500
+    # Every process of the job together, when a root grader can make a memory cgroup
+    # (robot_lab.grading.package.cgroups): the reference Chapter 6 job peaked at 160 MB.
+    job_memory_mb: int = 4096
     processes: int = 256
     file_mb: int = 256
     output_kb: int = 64
@@ -93,6 +96,19 @@ def _entry_lines(text: str) -> list[dict[str, int]]:
     return []
 
 
+def _limit_lines(text: str) -> dict[str, int]:
+    """The line of each key of `limits:`."""
+    try:
+        root = yaml.compose(text)
+    except yaml.YAMLError:
+        return {}
+    if isinstance(root, yaml.MappingNode):
+        for key, value in root.value:
+            if key.value == 'limits' and isinstance(value, yaml.MappingNode):
+                return {str(k.value): k.start_mark.line + 1 for k, _ in value.value}
+    return {}
+
+
 def load_rubric(path: str | Path) -> Rubric:
     """Read and validate a rubric file; errors name the file and the fix."""
     file = Path(path)
@@ -133,10 +149,21 @@ def load_rubric(path: str | Path) -> Rubric:
         checks.append(RubricCheck(item['id'], str(item.get('name', item['id'])),
                                   float(points), options))
     raw_limits = data.get('limits') or {}
+    if not isinstance(raw_limits, dict):
+        raise _fail(file, '`limits:` is a mapping of limit: value',
+                    'write e.g. `limits:` then `  job_memory_mb: 4096` on the next line')
     unknown = set(raw_limits) - set(Limits.__dataclass_fields__)
     if unknown:
         raise _fail(file, f'unknown limits: {", ".join(sorted(unknown))}',
                     f'use: {", ".join(Limits.__dataclass_fields__)}')
+    limit_lines = _limit_lines(text)
+    for key, value in raw_limits.items():
+        whole = Limits.__dataclass_fields__[key].type == 'int'
+        if isinstance(value, bool) or not isinstance(value, int if whole else int | float) \
+                or value <= 0:
+            kind = 'a whole number' if whole else 'a number'
+            raise _fail(file, f'limits: {key} must be {kind} > 0, not {value!r}',
+                        f'write e.g. `{key}: {getattr(Limits(), key):g}`', limit_lines.get(key))
     return Rubric(lab=str(data.get('lab', file.stem)), title=str(data.get('title', '')),
                   checks=checks, observe_seconds=float(data.get('observe_seconds', 4.0)),
                   startup_seconds=float(data.get('startup_seconds', 12.0)),

@@ -16,9 +16,11 @@ process group, which the grader kills, and every process carries a token in its
 environment that a final sweep looks for.
 
 Inside, `enter()` applies the resource limits (CPU seconds, memory, file size, process
-count) that every child inherits. The kernel does not hold root to RLIMIT_NPROC, so
-a grader running as root puts each job in a cgroup of its own whose `pids.max` bounds its
-processes and threads instead (the v1 pids hierarchy, or v2 with pids enabled).
+count) that every child inherits. Those bound each process, not the job, and the kernel
+does not hold root to RLIMIT_NPROC: so a grader running as root also puts each job in
+cgroups of its own (robot_lab.grading.package.cgroups) that bound its processes and
+threads, and the memory of all of them together; a job the kernel stopped at that limit
+says so in its JobRun (`out_of_memory`), for the student's feedback.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from robot_lab.grading.package.cgroups import job_cgroups
 from robot_lab.grading.package.containment import (
     NO_SANDBOX_VAR,
     containment_line,
@@ -50,16 +53,15 @@ from robot_lab.grading.package.rubric import Limits
 from robot_lab.process import spawn
 
 __all__ = ['BLOCKED', 'GRADER_PROBLEM', 'NOT_SET_UP', 'JobRun', 'check_can_contain', 'enter',
-           'job_domains', 'namespaces_available', 'pids_cgroup', 'run_job', 'stop_jobs', 'sweep']
+           'job_domains', 'namespaces_available', 'run_job', 'stop_jobs', 'sweep']
 
 TOKEN_VAR = 'ROBOT_LAB_GRADE_JOB'
-CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'
+CGROUP_VAR = 'ROBOT_LAB_GRADE_CGROUP'  # the job's cgroups, os.pathsep between them
 UID_VAR = 'ROBOT_LAB_GRADE_UID'
 REPORT_FD_VAR = 'ROBOT_LAB_GRADE_REPORT_FD'  # the pipe a job sends its report through
 # A folder that keeps each job's log (STUDENT.log: steps, waits, the nodes' output) after
 # its job folder is removed: to see why a grade came out as it did.
 JOB_LOGS_VAR = 'ROBOT_LAB_GRADE_JOB_LOGS'
-_CGROUP_ROOTS = (Path('/sys/fs/cgroup/pids'), Path('/sys/fs/cgroup'))
 # The job's locale: the same for every student whatever the instructor's terminal says
 # (C.UTF-8 is built into glibc since 2.35 and patched into Debian's for longer).
 _LOCALE = {'LANG': 'C.UTF-8'}
@@ -131,56 +133,6 @@ def _init_process() -> None:
             os._exit(128 - code if code < 0 else code & 0xFF)
 
 
-def pids_cgroup(name: str, processes: int) -> Path | None:
-    """A new cgroup capped at `processes` tasks, when this process is root and may make
-    one (where RLIMIT_NPROC binds, None: the rlimit does the job)."""
-    if os.geteuid() != 0:
-        return None
-    for base in _CGROUP_ROOTS:
-        if not (base / 'cgroup.procs').is_file():
-            continue
-        if base == Path('/sys/fs/cgroup'):  # v2: the pids controller must be on for children
-            with contextlib.suppress(OSError):
-                if 'pids' not in (base / 'cgroup.subtree_control').read_text().split():
-                    continue
-        _remove_stale_cgroups(base)
-        group = base / f'robot_lab-{name}'
-        try:
-            group.mkdir()
-        except OSError:
-            continue
-        try:
-            (group / 'pids.max').write_text(str(processes))
-            return group
-        except OSError:
-            _remove_cgroup(group)
-    return None
-
-
-def _remove_stale_cgroups(base: Path) -> None:
-    """Remove the empty job cgroups of graders that were killed (-9) before cleaning up;
-    a group made in the last minute may belong to a job about to enter it."""
-    for group in base.glob('robot_lab-*'):
-        with contextlib.suppress(OSError):
-            if time.time() - group.stat().st_mtime > 60:
-                group.rmdir()  # fails while tasks are in it
-
-
-def _remove_cgroup(group: Path) -> None:
-    """rmdir the job's cgroup once its last task has gone (a killed task takes a moment)."""
-    deadline = time.monotonic() + 5.0
-    while True:
-        try:
-            group.rmdir()
-            return
-        except FileNotFoundError:
-            return
-        except OSError:
-            if time.monotonic() > deadline:
-                return
-            time.sleep(0.05)
-
-
 # A job's address space may be this many times its memory (`enter`): threads and glibc's
 # malloc arenas reserve far more than they use.
 ADDRESS_SPACE_FACTOR = 4
@@ -197,10 +149,9 @@ def _record_signal(signum: int, _frame: object) -> None:
 
 
 def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> None:
-    """Run first thing in the job: its cgroup, loopback up, the job's view of the machine
+    """Run first thing in the job: its cgroups, loopback up, the job's view of the machine
     and an unprivileged identity (`confinement`), own process group, limits."""
-    group = os.environ.get(CGROUP_VAR)
-    if group:
+    for group in filter(None, os.environ.get(CGROUP_VAR, '').split(os.pathsep)):
         with contextlib.suppress(OSError):  # '0': this process, whatever its PID namespace
             Path(group, 'cgroup.procs').write_text('0')
     # A process group of its own, in a namespace too: else the job, its launcher and the
@@ -263,6 +214,10 @@ class JobRun:
     output: str
     elapsed: float
     isolated: bool  # ran in its own namespaces
+    # The job as a whole reached the rubric's job_memory_mb and the kernel stopped a process
+    # of it; and the most it held at once (None: no memory cgroup, only per-process limits).
+    out_of_memory: bool = False
+    memory_peak_mb: float | None = None
 
 
 def _tail(path: Path, limit: int) -> str:
@@ -310,9 +265,9 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
     for name in [k for k in env if k.startswith('LC_') or k == 'LANGUAGE']:
         del env[name]
     env.update(_LOCALE)
-    group = pids_cgroup(token, limits.processes)
-    if group is not None:
-        env[CGROUP_VAR] = str(group)
+    groups = job_cgroups(token, limits)
+    if groups.paths:
+        env[CGROUP_VAR] = os.pathsep.join(str(g) for g in groups.paths)
     cmd = [sys.executable, *argv, str(job_dir)]
     if isolated:
         from robot_lab.grading.package.confinement import JOB_USER, job_uid
@@ -356,11 +311,11 @@ def run_job(job_dir: Path, domain: int, limits: Limits, token: str,
     sweep(token)
     reader.join(timeout=10)
     _keep_report(job_dir, reports)
-    if group is not None:
-        _remove_cgroup(group)
+    out_of_memory, peak = groups.out_of_memory(), groups.peak_mb()
+    groups.remove()
     code = None if timed_out else proc.returncode
     return JobRun(code, timed_out, _tail(log, limits.output_kb * 1024),
-                  time.monotonic() - started, isolated)
+                  time.monotonic() - started, isolated, out_of_memory, peak)
 
 
 # The jobs running now: each is in a process group of its own (see enter), so a Ctrl-C of
