@@ -9,9 +9,9 @@ import os
 import threading
 from collections.abc import Iterable
 
-__all__ = ['command_line', 'fd_targets', 'is_proc', 'mapped_paths', 'maps', 'mount_points',
-           'own_socket_inodes', 'pid_namespace', 'pids', 'process_running', 'socket_holders',
-           'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
+__all__ = ['cgroups', 'command_line', 'fd_targets', 'is_proc', 'mapped_paths', 'maps',
+           'mount_points', 'own_socket_inodes', 'pid_namespace', 'pids', 'process_running',
+           'socket_holders', 'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
 
 
 def _where(pid: int | None) -> str:
@@ -126,6 +126,18 @@ def mapped_paths(pid: int | None = None) -> list[str]:
 def pid_namespace(pid: int | None = None) -> str:
     """The process's PID namespace (`pid:[INODE]`); OSError if gone or another user's."""
     return os.readlink(f'{_where(pid)}/ns/pid')
+
+
+def cgroups(pid: int | None = None) -> dict[str, str]:
+    """The process's cgroup in each hierarchy (/proc/PID/cgroup): every v1 controller
+    (`memory`, `pids`, ...) and v2's '' to its path; {} if it is gone."""
+    found: dict[str, str] = {}
+    with contextlib.suppress(OSError), open(f'{_where(pid)}/cgroup', encoding='utf-8') as file:
+        for line in file:
+            _id, controllers, where = line.rstrip('\n').split(':', 2)
+            for controller in controllers.split(',') if controllers else ['']:
+                found[controller] = where
+    return found
 
 
 def is_proc(path: str) -> bool:

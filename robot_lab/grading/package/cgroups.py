@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robot_lab.grading.package.rubric import Limits
+from robot_lab.linux import procfs
 
 __all__ = ['JobCgroups', 'job_cgroups', 'memory_cgroup_possible']
 
@@ -94,13 +95,11 @@ def _own_v1_group(controller: str) -> Path:
     """Where a v1 hierarchy of `controller` keeps this process: a job's group goes inside
     it. The hierarchy's root when that folder is not visible (a container's own view)."""
     base = _ROOT / controller
-    with contextlib.suppress(OSError):
-        for line in Path('/proc/self/cgroup').read_text().splitlines():
-            _id, controllers, where = line.split(':', 2)
-            if controller in controllers.split(','):
-                inside = base / where.lstrip('/')
-                return inside if inside.is_dir() else base
-    return base
+    where = procfs.cgroups().get(controller)
+    if where is None:
+        return base
+    inside = base / where.lstrip('/')
+    return inside if inside.is_dir() else base
 
 
 def _v2_controllers() -> set[str]:
