@@ -380,6 +380,25 @@ def test_without_namespaces_the_grader_refuses_unless_told(user_dir: Path, uid: 
 
 
 
+def _graded_by(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, job: str, domain: int,
+               limits: str = '') -> Any:
+    """The reference package graded by the grader, for the build check only, with `job`
+    (a Python program) run in the sandbox as the job; the student's report."""
+    from robot_lab.grading.package import grade
+    from robot_lab.grading.package.rubric import load_rubric
+    from robot_lab.grading.package.submission import find_submissions
+
+    rubric_file = tmp_path / 'builds.yaml'
+    rubric_file.write_text('lab: ch6-lab1\ntitle: builds only\nchecks:\n'
+                           '  - id: builds\n    name: The package builds with colcon\n'
+                           '    points: 2\n' + limits)
+    shutil.copytree(DATA / 'reference', tmp_path / 'class' / 'alice')
+    real_run_job = grade.run_job
+    monkeypatch.setattr(grade, 'run_job', lambda *args: real_run_job(*args, argv=['-c', job]))
+    [entry] = find_submissions(tmp_path / 'class')
+    return grade.grade_package(entry, load_rubric(rubric_file), domain)
+
+
 # The job, run as always (`python -m robot_lab.grading.package.job JOBDIR`), with the one
 # mount of its own passwd refused as the machine would refuse it.
 PASSWD_REFUSED = """
@@ -397,20 +416,7 @@ def test_a_job_the_sandbox_could_not_give_its_passwd_says_so(
     """Seen once on a loaded host: a job's nodes missed their passwd entry (they saw the
     machine's) and lost points with nothing said why. The grader's fault is told to the
     instructor at once and kept in the student's feedback as not the student's."""
-    from robot_lab.grading.package import grade
-    from robot_lab.grading.package.rubric import load_rubric
-    from robot_lab.grading.package.submission import find_submissions
-
-    rubric_file = tmp_path / 'builds.yaml'
-    rubric_file.write_text('lab: ch6-lab1\ntitle: builds only\nchecks:\n'
-                           '  - id: builds\n    name: The package builds with colcon\n'
-                           '    points: 2\n')
-    shutil.copytree(DATA / 'reference', tmp_path / 'class' / 'alice')
-    real_run_job = grade.run_job
-    monkeypatch.setattr(grade, 'run_job', lambda *args: real_run_job(
-        *args, argv=['-c', PASSWD_REFUSED]))
-    [entry] = find_submissions(tmp_path / 'class')
-    report = grade.grade_package(entry, load_rubric(rubric_file), ros_domain)
+    report = _graded_by(tmp_path, monkeypatch, PASSWD_REFUSED, ros_domain)
     assert report.score == 2, report.markdown()
     [note] = report.notes
     assert note == ('the grader could not set up /etc/passwd: Device or resource busy (not '
@@ -574,19 +580,8 @@ def test_the_feedback_says_the_kernel_stopped_a_job_past_its_memory(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The student reads that the submission as a whole used too much memory, not that a
     grading job ended with code -9."""
-    from robot_lab.grading.package import grade
-    from robot_lab.grading.package.rubric import load_rubric
-    from robot_lab.grading.package.submission import find_submissions
-
-    rubric_file = tmp_path / 'hog.yaml'
-    rubric_file.write_text('lab: ch6-lab1\nchecks:\n  - id: builds\n    points: 2\n'
-                           'limits:\n  job_memory_mb: 600\n  wall_seconds: 60\n')
-    shutil.copytree(DATA / 'reference', tmp_path / 'class' / 'alice')
-    real_run_job = grade.run_job
-    monkeypatch.setattr(grade, 'run_job', lambda *args: real_run_job(
-        *args, argv=['-c', MEMORY_HOG + 'os._exit(1)\n']))
-    [entry] = find_submissions(tmp_path / 'class')
-    report = grade.grade_package(entry, load_rubric(rubric_file), DOMAIN)
+    report = _graded_by(tmp_path, monkeypatch, MEMORY_HOG + 'os._exit(1)\n', DOMAIN,
+                        'limits:\n  job_memory_mb: 600\n  wall_seconds: 60\n')
     assert report.status == 'error' and report.score == 0, report.markdown()
     assert report.error == ('the submission used more than 600 MB of memory in all (its '
                             'processes together); the kernel stopped it; checks not reached '
