@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 import psutil
 import pytest
-from conftest import reference_system, run_cli
+from conftest import BIN, reference_system, run_cli
 
 from robot_lab.errors import GraphError
 from robot_lab.graph import daemon
@@ -103,6 +103,19 @@ def test_daemon_is_per_domain(no_daemon: None, ros_domain: int) -> None:
     other = {'ROS_DOMAIN_ID': str((ros_domain + 50) % 100 + 1)}
     assert run_cli('daemon', 'status', env=other).stdout == 'The daemon is not running\n'
     assert graph_dir() != graph_dir({**os.environ, **other})
+
+
+def test_daemon_is_per_network_namespace(no_daemon: None) -> None:
+    """A process in another network namespace hears none of this one's nodes (a grading
+    job, a second test run beside this one), so it asks its own daemon, not this one."""
+    assert run_cli('daemon', 'start').returncode == 0
+    there = subprocess.run(['unshare', '--net', sys.executable, '-c',
+                            'from robot_lab.graph.expected import graph_dir; print(graph_dir())'],
+                           capture_output=True, text=True, timeout=60, check=True)
+    assert there.stdout.strip() != str(graph_dir()), there.stdout
+    status = subprocess.run(['unshare', '--net', str(BIN / 'robot-lab'), 'daemon', 'status'],
+                            capture_output=True, text=True, timeout=60)
+    assert status.stdout == 'The daemon is not running\n', status.stdout + status.stderr
 
 
 def test_idle_daemon_exits_by_itself(no_daemon: None) -> None:

@@ -223,3 +223,23 @@ def test_a_client_that_stops_reading_is_dropped_not_waited_for(
     assert not server.subscribers['/big']
     client.close()
     listener.close()
+
+
+def test_a_simulation_in_another_network_namespace_is_not_this_ones(
+        simulation: Proc) -> None:
+    """Gazebo finds a partition's simulation over the network, so one in another network
+    namespace is another's. Two test runs side by side, each in a namespace of its own with
+    the same domains, met in one socket: the second's simulation refused to start ("a
+    simulation already runs") and its `create` spawned into the first's world."""
+    gz_sim = str(BIN.parent / 'lib' / 'ros_gz_sim' / 'gz_sim')
+    here = subprocess.run([gz_sim, '-r', 'empty.sdf', '--iterations', '1'],
+                          capture_output=True, text=True, timeout=60)
+    assert 'a simulation already runs in partition' in here.stdout, here.stdout
+    there = subprocess.run(
+        ['unshare', '--net', gz_sim, '-r', 'empty.sdf', '--iterations', '50'],
+        capture_output=True, text=True, timeout=60)
+    assert there.returncode == 0 and 'Serving partition' in there.stdout, there.stdout
+    assert 'already runs' not in there.stdout, there.stdout
+    connection = connect()  # this namespace's simulation still answers here
+    assert connection is not None and simulation.popen.poll() is None
+    connection.close()

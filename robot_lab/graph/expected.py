@@ -19,6 +19,7 @@ import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from robot_lab.linux import procfs
 from robot_lab.linux.procfs import process_running
 
 __all__ = ['LaunchAnnouncement', 'announced_nodes', 'expected_nodes', 'graph_dir', 'graph_key']
@@ -41,11 +42,11 @@ def graph_key(env: Mapping[str, str] | None = None) -> str:
     source = os.environ if env is None else env
     # Unset ROS_DOMAIN_ID means the user's own domain (from the registry `source` names).
     domain = str(domain_for(source))
-    return _key((domain, *(source.get(k) for k in _GRAPH_VARIABLES)))
+    return _key((domain, *(source.get(k) for k in _GRAPH_VARIABLES)), procfs.net_namespace())
 
 
 @functools.lru_cache(maxsize=16)
-def _key(values: tuple[str | None, ...]) -> str:
+def _key(values: tuple[str | None, ...], network: str) -> str:
     from robot_lab.env import apply_ros_defaults
 
     # The kit's defaults (discovery range, Fast DDS profile) apply to every process it
@@ -55,8 +56,10 @@ def _key(values: tuple[str | None, ...]) -> str:
     apply_ros_defaults(resolved)
     domain = resolved.get('ROS_DOMAIN_ID', '').strip() or '0'
     discovery = resolved.get('ROS_AUTOMATIC_DISCOVERY_RANGE', '').strip().lower() or 'default'
+    # A graph is also its network namespace: one in another (a grading job, a second test
+    # run) is not heard, so its daemon and launches are not this graph's.
     digest = hashlib.sha1(
-        '\0'.join(resolved.get(k, '') for k in _GRAPH_VARIABLES).encode()
+        '\0'.join([*(resolved.get(k, '') for k in _GRAPH_VARIABLES), network]).encode()
     ).hexdigest()[:8]
     return f'd{domain}-{discovery}-{digest}'
 

@@ -10,7 +10,8 @@ import threading
 from collections.abc import Iterable
 
 __all__ = ['cgroups', 'command_line', 'fd_targets', 'is_proc', 'mapped_paths', 'maps',
-           'mount_points', 'own_socket_inodes', 'pid_namespace', 'pids', 'process_running',
+           'mount_points', 'net_namespace', 'own_socket_inodes', 'pid_namespace', 'pids',
+           'process_running',
            'socket_holders', 'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
 
 
@@ -126,6 +127,15 @@ def mapped_paths(pid: int | None = None) -> list[str]:
 def pid_namespace(pid: int | None = None) -> str:
     """The process's PID namespace (`pid:[INODE]`); OSError if gone or another user's."""
     return os.readlink(f'{_where(pid)}/ns/pid')
+
+
+def net_namespace() -> str:
+    """This process's network namespace (the inode number of /proc/self/ns/net), '' where
+    it cannot be read: processes in two namespaces never hear each other's loopback."""
+    try:
+        return os.readlink('/proc/self/ns/net').partition('[')[2].rstrip(']')
+    except OSError:
+        return ''
 
 
 def cgroups(pid: int | None = None) -> dict[str, str]:

@@ -2,10 +2,13 @@
 
 In Gazebo nothing the simulator publishes is a ROS topic until `ros_gz_bridge` makes it one;
 the kit keeps that boundary. The simulator listens on a Unix stream socket of the user's
-own (`$XDG_RUNTIME_DIR/robot_lab/gz-<partition>.sock`, else `/tmp/robot_lab-<uid>/`, the
-folder mode 0700), one per partition: GZ_PARTITION if set (as gz-transport scopes its
-discovery), else the ROS domain (`domain<ROS_DOMAIN_ID>`), so two students' simulations,
-and a test's, never meet. Each frame is a 4-byte big-endian length and a JSON object:
+own (`$XDG_RUNTIME_DIR/robot_lab/gz-<partition>-net<namespace>.sock`, else
+`/tmp/robot_lab-<uid>/`, the folder mode 0700), one per partition: GZ_PARTITION if set (as
+gz-transport scopes its discovery), else the ROS domain (`domain<ROS_DOMAIN_ID>`), so two
+students' simulations, and a test's, never meet. And one per network namespace: Gazebo's
+discovery goes by the network, so a simulation in another namespace (a grading job, a
+second test run beside this one) is not this one's, as its DDS traffic is not.
+Each frame is a 4-byte big-endian length and a JSON object:
 - client → simulator: `{"op": "sub", "topic"}`, `{"op": "pub", "topic", "type", "msg"}`,
   `{"op": "create", "id", "urdf", "name", "xyz", "rpy", "source"}`, `{"op": "topics", "id"}`;
 - simulator → client: `{"op": "msg", "topic", "type", "msg"}`, `{"op": "reply", "id", "ok",
@@ -23,6 +26,8 @@ import struct
 import threading
 from pathlib import Path
 from typing import Any
+
+from robot_lab.linux import procfs
 
 __all__ = ['Connection', 'connect', 'partition', 'socket_path', 'topic_name']
 
@@ -49,7 +54,8 @@ def socket_path(env: dict[str, str] | None = None) -> Path:
               else Path('/tmp') / f'robot_lab-{os.getuid()}')
     folder.mkdir(mode=0o700, parents=True, exist_ok=True)
     name = ''.join(c if c.isalnum() or c in '-_.' else '_' for c in partition(env))
-    return folder / f'gz-{name}.sock'
+    network = procfs.net_namespace()
+    return folder / (f'gz-{name}-net{network}.sock' if network else f'gz-{name}.sock')
 
 
 class Connection:
