@@ -11,8 +11,8 @@ from collections.abc import Iterable
 
 __all__ = ['cgroups', 'command_line', 'fd_targets', 'is_proc', 'mapped_paths', 'maps',
            'mount_points', 'net_namespace', 'own_socket_inodes', 'pid_namespace', 'pids',
-           'process_running',
-           'socket_holders', 'start_time', 'stat_fields', 'status', 'sysctl', 'thread_ids']
+           'process_running', 'socket_holders', 'start_time', 'stat_fields', 'status',
+           'sysctl', 'thread_ids']
 
 
 def _where(pid: int | None) -> str:

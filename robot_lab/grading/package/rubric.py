@@ -156,14 +156,14 @@ def load_rubric(path: str | Path) -> Rubric:
     if unknown:
         raise _fail(file, f'unknown limits: {", ".join(sorted(unknown))}',
                     f'use: {", ".join(Limits.__dataclass_fields__)}')
-    limit_lines = _limit_lines(text)
+    limit_lines, defaults = _limit_lines(text), Limits()
     for key, value in raw_limits.items():
-        whole = Limits.__dataclass_fields__[key].type == 'int'
+        whole = isinstance(getattr(defaults, key), int)  # its default says which kind
         if isinstance(value, bool) or not isinstance(value, int if whole else int | float) \
                 or value <= 0:
             kind = 'a whole number' if whole else 'a number'
             raise _fail(file, f'limits: {key} must be {kind} > 0, not {value!r}',
-                        f'write e.g. `{key}: {getattr(Limits(), key):g}`', limit_lines.get(key))
+                        f'write e.g. `{key}: {getattr(defaults, key):g}`', limit_lines.get(key))
     return Rubric(lab=str(data.get('lab', file.stem)), title=str(data.get('title', '')),
                   checks=checks, observe_seconds=float(data.get('observe_seconds', 4.0)),
                   startup_seconds=float(data.get('startup_seconds', 12.0)),

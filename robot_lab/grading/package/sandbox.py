@@ -137,7 +137,7 @@ def _init_process() -> None:
 # malloc arenas reserve far more than they use.
 ADDRESS_SPACE_FACTOR = 4
 # What `enter` could not set up in the job's view of the machine: notes of the job's report.
-GRADER_PROBLEM = 'the grader'
+GRADER_PROBLEM = 'the grader could not set up'
 NOT_SET_UP: list[str] = []
 
 
@@ -173,8 +173,8 @@ def enter(limits: Limits, in_namespace: bool, job_dir: Path | None = None) -> No
             # report, so a job whose nodes then miss their passwd entry shows why (seen once,
             # under load) to the instructor and in the feedback.
             print(f'[grader] sandbox: could not set up {problem}', file=sys.stderr, flush=True)
-            NOT_SET_UP.append(f'{GRADER_PROBLEM} could not set up {problem} (not your fault: '
-                              'code that needs it may have failed)')
+            NOT_SET_UP.append(f'{GRADER_PROBLEM} {problem} (not your fault: code that needs '
+                              'it may have failed)')
         drop_privileges(uid)
         if os.getpid() == 1:
             _init_process()
